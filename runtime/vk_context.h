@@ -1,0 +1,75 @@
+#pragma once
+// The Vulkan context: instance, one chosen device, its compute queue and the on-disk pipeline
+// cache. Create one per process (or per device) and share it; everything else borrows it.
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace pensight::vk {
+
+enum class DeviceKind { kDiscrete, kIntegrated, kVirtual, kCpu, kOther };
+const char* to_string(DeviceKind kind);
+
+struct DeviceInfo {
+  uint32_t index = 0;  // position in the Vulkan enumeration
+  std::string name;
+  std::string driver;  // driver name and version string
+  DeviceKind kind = DeviceKind::kOther;
+  uint32_t vendor_id = 0;
+  uint32_t device_id = 0;
+  uint32_t api_version = 0;
+  bool host_visible_device_memory = false;  // device-local memory the host can map (lavapipe, Orin)
+  bool fp16_storage = false;                // storageBuffer16BitAccess
+  bool int8_storage = false;                // storageBuffer8BitAccess
+  bool timestamps = false;                  // compute queue supports timestamp queries
+  float timestamp_period_ns = 0;
+  uint32_t subgroup_size = 0;
+  uint32_t max_workgroup_invocations = 0;
+  uint32_t max_shared_memory_bytes = 0;
+};
+
+struct ContextOptions {
+  // "" chooses automatically: discrete GPU > integrated > virtual > other > CPU (lavapipe).
+  // Otherwise a device index ("1") or a case-insensitive substring of its name ("llvmpipe").
+  // When empty, the environment variable PENSIGHT_VK_DEVICE is used if set.
+  std::string device;
+  // Khronos validation layer (debug builds, tests). PENSIGHT_VK_VALIDATION=1 turns it on too.
+  bool validation = false;
+  // Also enable synchronization validation (missing or wrong barriers), when validation is on.
+  bool sync_validation = true;
+  // Called for each validation error; the default logs it. Errors are counted either way.
+  std::function<void(const std::string&)> on_validation_error;
+  // Directory of the persistent pipeline cache; empty = $PENSIGHT_CACHE_DIR, else
+  // $XDG_CACHE_HOME/pensight, else ~/.cache/pensight. "-" disables the on-disk cache.
+  std::filesystem::path cache_dir;
+};
+
+class Context {
+ public:
+  // Throws pensight::Error with install instructions when there is no Vulkan loader or device.
+  explicit Context(ContextOptions options = {});
+  ~Context();
+  Context(const Context&) = delete;
+  Context& operator=(const Context&) = delete;
+
+  const DeviceInfo& info() const;
+  // Number of validation errors reported since creation (0 when validation is off).
+  uint64_t validation_errors() const;
+  // Writes the pipeline cache to disk now (it is also written on destruction).
+  void save_pipeline_cache() const;
+  std::filesystem::path pipeline_cache_path() const;
+
+  // All devices the loader reports; throws like the constructor when there is no loader.
+  static std::vector<DeviceInfo> list_devices();
+
+  struct Impl;
+  Impl& impl() const { return *impl_; }
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace pensight::vk

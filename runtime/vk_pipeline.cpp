@@ -1,0 +1,101 @@
+#include <algorithm>
+#include <string>
+#include <utility>
+
+#include "runtime/error.h"
+#include "runtime/vk_detail.h"
+
+namespace pensight::vk {
+namespace detail {
+// Generated from shaders/ by PensightShaders.cmake.
+extern const std::pair<std::string_view, std::span<const uint32_t>> kEmbeddedShaders[];
+extern const std::size_t kEmbeddedShaderCount;
+}  // namespace detail
+
+std::span<const uint32_t> embedded_shader(const std::string& name) {
+  for (size_t i = 0; i < detail::kEmbeddedShaderCount; ++i) {
+    if (detail::kEmbeddedShaders[i].first == name) return detail::kEmbeddedShaders[i].second;
+  }
+  throw Error("no embedded shader named '" + name + "' (shaders/" + name +
+              ".comp is not part of this build)");
+}
+
+std::vector<std::string> embedded_shader_names() {
+  std::vector<std::string> names;
+  for (size_t i = 0; i < detail::kEmbeddedShaderCount; ++i) {
+    names.emplace_back(detail::kEmbeddedShaders[i].first);
+  }
+  return names;
+}
+
+Pipeline::Impl::~Impl() {
+  if (!ctx) return;
+  const auto& vk = ctx->vk;
+  if (pipeline) vk.vkDestroyPipeline(ctx->device, pipeline, nullptr);
+  if (layout) vk.vkDestroyPipelineLayout(ctx->device, layout, nullptr);
+  if (set_layout) vk.vkDestroyDescriptorSetLayout(ctx->device, set_layout, nullptr);
+  if (module) vk.vkDestroyShaderModule(ctx->device, module, nullptr);
+}
+
+Pipeline::Pipeline(const Context& ctx, PipelineDesc desc) : impl_(std::make_unique<Impl>()) {
+  Impl& p = *impl_;
+  const Context::Impl& c = ctx.impl();
+  p.ctx = &c;
+  p.desc = std::move(desc);
+  if (p.desc.push_constant_bytes % 4 != 0) {
+    throw Error("pipeline '" + p.desc.shader + "': push_constant_bytes must be a multiple of 4");
+  }
+  const std::span<const uint32_t> code = embedded_shader(p.desc.shader);
+
+  VkShaderModuleCreateInfo smci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+  smci.codeSize = code.size_bytes();
+  smci.pCode = code.data();
+  PENSIGHT_VK(c.vk.vkCreateShaderModule(c.device, &smci, nullptr, &p.module));
+
+  std::vector<VkDescriptorSetLayoutBinding> bindings(p.desc.num_buffers);
+  for (uint32_t i = 0; i < p.desc.num_buffers; ++i) {
+    bindings[i] = {i, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
+  }
+  VkDescriptorSetLayoutCreateInfo dslci{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+  dslci.bindingCount = p.desc.num_buffers;
+  dslci.pBindings = bindings.data();
+  PENSIGHT_VK(c.vk.vkCreateDescriptorSetLayout(c.device, &dslci, nullptr, &p.set_layout));
+
+  VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, p.desc.push_constant_bytes};
+  VkPipelineLayoutCreateInfo plci{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+  plci.setLayoutCount = 1;
+  plci.pSetLayouts = &p.set_layout;
+  plci.pushConstantRangeCount = p.desc.push_constant_bytes ? 1 : 0;
+  plci.pPushConstantRanges = &range;
+  PENSIGHT_VK(c.vk.vkCreatePipelineLayout(c.device, &plci, nullptr, &p.layout));
+
+  std::vector<VkSpecializationMapEntry> entries(p.desc.specialization.size());
+  for (uint32_t i = 0; i < entries.size(); ++i) {
+    entries[i] = {i, static_cast<uint32_t>(i * sizeof(uint32_t)), sizeof(uint32_t)};
+  }
+  VkSpecializationInfo spec{static_cast<uint32_t>(entries.size()), entries.data(),
+                            p.desc.specialization.size() * sizeof(uint32_t),
+                            p.desc.specialization.data()};
+  VkComputePipelineCreateInfo cpci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+  cpci.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
+  cpci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+  cpci.stage.module = p.module;
+  cpci.stage.pName = "main";
+  cpci.stage.pSpecializationInfo = entries.empty() ? nullptr : &spec;
+  cpci.layout = p.layout;
+  const VkResult r =
+      c.vk.vkCreateComputePipelines(c.device, c.pipeline_cache, 1, &cpci, nullptr, &p.pipeline);
+  if (r != VK_SUCCESS) {
+    throw VulkanError("vkCreateComputePipelines('" + p.desc.shader + "')", r);
+  }
+}
+
+Pipeline::~Pipeline() = default;
+Pipeline::Pipeline(Pipeline&&) noexcept = default;
+Pipeline& Pipeline::operator=(Pipeline&&) noexcept = default;
+
+const PipelineDesc& Pipeline::desc() const {
+  return impl_->desc;
+}
+
+}  // namespace pensight::vk

@@ -1,0 +1,41 @@
+#pragma once
+// Compute pipelines built once from embedded SPIR-V and reused for every dispatch. Descriptor
+// layout convention (all shaders): set 0, bindings 0..num_buffers-1 are storage buffers.
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "runtime/vk_context.h"
+
+namespace pensight::vk {
+
+struct PipelineDesc {
+  std::string shader;                    // embedded name, e.g. "roi_normalize/roi_normalize"
+  uint32_t num_buffers = 1;              // storage buffers at bindings 0..num_buffers-1
+  uint32_t push_constant_bytes = 0;      // size of the push-constant block (multiple of 4)
+  std::vector<uint32_t> specialization;  // value of constant_id = i (ints, or floats as bits)
+};
+
+class Pipeline {
+ public:
+  Pipeline(const Context& ctx, PipelineDesc desc);
+  ~Pipeline();
+  Pipeline(Pipeline&&) noexcept;
+  Pipeline& operator=(Pipeline&&) noexcept;
+
+  const PipelineDesc& desc() const;
+
+  struct Impl;
+  Impl& impl() const { return *impl_; }
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
+// SPIR-V words of an embedded shader; throws pensight::Error naming the shader if unknown.
+std::span<const uint32_t> embedded_shader(const std::string& name);
+std::vector<std::string> embedded_shader_names();
+
+}  // namespace pensight::vk

@@ -1,0 +1,194 @@
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <numeric>
+#include <random>
+
+#include "runtime/error.h"
+#include "runtime/vk_buffer.h"
+#include "runtime/vk_pipeline.h"
+#include "runtime/vk_stream.h"
+#include "tests/support/vulkan_fixture.h"
+
+namespace pensight {
+namespace {
+
+using testing::VulkanTest;
+
+struct AxpyPush {
+  float a;
+  uint32_t n;
+};
+
+vk::Pipeline make_axpy(const vk::Context& ctx) {
+  return vk::Pipeline(
+      ctx,
+      {.shader = "runtime_test/axpy", .num_buffers = 2, .push_constant_bytes = sizeof(AxpyPush)});
+}
+
+vk::Groups groups_for(uint32_t n) {
+  return {(n + 63) / 64, 1, 1};
+}
+
+std::vector<float> random_floats(size_t n, std::mt19937_64& rng) {
+  std::uniform_real_distribution<float> u(-1.f, 1.f);
+  std::vector<float> v(n);
+  for (float& x : v) x = u(rng);
+  return v;
+}
+
+TEST_F(VulkanTest, DeviceIsDescribed) {
+  const vk::DeviceInfo& info = ctx().info();
+  EXPECT_FALSE(info.name.empty());
+  EXPECT_FALSE(info.driver.empty());
+  EXPECT_GE(info.max_workgroup_invocations, 256u);
+  const auto all = vk::Context::list_devices();
+  ASSERT_GT(all.size(), info.index);
+  EXPECT_EQ(all[info.index].name, info.name);
+}
+
+TEST_F(VulkanTest, BufferRoundTripAndRangeCheck) {
+  std::mt19937_64 rng(testing::fresh_seed());
+  const auto data = random_floats(1000, rng);
+  for (auto usage : {vk::MemoryUsage::kDevice, vk::MemoryUsage::kReadback}) {
+    vk::TypedBuffer<float> buf(ctx(), data.size(), usage);
+    buf.fill(testing::kPoison);
+    buf.upload(data);
+    EXPECT_EQ(buf.to_vector(), data);
+    std::vector<float> tail(10);
+    buf.download(tail, 990);
+    EXPECT_EQ(tail, std::vector<float>(data.end() - 10, data.end()));
+    EXPECT_THROW(buf.download(tail, 995), Error);
+    EXPECT_THROW(buf.upload(tail, 991), Error);
+  }
+}
+
+TEST_F(VulkanTest, UnknownShaderIsNamed) {
+  try {
+    vk::Pipeline p(ctx(), {.shader = "no/such_shader"});
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("no/such_shader"), std::string::npos) << e.what();
+  }
+}
+
+TEST_F(VulkanTest, DependentChainGetsOneBarrierAndIsCorrect) {
+  std::mt19937_64 rng(testing::fresh_seed());
+  const uint32_t n = 1000;
+  const auto x = random_floats(n, rng), y0 = random_floats(n, rng), z0 = random_floats(n, rng);
+  vk::TypedBuffer<float> bx(ctx(), n), by(ctx(), n), bz(ctx(), n);
+  bx.upload(x);
+  by.upload(y0);
+  bz.upload(z0);
+  const vk::Pipeline axpy = make_axpy(ctx());
+
+  vk::CommandStream stream(ctx());
+  stream.dispatch(axpy, {vk::in(bx), vk::inout(by)}, groups_for(n), AxpyPush{2.f, n}, "y+=2x");
+  stream.dispatch(axpy, {vk::in(by), vk::inout(bz)}, groups_for(n), AxpyPush{3.f, n}, "z+=3y");
+  EXPECT_EQ(stream.num_barriers(), 1u);  // read-after-write on y
+  stream.submit_and_wait();
+  const auto y = by.to_vector(), z = bz.to_vector();
+  for (uint32_t i = 0; i < n; ++i) {
+    ASSERT_FLOAT_EQ(y[i], 2 * x[i] + y0[i]) << i;
+    ASSERT_NEAR(z[i], 3 * y[i] + z0[i], 1e-5f) << i;
+  }
+
+  // Submitting again re-runs the recorded chain on the current contents.
+  stream.submit_and_wait();
+  const auto y2 = by.to_vector();
+  for (uint32_t i = 0; i < n; ++i) ASSERT_NEAR(y2[i], 2 * x[i] + y[i], 1e-5f) << i;
+
+  const auto t = stream.timings();
+  if (ctx().info().timestamps) {
+    ASSERT_EQ(t.size(), 2u);
+    EXPECT_EQ(t[0].name, "y+=2x");
+    EXPECT_EQ(t[1].name, "z+=3y");
+    for (const auto& d : t) EXPECT_GE(d.device_ms, 0.0);
+  }
+}
+
+TEST_F(VulkanTest, IndependentDispatchesNeedNoBarrier) {
+  const uint32_t n = 256;
+  vk::TypedBuffer<float> bx(ctx(), n), by(ctx(), n), bz(ctx(), n);
+  bx.fill(1.f);
+  by.fill(0.f);
+  bz.fill(0.f);
+  const vk::Pipeline axpy = make_axpy(ctx());
+  vk::CommandStream stream(ctx());
+  stream.dispatch(axpy, {vk::in(bx), vk::inout(by)}, groups_for(n), AxpyPush{1.f, n});
+  stream.dispatch(axpy, {vk::in(bx), vk::inout(bz)}, groups_for(n), AxpyPush{2.f, n});
+  EXPECT_EQ(stream.num_barriers(), 0u);  // both only read x
+  // Overwriting x after it was read is a write-after-read hazard.
+  stream.dispatch(axpy, {vk::in(by), vk::inout(bx)}, groups_for(n), AxpyPush{1.f, n});
+  EXPECT_EQ(stream.num_barriers(), 1u);
+  stream.submit_and_wait();
+  EXPECT_EQ(by.to_vector(), std::vector<float>(n, 1.f));
+  EXPECT_EQ(bz.to_vector(), std::vector<float>(n, 2.f));
+  EXPECT_EQ(bx.to_vector(), std::vector<float>(n, 2.f));
+}
+
+TEST_F(VulkanTest, CopyIsOrderedWithDispatches) {
+  const uint32_t n = 300;
+  vk::TypedBuffer<float> bx(ctx(), n), by(ctx(), n), readback(ctx(), n, vk::MemoryUsage::kReadback);
+  bx.fill(1.f);
+  by.fill(5.f);
+  readback.fill(testing::kPoison);
+  const vk::Pipeline axpy = make_axpy(ctx());
+  vk::CommandStream stream(ctx());
+  stream.dispatch(axpy, {vk::in(bx), vk::inout(by)}, groups_for(n), AxpyPush{1.f, n});
+  stream.copy(by.raw(), readback.raw());
+  stream.submit_and_wait();
+  EXPECT_EQ(readback.to_vector(), std::vector<float>(n, 6.f));
+  EXPECT_THROW(stream.copy(by.raw(), readback.raw(), 4 * n + 4), Error);
+}
+
+TEST_F(VulkanTest, DispatchChecksBindingsAndPushConstants) {
+  vk::TypedBuffer<float> b(ctx(), 4);
+  const vk::Pipeline axpy = make_axpy(ctx());
+  vk::CommandStream stream(ctx());
+  EXPECT_THROW(stream.dispatch(axpy, {vk::in(b)}, {1}, AxpyPush{1.f, 4}), Error);
+  EXPECT_THROW(stream.dispatch(axpy, {vk::in(b), vk::inout(b)}, {1}, 1.0f), Error);
+}
+
+TEST_F(VulkanTest, PipelineCacheIsPersisted) {
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("pensight-cache-test-" + std::to_string(testing::fresh_seed()));
+  std::filesystem::path file;
+  {
+    vk::Context c({.cache_dir = dir});
+    file = c.pipeline_cache_path();
+    EXPECT_EQ(file.parent_path(), dir);
+    make_axpy(c);
+  }
+  ASSERT_TRUE(std::filesystem::exists(file));
+  // At least the 32-byte VkPipelineCacheHeaderVersionOne (lavapipe stores nothing more).
+  EXPECT_GE(std::filesystem::file_size(file), 32u);
+  {
+    vk::Context c({.cache_dir = dir});  // loads the file written above
+    make_axpy(c);
+  }
+  {
+    std::ofstream(file, std::ios::trunc) << "not a pipeline cache";
+    vk::Context c({.cache_dir = dir});  // a corrupt file is ignored, then rewritten
+    make_axpy(c);
+  }
+  EXPECT_GE(std::filesystem::file_size(file), 32u);
+  std::filesystem::remove_all(dir);
+}
+
+TEST_F(VulkanTest, UnknownDeviceListsTheAvailableOnes) {
+  try {
+    vk::Context c({.device = "no-such-gpu", .cache_dir = "-"});
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("no-such-gpu"), std::string::npos) << what;
+    EXPECT_NE(what.find(ctx().info().name), std::string::npos) << what;
+  }
+  vk::Context by_index({.device = std::to_string(ctx().info().index), .cache_dir = "-"});
+  EXPECT_EQ(by_index.info().name, ctx().info().name);
+}
+
+}  // namespace
+}  // namespace pensight

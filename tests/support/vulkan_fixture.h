@@ -1,0 +1,26 @@
+#pragma once
+// Test fixture for everything that runs on Vulkan: one shared context per test binary, created
+// with the Khronos validation layer (synchronization validation included). Every validation
+// error becomes a failure of the test that was running.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include "runtime/vk_context.h"
+
+namespace pensight::testing {
+
+class VulkanTest : public ::testing::Test {
+ protected:
+  static const vk::Context& ctx();
+};
+
+// A seed that differs per run (fresh random inputs); printed so a failure can be reproduced by
+// setting PENSIGHT_TEST_SEED.
+uint64_t fresh_seed();
+
+inline constexpr float kPoison = std::numeric_limits<float>::quiet_NaN();
+
+}  // namespace pensight::testing
