@@ -6,7 +6,7 @@
 #include <cstdio>
 #include <vector>
 
-#include "apps/commands.h"
+#include "apps/command.h"
 #include "kernels/roi_normalize/roi_normalize.h"
 #include "runtime/timing.h"
 #include "runtime/vk_buffer.h"
@@ -76,5 +76,7 @@ int cmd_demo(const Args&) {
               stream.timings().empty() ? NAN : stream.timings()[0].device_ms, max_diff);
   return max_diff < 1e-3f ? 0 : 1;
 }
+
+PENSIGHT_COMMAND("demo", "run the built-in default job and print timing and accuracy", cmd_demo);
 
 }  // namespace pensight::app

@@ -1,6 +1,6 @@
 #include <cstdio>
 
-#include "apps/commands.h"
+#include "apps/command.h"
 #include "runtime/cuda_device.h"
 #include "runtime/error.h"
 #include "runtime/vk_context.h"
@@ -29,5 +29,8 @@ int cmd_devices(const Args&) {
   }
   return 0;
 }
+
+PENSIGHT_COMMAND("devices", "list Vulkan and CUDA devices and the one pensight would choose",
+                 cmd_devices);
 
 }  // namespace pensight::app

@@ -1,0 +1,38 @@
+#pragma once
+// Pinhole camera with radial-tangential (Brown-Conrady k1, k2, p1, p2) distortion, as in the
+// EuRoC/Kalibr cam0/sensor.yaml of ../shared/dataset-format.md. Camera frame C: OpenCV, x right,
+// y down, z along the optical axis. Pixel centres are at integer coordinates.
+#include <Eigen/Core>
+#include <optional>
+
+namespace pensight {
+
+struct PinholeCamera {
+  int width_px = 720;
+  int height_px = 540;
+  double fx_px = 462.0;
+  double fy_px = 462.0;
+  double cx_px = 359.5;
+  double cy_px = 269.5;
+  double k1 = 0, k2 = 0, p1 = 0, p2 = 0;
+
+  bool has_distortion() const { return k1 != 0 || k2 != 0 || p1 != 0 || p2 != 0; }
+
+  // Normalised image coordinates (x/z, y/z) -> distorted normalised coordinates.
+  Eigen::Vector2d distort(const Eigen::Vector2d& xn) const;
+  // Inverse of distort (fixed-point iteration; exact to ~1e-12 for realistic lenses).
+  Eigen::Vector2d undistort(const Eigen::Vector2d& xd) const;
+
+  // Point in C -> pixel; nullopt when the point is not in front of the camera (z <= 0).
+  std::optional<Eigen::Vector2d> project(const Eigen::Vector3d& p_C) const;
+  // Pixel -> ray direction in C with z = 1 (not unit length).
+  Eigen::Vector3d ray(const Eigen::Vector2d& px) const;
+
+  bool in_image(const Eigen::Vector2d& px) const {
+    return px.x() >= -0.5 && px.y() >= -0.5 && px.x() < width_px - 0.5 && px.y() < height_px - 0.5;
+  }
+  // Same camera for an image resized by `scale` (e.g. 320/720 for the depth network input).
+  PinholeCamera scaled(double scale) const;
+};
+
+}  // namespace pensight

@@ -1,0 +1,23 @@
+#!/usr/bin/env bash
+# Builds pensight (installing its packages if needed) and runs every test on lavapipe with the
+# Khronos validation layer on. --sanitize: the same with AddressSanitizer + UBSan (build-asan/).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+if [ "${1:-}" = "--sanitize" ]; then
+  export PENSIGHT_BUILD_DIR=build-asan
+  # CUDA's runtime and ASan's shadow memory do not mix; the sanitizer build is CPU + Vulkan.
+  scripts/setup.sh -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPENSIGHT_SANITIZE=ON -DPENSIGHT_CUDA=OFF \
+    -DPENSIGHT_BUILD_BENCH=OFF
+  # Mesa's llvmpipe keeps JIT and thread allocations until exit; leaks are not checked here.
+  export ASAN_OPTIONS="detect_leaks=0:abort_on_error=1"
+  export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
+else
+  export PENSIGHT_BUILD_DIR=build
+  scripts/setup.sh
+fi
+
+# Vulkan tests run on lavapipe unless the caller picks another device.
+export PENSIGHT_VK_DEVICE="${PENSIGHT_VK_DEVICE:-llvmpipe}"
+cd "$PENSIGHT_BUILD_DIR"
+ctest --output-on-failure -j2 --timeout 600
