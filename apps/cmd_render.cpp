@@ -97,7 +97,9 @@ int cmd_render(const Args& args) {
   if (!quiet) {
     log_info("rendering " + std::to_string(s.num_frames()) + " frames of '" + s.name + "' with " +
              renderer->name());
-    gen.progress = [&](int done, int total) { progress_bar(done, total, clock.elapsed_ms() / 1e3); };
+    gen.progress = [&](int done, int total) {
+      progress_bar(done, total, clock.elapsed_ms() / 1e3);
+    };
   }
   sim::generate_dataset(s, *renderer, out, gen);
   if (!quiet) log_info("wrote " + out);

@@ -2,7 +2,10 @@
 
 #include "pipeline/dataset/dataset_writer.h"
 #include "runtime/error.h"
+#include "runtime/log.h"
+#include "runtime/vk_context.h"
 #include "sim/ground_truth.h"
+#include "sim/render_vk.h"
 #include "sim/sensors.h"
 
 namespace pensight::sim {
@@ -20,6 +23,21 @@ class CpuRenderer : public FrameRenderer {
   RenderOptions o_;
 };
 
+class VulkanRenderer : public FrameRenderer {
+ public:
+  VulkanRenderer(const Scenario& s, const RenderOptions& o)
+      : ctx_(std::make_unique<vk::Context>()),
+        vk_(*ctx_, s, o),
+        name_("vulkan (" + ctx_->info().name + ")") {}
+  RenderedFrame render(const FrameState& f) override { return vk_.render(f); }
+  const char* name() const override { return name_.c_str(); }
+
+ private:
+  std::unique_ptr<vk::Context> ctx_;
+  RenderVk vk_;
+  std::string name_;
+};
+
 }  // namespace
 
 std::unique_ptr<FrameRenderer> make_cpu_renderer(const Scenario& s, const RenderOptions& o) {
@@ -28,12 +46,21 @@ std::unique_ptr<FrameRenderer> make_cpu_renderer(const Scenario& s, const Render
 
 std::unique_ptr<FrameRenderer> make_renderer(const Scenario& s, const RenderOptions& o,
                                              const std::string& which) {
-  if (which == "cpu" || which == "auto") return make_cpu_renderer(s, o);
+  if (which == "cpu") return make_cpu_renderer(s, o);
+  if (which == "vulkan") return std::make_unique<VulkanRenderer>(s, o);
+  if (which == "auto") {
+    try {
+      return std::make_unique<VulkanRenderer>(s, o);
+    } catch (const Error& e) {
+      log_warning(std::string("no Vulkan renderer (") + e.what() + "); using the CPU reference");
+      return make_cpu_renderer(s, o);
+    }
+  }
   throw Error("unknown renderer '" + which + "': use auto, vulkan or cpu");
 }
 
-void generate_dataset(const Scenario& s, FrameRenderer& renderer,
-                      const std::filesystem::path& out, const GenerateOptions& options) {
+void generate_dataset(const Scenario& s, FrameRenderer& renderer, const std::filesystem::path& out,
+                      const GenerateOptions& options) {
   const NetGeometry net(s.pen, s.net);
   DatasetContents contents;
   contents.scene = s.scene_config();

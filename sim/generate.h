@@ -31,7 +31,7 @@ struct GenerateOptions {
 
 // Writes the dataset to `out` (replacing an earlier dataset there, never any other folder);
 // nothing appears under `out` unless every frame was written.
-void generate_dataset(const Scenario& s, FrameRenderer& renderer,
-                      const std::filesystem::path& out, const GenerateOptions& options = {});
+void generate_dataset(const Scenario& s, FrameRenderer& renderer, const std::filesystem::path& out,
+                      const GenerateOptions& options = {});
 
 }  // namespace pensight::sim

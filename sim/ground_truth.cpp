@@ -32,8 +32,8 @@ GroundTruthRow ground_truth_row(const Scenario& s, const NetGeometry& net, const
   g.d_net_m = r.d_net_m;
   g.psi_net_rad = r.psi_net_rad;
   g.pitch_net_rad = r.pitch_net_rad;
-  const auto seen = std::count_if(depth_m.pixels.begin(), depth_m.pixels.end(),
-                                  [](float z) { return z > 0; });
+  const auto seen =
+      std::count_if(depth_m.pixels.begin(), depth_m.pixels.end(), [](float z) { return z > 0; });
   g.net_fraction = depth_m.pixels.empty()
                        ? 0.0
                        : static_cast<double>(seen) / static_cast<double>(depth_m.pixels.size());

@@ -61,8 +61,12 @@ std::optional<double> intersect_fish(const FishPose& f, const Eigen::Vector3d& o
 class Tracer {
  public:
   Tracer(const Scenario& s, const NetGeometry& net, const FrameState& f)
-      : s_(s), net_(net), f_(f), o_(f.T_world_camera.translation()),
-        R_wc_(f.T_world_camera.linear()), seed_(fold_seed(s.seed)),
+      : s_(s),
+        net_(net),
+        f_(f),
+        o_(f.T_world_camera.translation()),
+        R_wc_(f.T_world_camera.linear()),
+        seed_(fold_seed(s.seed)),
         range_(net_visible_range_m(s.water)) {
     c_ = s.water.attenuation_per_m;
     E0_ = s.light.ambient;
@@ -150,8 +154,9 @@ class Tracer {
         const FishPose& fp = f_.fish[static_cast<size_t>(fish_index)];
         const Eigen::Vector3d q = p - fp.centre_m;
         const double qa = q.dot(fp.axis);
-        const Eigen::Vector3d grad = (q - qa * fp.axis) / (fp.half_thickness_m * fp.half_thickness_m) +
-                                     qa * fp.axis / (fp.half_length_m * fp.half_length_m);
+        const Eigen::Vector3d grad =
+            (q - qa * fp.axis) / (fp.half_thickness_m * fp.half_thickness_m) +
+            qa * fp.axis / (fp.half_length_m * fp.half_length_m);
         J = fp.albedo * irradiance(p, -grad.normalized(), false);
         break;
       }
@@ -181,11 +186,11 @@ class Tracer {
     double albedo = s_.net.albedo;
     if (s_.net.fouling > 0) {
       albedo *= 1 - s_.net.fouling * value_noise(hit->u_m, hit->v_m, s_.net.fouling_scale_m,
-                                                  seed_ ^ kStreamFouling);
+                                                 seed_ ^ kStreamFouling);
     }
     const double T = std::exp(-c_ * hit->t);
-    const double twine = albedo * irradiance(hit->point, hit->normal, true) * T +
-                         background_ * (1 - T);
+    const double twine =
+        albedo * irradiance(hit->point, hit->normal, true) * T + background_ * (1 - T);
     return cover * twine + (1 - cover) * opaque.radiance + lamp_backscatter(d, hit->t);
   }
 
@@ -270,9 +275,9 @@ RenderedFrame render_cpu(const Scenario& s, const NetGeometry& net, const FrameS
       if (options.noise) {
         const auto pixel = static_cast<uint32_t>(y * cam.width_px + x);
         const auto frame = static_cast<uint32_t>(f.frame);
-        const double sigma = std::sqrt(s.camera.read_noise * s.camera.read_noise +
-                                       s.camera.shot_noise * s.camera.shot_noise *
-                                           std::max(grey, 0.0));
+        const double sigma =
+            std::sqrt(s.camera.read_noise * s.camera.read_noise +
+                      s.camera.shot_noise * s.camera.shot_noise * std::max(grey, 0.0));
         grey += sigma * gaussian(hash3(pixel, frame, tracer.seed() ^ kStreamNoise),
                                  hash3(pixel, frame, ~(tracer.seed() ^ kStreamNoise)));
       }

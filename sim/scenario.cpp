@@ -15,8 +15,8 @@ namespace {
 double ranged(const YamlMap& y, const std::string& key, double fallback, double lo, double hi) {
   const double v = y.number(key, fallback);
   if (!(v >= lo && v <= hi)) {
-    y.fail(key, "must be between " + std::to_string(lo) + " and " + std::to_string(hi) +
-                    ", got " + std::to_string(v));
+    y.fail(key, "must be between " + std::to_string(lo) + " and " + std::to_string(hi) + ", got " +
+                    std::to_string(v));
   }
   return v;
 }
@@ -85,7 +85,6 @@ CameraConfig parse_camera(const YamlMap& y) {
   c.vignetting = ranged(y, "vignetting", 0.3, 0, 1);
   c.read_noise = ranged(y, "read_noise", 1.5, 0, 100);
   c.shot_noise = ranged(y, "shot_noise", 0.3, 0, 10);
-  c.calibration.T_BS = forward_mount(c.position_B_m, c.pan_rad, c.tilt_rad);
   y.reject_unknown_keys();
   return c;
 }
@@ -341,7 +340,8 @@ int Scenario::num_frames() const {
 }
 
 int64_t Scenario::frame_time_ns(int frame) const {
-  return start_time_ns + static_cast<int64_t>(std::llround(frame * 1e9 / camera.calibration.rate_hz));
+  return start_time_ns +
+         static_cast<int64_t>(std::llround(frame * 1e9 / camera.calibration.rate_hz));
 }
 
 SceneConfig Scenario::scene_config() const {
@@ -360,6 +360,8 @@ Scenario parse_scenario(const std::string& text, const std::string& file_name) {
   s.seed = static_cast<uint64_t>(seed);
   s.start_time_ns = static_cast<int64_t>(y.number("start_time_ns", 1.6e18));
   if (const auto m = y.optional_map("camera")) s.camera = parse_camera(*m);
+  s.camera.calibration.T_BS =
+      forward_mount(s.camera.position_B_m, s.camera.pan_rad, s.camera.tilt_rad);
   if (const auto m = y.optional_map("pen")) s.pen = parse_pen(*m);
   if (const auto m = y.optional_map("net")) s.net = parse_net(*m);
   if (const auto m = y.optional_map("water")) s.water = parse_water(*m);

@@ -56,8 +56,8 @@ struct WaterConfig {
 struct Lamp {
   Eigen::Vector3d position_B_m{0.3, 0.0, 0.0};
   Eigen::Vector3d direction_B{1.0, 0.0, 0.0};  // unit after parsing
-  double intensity = 0.1;                       // irradiance at 1 m on the axis, in clear water
-  double half_angle_rad = 0.5;                  // half intensity at this angle off the axis
+  double intensity = 0.1;                      // irradiance at 1 m on the axis, in clear water
+  double half_angle_rad = 0.5;                 // half intensity at this angle off the axis
 };
 
 struct LightConfig {

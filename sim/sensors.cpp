@@ -30,9 +30,9 @@ DvlCalibration dvl_calibration(const DvlConfig& dvl) {
   c.T_BS = forward_mount(dvl.position_B_m, dvl.pan_rad, dvl.tilt_rad);
   for (size_t k = 0; k < 4; ++k) {
     const double phi = M_PI / 4 + M_PI / 2 * static_cast<double>(k);
-    c.beam_directions_S[k] = Eigen::Vector3d(std::sin(dvl.beam_angle_rad) * std::cos(phi),
-                                             std::sin(dvl.beam_angle_rad) * std::sin(phi),
-                                             std::cos(dvl.beam_angle_rad));
+    c.beam_directions_S[k] =
+        Eigen::Vector3d(std::sin(dvl.beam_angle_rad) * std::cos(phi),
+                        std::sin(dvl.beam_angle_rad) * std::sin(phi), std::cos(dvl.beam_angle_rad));
   }
   return c;
 }
