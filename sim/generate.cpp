@@ -25,10 +25,8 @@ class CpuRenderer : public FrameRenderer {
 
 class VulkanRenderer : public FrameRenderer {
  public:
-  VulkanRenderer(const Scenario& s, const RenderOptions& o)
-      : ctx_(std::make_unique<vk::Context>()),
-        vk_(*ctx_, s, o),
-        name_("vulkan (" + ctx_->info().name + ")") {}
+  VulkanRenderer(std::unique_ptr<vk::Context> ctx, const Scenario& s, const RenderOptions& o)
+      : ctx_(std::move(ctx)), vk_(*ctx_, s, o), name_("vulkan (" + ctx_->info().name + ")") {}
   RenderedFrame render(const FrameState& f) override { return vk_.render(f); }
   const char* name() const override { return name_.c_str(); }
 
@@ -47,14 +45,21 @@ std::unique_ptr<FrameRenderer> make_cpu_renderer(const Scenario& s, const Render
 std::unique_ptr<FrameRenderer> make_renderer(const Scenario& s, const RenderOptions& o,
                                              const std::string& which) {
   if (which == "cpu") return make_cpu_renderer(s, o);
-  if (which == "vulkan") return std::make_unique<VulkanRenderer>(s, o);
+  if (which == "vulkan") {
+    return std::make_unique<VulkanRenderer>(std::make_unique<vk::Context>(), s, o);
+  }
   if (which == "auto") {
+    // On a CPU Vulkan device (lavapipe) the plain C++ reference is the faster of the two (see
+    // docs/performance.md), so "auto" uses Vulkan only on a real GPU.
     try {
-      return std::make_unique<VulkanRenderer>(s, o);
+      auto ctx = std::make_unique<vk::Context>();
+      if (ctx->info().kind != vk::DeviceKind::kCpu) {
+        return std::make_unique<VulkanRenderer>(std::move(ctx), s, o);
+      }
     } catch (const Error& e) {
       log_warning(std::string("no Vulkan renderer (") + e.what() + "); using the CPU reference");
-      return make_cpu_renderer(s, o);
     }
+    return make_cpu_renderer(s, o);
   }
   throw Error("unknown renderer '" + which + "': use auto, vulkan or cpu");
 }

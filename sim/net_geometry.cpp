@@ -37,10 +37,9 @@ double NetGeometry::clearance(const Eigen::Vector3d& p) const {
 std::optional<NetHit> NetGeometry::intersect_wall_or_plane(const Eigen::Vector3d& o,
                                                            const Eigen::Vector3d& d) const {
   const double R = pen_.radius_m;
-  double offset = 0, t = -1;
-  const int steps = net_.bulges.empty() ? 1 : kBulgeIterations;
+  double offset = 0, t = -1, along = 0, disp = 0;
   Eigen::Vector3d p;
-  for (int i = 0; i < steps; ++i) {
+  for (int i = 0; i < kBulgeIterations; ++i) {
     const double r = R - offset;
     if (pen_.shape == NetShape::kPlane) {
       if (!(d.x() > 0)) return std::nullopt;
@@ -57,12 +56,15 @@ std::optional<NetHit> NetGeometry::intersect_wall_or_plane(const Eigen::Vector3d
     }
     if (!(t > 0)) return std::nullopt;
     p = o + t * d;
-    if (i + 1 < steps) offset = displacement(along_of(p), p.z());
+    along = along_of(p);
+    if (net_.bulges.empty()) break;
+    disp = displacement(along, p.z());
+    if (std::abs(disp - offset) < kBulgeTolerance_m) break;
+    offset = disp;
   }
   NetHit h;
   h.t = t;
   h.point = p;
-  const double along = along_of(p);
   const Eigen::Vector2d g = displacement_gradient(along, p.z());
   h.u_m = along;
   h.v_m = p.z();
@@ -73,10 +75,9 @@ std::optional<NetHit> NetGeometry::intersect_wall_or_plane(const Eigen::Vector3d
     h.normal = Eigen::Vector3d(1, g.x(), g.y()).normalized();
   } else {
     h.part = NetPart::kWall;
-    const double theta = along / R;
-    const Eigen::Vector3d e_r(std::cos(theta), std::sin(theta), 0);
-    const Eigen::Vector3d e_t(-std::sin(theta), std::cos(theta), 0);
-    const double k = (R - displacement(along, p.z())) / R;
+    const Eigen::Vector3d e_r = Eigen::Vector3d(p.x(), p.y(), 0).normalized();
+    const Eigen::Vector3d e_t(-e_r.y(), e_r.x(), 0);
+    const double k = (R - disp) / R;
     h.tangent_u = e_t;
     // Cross product of the surface's along and depth derivatives (see docs/sim.md).
     h.normal = (k * e_r + g.x() * e_t + k * g.y() * Eigen::Vector3d::UnitZ()).normalized();

@@ -21,9 +21,10 @@ struct NetHit {
 };
 
 // Fixed-point steps for the bulged surface: each re-intersects the undeformed shape offset by
-// the bulge displacement found at the previous hit. Four steps converge to < 0.1 mm for bulges
-// whose slope stays below ~0.5.
-inline constexpr int kBulgeIterations = 4;
+// the bulge displacement found at the previous hit, until the displacement changes by less than
+// kBulgeTolerance_m (at most kBulgeIterations steps; slopes below ~0.5 converge well within).
+inline constexpr int kBulgeIterations = 6;
+inline constexpr double kBulgeTolerance_m = 1e-5;
 
 class NetGeometry {
  public:

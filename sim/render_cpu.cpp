@@ -175,13 +175,15 @@ class Tracer {
     return s_.water.lamp_backscatter * sum * (1 - std::exp(-c_ * std::min(t_end, 50.0)));
   }
 
-  // Radiance along the camera ray D_c (camera frame, z = 1).
-  double radiance(const Eigen::Vector3d& D_c) const {
+  // Radiance along the camera ray D_c (camera frame, z = 1); also its net z-depth (0: none).
+  double radiance(const Eigen::Vector3d& D_c, double& depth) const {
     const double len = D_c.norm();
     const Eigen::Vector3d D_w = R_wc_ * D_c, d = D_w / len;
     const Opaque opaque = first_opaque(d);
     const auto hit = net_.intersect(o_, d);
+    depth = 0;
     if (!hit || hit->t >= opaque.t) return opaque.radiance + lamp_backscatter(d, opaque.t);
+    if (hit->t <= range_) depth = hit->t / len * D_c.z();
     const double cover = net_coverage(*hit, D_w, hit->t / len);
     double albedo = s_.net.albedo;
     if (s_.net.fouling > 0) {
@@ -192,14 +194,6 @@ class Tracer {
     const double twine =
         albedo * irradiance(hit->point, hit->normal, true) * T + background_ * (1 - T);
     return cover * twine + (1 - cover) * opaque.radiance + lamp_backscatter(d, hit->t);
-  }
-
-  // z-depth of the net seen along D_c, 0 if none.
-  double depth(const Eigen::Vector3d& D_c) const {
-    const Eigen::Vector3d d = (R_wc_ * D_c).normalized();
-    const auto hit = net_.intersect(o_, d);
-    if (!hit || hit->t > range_ || hit->t >= first_opaque(d).t) return 0;
-    return hit->t / D_c.norm() * D_c.z();
   }
 
   double snow(int x, int y) const {
@@ -260,15 +254,19 @@ RenderedFrame render_cpu(const Scenario& s, const NetGeometry& net, const FrameS
   const double gain = 255.0 * s.camera.exposure;
   auto render_row = [&](int y) {
     for (int x = 0; x < cam.width_px; ++x) {
-      double L = 0;
+      double L = 0, depth = 0, sample_depth = 0;
       for (int sy = 0; sy < n; ++sy) {
         for (int sx = 0; sx < n; ++sx) {
-          L += tracer.radiance(cam.ray({x + (sx + 0.5) / n - 0.5, y + (sy + 0.5) / n - 0.5}));
+          L += tracer.radiance(cam.ray({x + (sx + 0.5) / n - 0.5, y + (sy + 0.5) / n - 0.5}),
+                               sample_depth);
+          // With odd n the middle sample is the pixel centre, whose depth the truth reports.
+          if (2 * sx + 1 == n && 2 * sy + 1 == n) depth = sample_depth;
         }
       }
       L /= n * n;
       const Eigen::Vector3d D0 = cam.ray({static_cast<double>(x), static_cast<double>(y)});
-      out.depth_m.at(x, y) = static_cast<float>(tracer.depth(D0));
+      if (n % 2 == 0) tracer.radiance(D0, depth);
+      out.depth_m.at(x, y) = static_cast<float>(depth);
       if (options.marine_snow) L += tracer.snow(x, y);
       L *= std::pow(1 / D0.norm(), 4 * s.camera.vignetting);
       double grey = gain * L;

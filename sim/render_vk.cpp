@@ -16,14 +16,29 @@ using UVec4 = std::array<uint32_t, 4>;
 // std430 mirror of `Params` in shaders/sim/render.comp (every member 16-byte aligned).
 struct GpuParams {
   Vec4 cam, dist, rot[3], origin, pen, plane, net, net2, water, light, camera;
-  UVec4 counts, items;
+  UVec4 counts;
   Vec4 bulge[kMaxBulges], lamp_pos[kMaxLamps], lamp_dir[kMaxLamps];
   Vec4 fish_c[kMaxFish], fish_a[kMaxFish], fish_t[kMaxFish];
 };
-static_assert(sizeof(GpuParams) == 55 * 16);
+static_assert(sizeof(GpuParams) == 54 * 16);
 
 constexpr uint32_t kWorkgroup = 8;  // local_size_x/y in render.comp
-constexpr uint32_t kFlagNoise = 1, kFlagSnow = 2;
+// FEATURES bits of render.comp.
+constexpr uint32_t kFeatureNoise = 1, kFeatureSnow = 2, kFeaturePlane = 4, kFeatureBottom = 8,
+                   kFeatureWall = 16, kFeatureFouling = 32, kFeatureDistortion = 64;
+
+uint32_t features(const Scenario& s, const RenderOptions& o) {
+  const bool plane = s.pen.shape == NetShape::kPlane;
+  uint32_t f = 0;
+  if (o.noise && (s.camera.read_noise > 0 || s.camera.shot_noise > 0)) f |= kFeatureNoise;
+  if (o.marine_snow && s.water.marine_snow > 0) f |= kFeatureSnow;
+  if (plane) f |= kFeaturePlane;
+  if (!plane && s.pen.bottom) f |= kFeatureBottom;
+  if (plane && s.pen.wall_gap_m > 0) f |= kFeatureWall;
+  if (s.net.fouling > 0) f |= kFeatureFouling;
+  if (s.camera.calibration.camera.has_distortion()) f |= kFeatureDistortion;
+  return f;
+}
 
 Vec4 v4(double a, double b, double c, double d) {
   return {static_cast<float>(a), static_cast<float>(b), static_cast<float>(c),
@@ -53,7 +68,10 @@ RenderVk::RenderVk(const vk::Context& ctx, const Scenario& s, const RenderOption
                  .push_constant_bytes = 0,
                  .specialization = {static_cast<uint32_t>(s.camera.calibration.camera.width_px),
                                     static_cast<uint32_t>(s.camera.calibration.camera.height_px),
-                                    static_cast<uint32_t>(s.camera.samples_per_axis)}}) {}
+                                    static_cast<uint32_t>(s.camera.samples_per_axis),
+                                    static_cast<uint32_t>(s.net.bulges.size()),
+                                    static_cast<uint32_t>(s.light.lamps.size()),
+                                    static_cast<uint32_t>(s.fish.size()), features(s, options)}}) {}
 
 int RenderVk::width() const {
   return s_.camera.calibration.camera.width_px;
@@ -94,10 +112,10 @@ std::vector<uint8_t> RenderVk::params(const FrameState& f) const {
   const CameraConfig& c = s_.camera;
   g.camera = v4(255.0 * c.exposure, c.vignetting, c.read_noise, c.shot_noise);
   g.counts = {static_cast<uint32_t>(f.frame), fold_seed(s_.seed),
-              std::bit_cast<uint32_t>(static_cast<float>(w.marine_snow)),
-              (options_.noise ? kFlagNoise : 0) | (options_.marine_snow ? kFlagSnow : 0)};
-  g.items = {static_cast<uint32_t>(net.bulges.size()), static_cast<uint32_t>(f.lamps.size()),
-             static_cast<uint32_t>(f.fish.size()), k.has_distortion() ? 1u : 0u};
+              std::bit_cast<uint32_t>(static_cast<float>(w.marine_snow)), 0};
+  if (f.lamps.size() != s_.light.lamps.size() || f.fish.size() != s_.fish.size()) {
+    throw Error("RenderVk::params: the frame does not belong to the scenario it was built for");
+  }
   for (size_t i = 0; i < net.bulges.size(); ++i) {
     const Bulge& b = net.bulges[i];
     g.bulge[i] = v4(b.along_m, b.depth_m, b.amplitude_m, b.radius_m);

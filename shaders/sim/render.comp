@@ -7,6 +7,12 @@ layout(local_size_x = 8, local_size_y = 8) in;
 layout(constant_id = 0) const uint WIDTH = 720;
 layout(constant_id = 1) const uint HEIGHT = 540;
 layout(constant_id = 2) const uint SAMPLES = 2;  // per axis
+// The scene's structure is fixed per scenario: as constants, loops unroll with constant indices
+// and unused features compile away (llvmpipe pays for every dynamically indexed read).
+layout(constant_id = 3) const uint NUM_BULGES = 0;
+layout(constant_id = 4) const uint NUM_LAMPS = 2;
+layout(constant_id = 5) const uint NUM_FISH = 0;
+layout(constant_id = 6) const uint FEATURES = 0;  // kFeature* bits below
 
 struct Params {
   vec4 cam;         // fx, fy, cx, cy
@@ -20,8 +26,7 @@ struct Params {
   vec4 water;       // attenuation c, Kd, background radiance, lamp backscatter
   vec4 light;       // ambient E0, surface brightness, wall albedo, snow brightness * light
   vec4 camera;      // 255 * exposure, vignetting, read noise, shot noise
-  uvec4 counts;     // frame, seed, marine snow density as float bits, flags
-  uvec4 items;      // bulges, lamps, fish, has distortion
+  uvec4 counts;     // frame, seed, marine snow density as float bits, unused
   vec4 bulge[8];    // along, depth, amplitude, radius
   vec4 lamp_pos[4]; // position, intensity
   vec4 lamp_dir[4]; // direction, cos exponent
@@ -30,15 +35,21 @@ struct Params {
   vec4 fish_t[8];   // half thickness
 };
 
-layout(std430, binding = 0) readonly buffer ParamBuf { Params p; };
+layout(std430, binding = 0) readonly buffer ParamBuf { Params params_in; };
+// A private copy: llvmpipe turns every buffer read into a bounds-checked gather, so reading the
+// parameters once per invocation instead of at every use makes the shader several times faster.
+Params p;
 layout(std430, binding = 1) writeonly buffer ImageBuf { float image[]; };
 layout(std430, binding = 2) writeonly buffer DepthBuf { float depth[]; };
 
 #include "hash.glsl"
 
 const float kInf = 1e30;
-const uint kFlagNoise = 1u, kFlagSnow = 2u;
-const int kBulgeIterations = 4;  // sim/net_geometry.h
+const uint kFeatureNoise = 1u, kFeatureSnow = 2u, kFeaturePlane = 4u, kFeatureBottom = 8u,
+           kFeatureWall = 16u, kFeatureFouling = 32u, kFeatureDistortion = 64u;
+bool has(uint feature) { return (FEATURES & feature) != 0u; }
+const int kBulgeIterations = 6;  // sim/net_geometry.h
+const float kBulgeTolerance = 1e-5;
 const int kSnowCellPx = 24;
 
 // ---- camera ----
@@ -52,7 +63,7 @@ vec2 distort(vec2 xn) {
 vec3 camera_ray(vec2 px) {  // z = 1, as PinholeCamera::ray
   vec2 xd = vec2((px.x - p.cam.z) / p.cam.x, (px.y - p.cam.w) / p.cam.y);
   vec2 xn = xd;
-  if (p.items.w != 0u) {
+  if (has(kFeatureDistortion)) {
     for (int i = 0; i < 20; ++i) xn = xd - (distort(xn) - xn);
   }
   return vec3(xn, 1.0);
@@ -65,7 +76,7 @@ vec3 to_world(vec3 v) {
 // ---- net geometry (sim/net_geometry.cpp) ----
 float displacement(float along, float z) {
   float s = 0.0;
-  for (uint i = 0u; i < p.items.x; ++i) {
+  for (uint i = 0u; i < NUM_BULGES; ++i) {
     vec4 b = p.bulge[i];
     float da = along - b.x, dz = z - b.y;
     s += b.z * exp(-(da * da + dz * dz) / (2.0 * b.w * b.w));
@@ -75,7 +86,7 @@ float displacement(float along, float z) {
 
 vec2 displacement_gradient(float along, float z) {
   vec2 g = vec2(0.0);
-  for (uint i = 0u; i < p.items.x; ++i) {
+  for (uint i = 0u; i < NUM_BULGES; ++i) {
     vec4 b = p.bulge[i];
     float da = along - b.x, dz = z - b.y, s2 = b.w * b.w;
     float e = b.z * exp(-(da * da + dz * dz) / (2.0 * s2));
@@ -84,7 +95,7 @@ vec2 displacement_gradient(float along, float z) {
   return g;
 }
 
-bool is_plane() { return p.pen.w > 0.5; }
+bool is_plane() { return has(kFeaturePlane); }
 
 float along_of(vec3 q) {
   return is_plane() ? q.y : p.pen.x * atan(q.y, q.x);
@@ -97,10 +108,9 @@ struct Hit {
 };
 
 bool intersect_wall_or_plane(vec3 o, vec3 d, out Hit h) {
-  float R = p.pen.x, offset = 0.0, t = -1.0;
-  int steps = p.items.x == 0u ? 1 : kBulgeIterations;
+  float R = p.pen.x, offset = 0.0, t = -1.0, along = 0.0, disp = 0.0;
   vec3 q = o;
-  for (int i = 0; i < steps; ++i) {
+  for (int i = 0; i < kBulgeIterations; ++i) {
     float r = R - offset;
     if (is_plane()) {
       if (!(d.x > 0.0)) return false;
@@ -116,11 +126,14 @@ bool intersect_wall_or_plane(vec3 o, vec3 d, out Hit h) {
     }
     if (!(t > 0.0)) return false;
     q = o + t * d;
-    if (i + 1 < steps) offset = displacement(along_of(q), q.z);
+    along = along_of(q);
+    if (NUM_BULGES == 0u) break;
+    disp = displacement(along, q.z);
+    if (abs(disp - offset) < kBulgeTolerance) break;
+    offset = disp;
   }
   h.t = t;
   h.point = q;
-  float along = along_of(q);
   vec2 g = displacement_gradient(along, q.z);
   h.u = along;
   h.v = q.z;
@@ -129,9 +142,8 @@ bool intersect_wall_or_plane(vec3 o, vec3 d, out Hit h) {
     h.tu = vec3(0.0, 1.0, 0.0);
     h.normal = normalize(vec3(1.0, g.x, g.y));
   } else {
-    float theta = along / R;
-    vec3 er = vec3(cos(theta), sin(theta), 0.0), et = vec3(-sin(theta), cos(theta), 0.0);
-    float k = (R - displacement(along, q.z)) / R;
+    vec3 er = vec3(normalize(q.xy), 0.0), et = vec3(-er.y, er.x, 0.0);
+    float k = (R - disp) / R;
     h.tu = et;
     h.normal = normalize(k * er + g.x * et + k * g.y * vec3(0.0, 0.0, 1.0));
   }
@@ -145,7 +157,7 @@ bool intersect_net(vec3 o, vec3 d, out Hit h) {
            h.point.z <= p.plane.y + p.plane.z;
   }
   if (hit && h.point.z <= p.pen.y) return true;
-  if (p.pen.z < 0.5 || !(d.z > 0.0)) return false;
+  if (!has(kFeatureBottom) || !(d.z > 0.0)) return false;
   float t = (p.pen.y - o.z) / d.z;
   if (!(t > 0.0)) return false;
   h.t = t;
@@ -160,7 +172,7 @@ bool intersect_net(vec3 o, vec3 d, out Hit h) {
 }
 
 float intersect_back_wall(vec3 o, vec3 d) {
-  if (!is_plane() || p.plane.w <= 0.0 || !(d.x > 0.0)) return kInf;
+  if (!has(kFeatureWall) || !(d.x > 0.0)) return kInf;
   float t = (p.pen.x + p.plane.w - o.x) / d.x;
   return t > 0.0 ? t : kInf;
 }
@@ -215,7 +227,7 @@ float ambient(float z) {
 
 float irradiance(vec3 q, vec3 n_in, bool twine) {
   float e = ambient(q.z);
-  for (uint i = 0u; i < p.items.y; ++i) {
+  for (uint i = 0u; i < NUM_LAMPS; ++i) {
     vec3 v = q - p.lamp_pos[i].xyz;
     float r2 = dot(v, v), r = sqrt(r2);
     vec3 vh = v / r;
@@ -254,7 +266,7 @@ vec2 first_opaque(vec3 o, vec3 d) {
     best = -o.z / d.z;
     kind = 1;
   }
-  for (uint i = 0u; i < p.items.z; ++i) {
+  for (uint i = 0u; i < NUM_FISH; ++i) {
     float t = intersect_fish(i, o, d);
     if (t < best) {
       best = t;
@@ -289,31 +301,26 @@ vec2 first_opaque(vec3 o, vec3 d) {
 
 float lamp_backscatter(vec3 d, float t_end) {
   float s = 0.0;
-  for (uint i = 0u; i < p.items.y; ++i) s += p.lamp_pos[i].w * 0.5 * (1.0 + dot(d, p.lamp_dir[i].xyz));
+  for (uint i = 0u; i < NUM_LAMPS; ++i) s += p.lamp_pos[i].w * 0.5 * (1.0 + dot(d, p.lamp_dir[i].xyz));
   return p.water.w * s * (1.0 - exp(-p.water.x * min(t_end, 50.0)));
 }
 
-float radiance(vec3 o, vec3 Dc, vec3 dDx, vec3 dDy) {
+float radiance(vec3 o, vec3 Dc, vec3 dDx, vec3 dDy, out float depth_m) {
   float len = length(Dc);
   vec3 Dw = to_world(Dc), d = Dw / len;
   vec2 opaque = first_opaque(o, d);
   Hit h;
+  depth_m = 0.0;
   if (!intersect_net(o, d, h) || h.t >= opaque.x) return opaque.y + lamp_backscatter(d, opaque.x);
+  if (h.t <= p.origin.w) depth_m = h.t / len * Dc.z;
   float cover = net_coverage(h, Dw, h.t / len, dDx, dDy);
   float albedo = p.net.w;
-  if (p.net2.x > 0.0) {
+  if (has(kFeatureFouling)) {
     albedo *= 1.0 - p.net2.x * value_noise(h.u, h.v, p.net2.y, p.counts.y ^ kStreamFouling);
   }
   float T = exp(-p.water.x * h.t);
   float twine = albedo * irradiance(h.point, h.normal, true) * T + p.water.z * (1.0 - T);
   return cover * twine + (1.0 - cover) * opaque.y + lamp_backscatter(d, h.t);
-}
-
-float net_depth(vec3 o, vec3 Dc) {
-  vec3 d = normalize(to_world(Dc));
-  Hit h;
-  if (!intersect_net(o, d, h) || h.t > p.origin.w || h.t >= first_opaque(o, d).x) return 0.0;
-  return h.t / length(Dc) * Dc.z;
 }
 
 float snow(uint x, uint y) {
@@ -348,25 +355,28 @@ float gaussian(uint h1, uint h2) {
 void main() {
   uint x = gl_GlobalInvocationID.x, y = gl_GlobalInvocationID.y;
   if (x >= WIDTH || y >= HEIGHT) return;
+  p = params_in;
   vec3 o = p.origin.xyz;
   vec3 dDx = to_world(vec3(1.0 / p.cam.x, 0.0, 0.0));
   vec3 dDy = to_world(vec3(0.0, 1.0 / p.cam.y, 0.0));
   float n = float(SAMPLES);
-  float L = 0.0;
+  float L = 0.0, z = 0.0, sample_z;
   for (uint sy = 0u; sy < SAMPLES; ++sy) {
     for (uint sx = 0u; sx < SAMPLES; ++sx) {
       vec2 px = vec2(float(x) + (float(sx) + 0.5) / n - 0.5, float(y) + (float(sy) + 0.5) / n - 0.5);
-      L += radiance(o, camera_ray(px), dDx, dDy);
+      L += radiance(o, camera_ray(px), dDx, dDy, sample_z);
+      if (2u * sx + 1u == SAMPLES && 2u * sy + 1u == SAMPLES) z = sample_z;
     }
   }
   L /= n * n;
   vec3 D0 = camera_ray(vec2(x, y));
+  if (SAMPLES % 2u == 0u) radiance(o, D0, dDx, dDy, z);
   uint i = y * WIDTH + x;
-  depth[i] = net_depth(o, D0);
-  if ((p.counts.w & kFlagSnow) != 0u) L += snow(x, y);
+  depth[i] = z;
+  if (has(kFeatureSnow)) L += snow(x, y);
   L *= pow(1.0 / length(D0), 4.0 * p.camera.y);
   float grey = p.camera.x * L;
-  if ((p.counts.w & kFlagNoise) != 0u) {
+  if (has(kFeatureNoise)) {
     uint stream = p.counts.y ^ kStreamNoise;
     float sigma = sqrt(p.camera.z * p.camera.z + p.camera.w * p.camera.w * max(grey, 0.0));
     grey += sigma * gaussian(hash3(i, p.counts.x, stream), hash3(i, p.counts.x, ~stream));

@@ -50,15 +50,15 @@ double bilinear(const ImageU16& img, double x, double y) {
 }
 
 TEST_F(GenerateTest, DatasetReadsBackAndDnetEqualsDepthAtPrincipalPoint) {
-  const Scenario s = small_sweep(8.0);
+  const Scenario s = small_sweep(6.0);
   auto renderer = make_cpu_renderer(s, {});
   generate_dataset(s, *renderer, dir_ / "sweep");
   const Dataset d = read_dataset(dir_ / "sweep");
-  ASSERT_EQ(d.frames.size(), 81u);
+  ASSERT_EQ(d.frames.size(), 61u);
   ASSERT_TRUE(d.groundtruth0 && d.groundtruth0->has_depth && d.dvl0 && d.pressure0 && d.imu0);
-  EXPECT_EQ(d.dvl0->samples.size(), 33u);
-  EXPECT_EQ(d.pressure0->size(), 81u);
-  EXPECT_EQ(d.imu0->size(), 161u);
+  EXPECT_EQ(d.dvl0->samples.size(), 25u);
+  EXPECT_EQ(d.pressure0->size(), 61u);
+  EXPECT_EQ(d.imu0->size(), 121u);
   EXPECT_DOUBLE_EQ(d.scene.net_mesh_size_m, 0.03);
   const PinholeCamera& cam = d.cam0.camera;
   int with_net = 0, without = 0;
@@ -79,9 +79,9 @@ TEST_F(GenerateTest, DatasetReadsBackAndDnetEqualsDepthAtPrincipalPoint) {
   }
   // The sweep starts and ends turned away from the net.
   EXPECT_GE(without, 4);
-  EXPECT_GE(with_net, 60);
+  EXPECT_GE(with_net, 45);
   EXPECT_TRUE(std::isnan(d.truth_for_frame(0)->d_net_m));
-  EXPECT_TRUE(std::isnan(d.truth_for_frame(80)->d_net_m));
+  EXPECT_TRUE(std::isnan(d.truth_for_frame(60)->d_net_m));
 }
 
 std::string read_all(const fs::path& p) {
