@@ -81,10 +81,10 @@ CameraConfig parse_camera(const YamlMap& y) {
   if (c.samples_per_axis < 1 || c.samples_per_axis > 8) {
     y.fail("samples_per_axis", "must be 1 to 8");
   }
-  c.exposure = positive(y, "exposure", 1.0);
-  c.vignetting = ranged(y, "vignetting", 0.3, 0, 1);
-  c.read_noise = ranged(y, "read_noise", 1.5, 0, 100);
-  c.shot_noise = ranged(y, "shot_noise", 0.3, 0, 10);
+  c.exposure = positive(y, "exposure", c.exposure);
+  c.vignetting = ranged(y, "vignetting", c.vignetting, 0, 1);
+  c.read_noise = ranged(y, "read_noise", c.read_noise, 0, 100);
+  c.shot_noise = ranged(y, "shot_noise", c.shot_noise, 0, 10);
   y.reject_unknown_keys();
   return c;
 }

@@ -38,7 +38,7 @@ struct NetConfig {
   double twine_width_m = 0.0035;
   double knot_size_m = 0.006;
   double mesh_angle_rad = 0;  // 0: twines horizontal and vertical; pi/4: diamond mesh
-  double albedo = 0.55;
+  double albedo = 0.7;
   double fouling = 0.0;  // 0..1: depth of the slowly varying albedo loss
   double fouling_scale_m = 0.6;
   std::vector<Bulge> bulges;  // at most kMaxBulges
@@ -47,7 +47,7 @@ struct NetConfig {
 struct WaterConfig {
   double attenuation_per_m = 0.25;          // beam attenuation c (Beer-Lambert)
   double diffuse_attenuation_per_m = 0.12;  // Kd: ambient light falls off as exp(-Kd z)
-  double backscatter = 0.25;                // veiling light, as a share of the ambient light
+  double backscatter = 0.2;                 // veiling light, as a share of the ambient light
   double lamp_backscatter = 0.03;           // veiling light from the lamps, per unit intensity
   double marine_snow = 0.04;                // particles per 24 px cell and frame
   double snow_brightness = 0.3;
@@ -56,7 +56,7 @@ struct WaterConfig {
 struct Lamp {
   Eigen::Vector3d position_B_m{0.3, 0.0, 0.0};
   Eigen::Vector3d direction_B{1.0, 0.0, 0.0};  // unit after parsing
-  double intensity = 0.1;                      // irradiance at 1 m on the axis, in clear water
+  double intensity = 0.06;                     // irradiance at 1 m on the axis, in clear water
   double half_angle_rad = 0.5;                 // half intensity at this angle off the axis
 };
 
@@ -78,7 +78,7 @@ struct CameraConfig {
   Eigen::Vector3d position_B_m{0.3, 0.0, 0.0};
   double pan_rad = 0, tilt_rad = 0;  // from looking straight ahead; tilt > 0 looks down
   int samples_per_axis = 3;          // supersampling: N x N rays per pixel
-  double exposure = 1.0;
+  double exposure = 1.3;
   double vignetting = 0.3;  // 0: none, 1: cos^4 fall-off
   double read_noise = 1.5;  // grey levels
   double shot_noise = 0.3;  // grey levels per sqrt(grey level)
