@@ -153,9 +153,10 @@ VKAPI_ATTR VkBool32 VKAPI_CALL on_debug_message(VkDebugUtilsMessageSeverityFlagB
 
 bool has_layer(const char* name) {
   uint32_t n = 0;
-  vkEnumerateInstanceLayerProperties(&n, nullptr);
+  PENSIGHT_VK(vkEnumerateInstanceLayerProperties(&n, nullptr));
   std::vector<VkLayerProperties> layers(n);
-  vkEnumerateInstanceLayerProperties(&n, layers.data());
+  PENSIGHT_VK(vkEnumerateInstanceLayerProperties(&n, layers.data()));
+  layers.resize(n);
   return std::any_of(layers.begin(), layers.end(), [&](const VkLayerProperties& l) {
     return std::strcmp(l.layerName, name) == 0;
   });
