@@ -127,6 +127,9 @@ DeviceInfo describe(VkPhysicalDevice pd, uint32_t index) {
   compute_queue_family(pd, &info.timestamps);
   info.timestamp_period_ns = props.properties.limits.timestampPeriod;
   info.subgroup_size = subgroup.subgroupSize;
+  info.subgroup_arithmetic =
+      (subgroup.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) &&
+      (subgroup.supportedOperations & VK_SUBGROUP_FEATURE_ARITHMETIC_BIT);
   info.max_workgroup_invocations = props.properties.limits.maxComputeWorkGroupInvocations;
   info.max_shared_memory_bytes = props.properties.limits.maxComputeSharedMemorySize;
   return info;
@@ -362,6 +365,11 @@ Context::Context(ContextOptions options) : impl_(std::make_unique<Impl>()) {
                 std::to_string(VK_API_VERSION_MAJOR(d.info.api_version)) + "." +
                 std::to_string(VK_API_VERSION_MINOR(d.info.api_version)) +
                 "; pensight needs 1.2. Update the driver (Mesa >= 21 for lavapipe).");
+  }
+  if (!d.info.subgroup_arithmetic) {
+    throw Error("Vulkan device '" + d.info.name +
+                "' lacks subgroup arithmetic in compute shaders, which pensight's reductions use; "
+                "choose another device with PENSIGHT_VK_DEVICE or use --backend cpu");
   }
   const int family = compute_queue_family(d.physical, nullptr);
   if (family < 0) throw Error("Vulkan device '" + d.info.name + "' has no compute queue");
