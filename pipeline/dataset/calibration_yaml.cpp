@@ -1,0 +1,162 @@
+#include "pipeline/dataset/calibration_yaml.h"
+
+#include <cmath>
+#include <sstream>
+
+#include "pipeline/dataset/csv.h"
+#include "pipeline/dataset/strict_yaml.h"
+
+namespace pensight {
+namespace {
+
+std::string list(const double* v, size_t n) {
+  std::string s = "[";
+  for (size_t i = 0; i < n; ++i) s += (i ? ", " : "") + format_number(v[i]);
+  return s + "]";
+}
+
+Eigen::MatrixXd read_matrix(const YamlMap& parent, const std::string& key, int rows, int cols) {
+  const YamlMap m = parent.map(key);
+  if (m.integer("rows") != rows || m.integer("cols") != cols) {
+    parent.fail(key, "expected rows: " + std::to_string(rows) + ", cols: " + std::to_string(cols));
+  }
+  const std::vector<double> data = m.numbers("data", static_cast<size_t>(rows * cols));
+  m.reject_unknown_keys();
+  Eigen::MatrixXd out(rows, cols);
+  for (int r = 0; r < rows; ++r) {
+    for (int c = 0; c < cols; ++c) out(r, c) = data[static_cast<size_t>(r * cols + c)];
+  }
+  return out;
+}
+
+std::string matrix_yaml(const Eigen::MatrixXd& m) {
+  std::vector<double> data;
+  for (Eigen::Index r = 0; r < m.rows(); ++r) {
+    for (Eigen::Index c = 0; c < m.cols(); ++c) data.push_back(m(r, c));
+  }
+  return "{cols: " + std::to_string(m.cols()) + ", rows: " + std::to_string(m.rows()) +
+         ", data: " + list(data.data(), data.size()) + "}";
+}
+
+Eigen::Isometry3d read_transform(const YamlMap& parent, const std::string& key) {
+  const Eigen::Matrix4d T = read_matrix(parent, key, 4, 4);
+  const Eigen::Matrix3d R = T.topLeftCorner<3, 3>();
+  // 1e-5 leaves room for rotations printed with 6 decimals by calibration tools.
+  if ((R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() > 1e-5 ||
+      std::abs(R.determinant() - 1) > 1e-5 ||
+      (T.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).cwiseAbs().maxCoeff() > 1e-9) {
+    parent.fail(key, "not a rigid transform (rotation must be orthonormal, last row 0 0 0 1)");
+  }
+  Eigen::Isometry3d iso = Eigen::Isometry3d::Identity();
+  iso.linear() = R;
+  iso.translation() = T.topRightCorner<3, 1>();
+  return iso;
+}
+
+void expect_sensor_type(const YamlMap& y, const std::string& type) {
+  if (y.string("sensor_type") != type) y.fail("sensor_type", "expected '" + type + "'");
+}
+
+double positive(const YamlMap& y, const std::string& key) {
+  const double v = y.number(key);
+  if (!(v > 0)) y.fail(key, "must be positive");
+  return v;
+}
+
+}  // namespace
+
+CameraCalibration read_camera_yaml(const std::filesystem::path& file) {
+  const YamlMap y = YamlMap::load_file(file);
+  y.string("comment", "");
+  expect_sensor_type(y, "camera");
+  CameraCalibration c;
+  c.rate_hz = positive(y, "rate_hz");
+  const auto res = y.numbers("resolution", 2);
+  if (res[0] < 1 || res[1] < 1 || res[0] != std::round(res[0]) || res[1] != std::round(res[1])) {
+    y.fail("resolution", "expected [width, height] in whole pixels");
+  }
+  c.camera.width_px = static_cast<int>(res[0]);
+  c.camera.height_px = static_cast<int>(res[1]);
+  if (y.string("camera_model") != "pinhole") y.fail("camera_model", "only 'pinhole' is supported");
+  const auto k = y.numbers("intrinsics", 4);
+  if (!(k[0] > 0 && k[1] > 0)) y.fail("intrinsics", "focal lengths fu, fv must be positive");
+  c.camera.fx_px = k[0];
+  c.camera.fy_px = k[1];
+  c.camera.cx_px = k[2];
+  c.camera.cy_px = k[3];
+  const std::string model = y.string("distortion_model");
+  if (model != "radial-tangential" && model != "radtan") {
+    y.fail("distortion_model", "only 'radial-tangential' (k1, k2, p1, p2) is supported");
+  }
+  const auto d = y.numbers("distortion_coefficients", 4);
+  c.camera.k1 = d[0];
+  c.camera.k2 = d[1];
+  c.camera.p1 = d[2];
+  c.camera.p2 = d[3];
+  c.T_BS = read_transform(y, "T_BS");
+  y.reject_unknown_keys();
+  return c;
+}
+
+std::string camera_yaml(const CameraCalibration& c) {
+  const PinholeCamera& k = c.camera;
+  const double intr[] = {k.fx_px, k.fy_px, k.cx_px, k.cy_px};
+  const double dist[] = {k.k1, k.k2, k.p1, k.p2};
+  std::ostringstream s;
+  s << "sensor_type: camera\n"
+    << "rate_hz: " << format_number(c.rate_hz) << "\n"
+    << "resolution: [" << k.width_px << ", " << k.height_px << "]\n"
+    << "camera_model: pinhole\n"
+    << "intrinsics: " << list(intr, 4) << "  # fu, fv, cu, cv\n"
+    << "distortion_model: radial-tangential\n"
+    << "distortion_coefficients: " << list(dist, 4) << "  # k1, k2, p1, p2\n"
+    << "T_BS: " << matrix_yaml(c.T_BS.matrix()) << "  # camera -> body\n";
+  return s.str();
+}
+
+DvlCalibration read_dvl_yaml(const std::filesystem::path& file) {
+  const YamlMap y = YamlMap::load_file(file);
+  y.string("comment", "");
+  expect_sensor_type(y, "dvl");
+  DvlCalibration c;
+  c.rate_hz = positive(y, "rate_hz");
+  c.T_BS = read_transform(y, "T_BS");
+  const Eigen::MatrixXd beams = read_matrix(y, "beam_directions", 4, 3);
+  for (int i = 0; i < 4; ++i) {
+    const Eigen::Vector3d b = beams.row(i).transpose();
+    if (std::abs(b.norm() - 1) > 1e-4) y.fail("beam_directions", "rows must be unit vectors");
+    c.beam_directions_S[static_cast<size_t>(i)] = b.normalized();
+  }
+  y.reject_unknown_keys();
+  return c;
+}
+
+std::string dvl_yaml(const DvlCalibration& c) {
+  Eigen::MatrixXd beams(4, 3);
+  for (int i = 0; i < 4; ++i) beams.row(i) = c.beam_directions_S[static_cast<size_t>(i)];
+  std::ostringstream s;
+  s << "sensor_type: dvl\n"
+    << "rate_hz: " << format_number(c.rate_hz) << "\n"
+    << "T_BS: " << matrix_yaml(c.T_BS.matrix()) << "  # DVL -> body\n"
+    << "beam_directions: " << matrix_yaml(beams) << "  # unit vectors in the DVL frame\n";
+  return s.str();
+}
+
+SceneConfig read_scene_yaml(const std::filesystem::path& file) {
+  const YamlMap y = YamlMap::load_file(file);
+  SceneConfig s;
+  s.net_mesh_size_m = positive(y, "net_mesh_size_m");
+  s.pen_radius_m = positive(y, "pen_radius_m");
+  s.initial_rho_rad = y.optional_number("initial_rho_rad");
+  y.reject_unknown_keys();
+  return s;
+}
+
+std::string scene_yaml(const SceneConfig& s) {
+  std::string out = "net_mesh_size_m: " + format_number(s.net_mesh_size_m) + "\n" +
+                    "pen_radius_m: " + format_number(s.pen_radius_m) + "\n";
+  if (s.initial_rho_rad) out += "initial_rho_rad: " + format_number(*s.initial_rho_rad) + "\n";
+  return out;
+}
+
+}  // namespace pensight

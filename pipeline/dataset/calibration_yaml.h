@@ -1,0 +1,23 @@
+#pragma once
+// The YAML files of the dataset contract: cam0/sensor.yaml (EuRoC / Kalibr keys),
+// dvl0/sensor.yaml and scene.yaml. Parsing is strict (see strict_yaml.h); writing produces files
+// the parser reads back exactly.
+#include <filesystem>
+#include <string>
+
+#include "pipeline/dataset/dataset_types.h"
+
+namespace pensight {
+
+CameraCalibration read_camera_yaml(const std::filesystem::path& file);
+std::string camera_yaml(const CameraCalibration& calib);
+
+// dvl0/sensor.yaml: sensor_type: dvl, rate_hz, T_BS (4x4, DVL -> body) and beam_directions
+// ({cols: 3, rows: 4, data: [...]}, one unit vector per row, in the DVL frame).
+DvlCalibration read_dvl_yaml(const std::filesystem::path& file);
+std::string dvl_yaml(const DvlCalibration& calib);
+
+SceneConfig read_scene_yaml(const std::filesystem::path& file);
+std::string scene_yaml(const SceneConfig& scene);
+
+}  // namespace pensight

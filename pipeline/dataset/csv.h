@@ -1,0 +1,38 @@
+#pragma once
+// CSV files of the dataset contract: '#' lines are headers/comments, blank lines are ignored,
+// fields are separated by commas. Numbers are written so they read back exactly enough for the
+// contract (9 significant digits) and NaN is written as `nan`.
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace pensight {
+
+class CsvTable {
+ public:
+  // Reads `file`; every row must have between min_fields and max_fields fields.
+  CsvTable(const std::filesystem::path& file, size_t min_fields, size_t max_fields);
+
+  size_t rows() const { return rows_.size(); }
+  size_t fields(size_t row) const { return rows_[row].fields.size(); }
+  const std::string& text(size_t row, size_t field) const { return rows_[row].fields[field]; }
+  // Parse a field; `nan` is accepted for numbers. Errors name the file, line and column.
+  double number(size_t row, size_t field) const;
+  int64_t integer(size_t row, size_t field) const;
+
+ private:
+  struct Row {
+    int line;
+    std::vector<std::string> fields;
+  };
+  [[noreturn]] void fail(size_t row, size_t field, const std::string& message) const;
+
+  std::string file_;
+  std::vector<Row> rows_;
+};
+
+// "nan" for NaN, otherwise the shortest of %.9g.
+std::string format_number(double v);
+
+}  // namespace pensight

@@ -1,0 +1,156 @@
+#include "pipeline/dataset/dataset_reader.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "pipeline/dataset/calibration_yaml.h"
+#include "pipeline/dataset/csv.h"
+#include "pipeline/dataset/png_io.h"
+#include "runtime/error.h"
+
+namespace pensight {
+namespace fs = std::filesystem;
+namespace {
+
+template <class T>
+void require_time_order(const std::vector<T>& v, const fs::path& file) {
+  for (size_t i = 1; i < v.size(); ++i) {
+    if (v[i].timestamp_ns <= v[i - 1].timestamp_ns) {
+      throw Error(file.string() + ": timestamps must increase (row " + std::to_string(i + 1) +
+                  " repeats or goes back in time)");
+    }
+  }
+}
+
+std::vector<ImageEntry> read_frames(const fs::path& file) {
+  const CsvTable t(file, 2, 2);
+  std::vector<ImageEntry> out;
+  for (size_t r = 0; r < t.rows(); ++r) out.push_back({t.integer(r, 0), t.text(r, 1)});
+  require_time_order(out, file);
+  return out;
+}
+
+DvlData read_dvl(const fs::path& dir) {
+  DvlData d;
+  d.calibration = read_dvl_yaml(dir / "sensor.yaml");
+  const fs::path file = dir / "data.csv";
+  const CsvTable t(file, 5, 9);
+  for (size_t r = 0; r < t.rows(); ++r) {
+    if (t.fields(r) != 5 && t.fields(r) != 9) {
+      throw Error(file.string() + ": row " + std::to_string(r + 1) +
+                  " must have 5 fields, or 9 with the beam ranges r1..r4");
+    }
+    DvlSample s;
+    s.timestamp_ns = t.integer(r, 0);
+    s.velocity_B_mps = {t.number(r, 1), t.number(r, 2), t.number(r, 3)};
+    s.valid = t.integer(r, 4) != 0;
+    if (t.fields(r) == 9) {
+      d.has_beam_ranges = true;
+      for (size_t b = 0; b < 4; ++b) s.beam_range_m[b] = t.number(r, 5 + b);
+    }
+    d.samples.push_back(s);
+  }
+  require_time_order(d.samples, file);
+  return d;
+}
+
+std::vector<PressureSample> read_pressure(const fs::path& file) {
+  const CsvTable t(file, 2, 2);
+  std::vector<PressureSample> out;
+  for (size_t r = 0; r < t.rows(); ++r) out.push_back({t.integer(r, 0), t.number(r, 1)});
+  require_time_order(out, file);
+  return out;
+}
+
+std::vector<AttitudeSample> read_attitude(const fs::path& file) {
+  const CsvTable t(file, 4, 4);
+  std::vector<AttitudeSample> out;
+  for (size_t r = 0; r < t.rows(); ++r) {
+    out.push_back({t.integer(r, 0), t.number(r, 1), t.number(r, 2), t.number(r, 3)});
+  }
+  require_time_order(out, file);
+  return out;
+}
+
+GroundTruth read_groundtruth(const fs::path& dir) {
+  GroundTruth g;
+  const fs::path file = dir / "data.csv";
+  const CsvTable t(file, 11, 11);
+  for (size_t r = 0; r < t.rows(); ++r) {
+    GroundTruthRow row;
+    row.timestamp_ns = t.integer(r, 0);
+    row.p_world_body_m = {t.number(r, 1), t.number(r, 2), t.number(r, 3)};
+    row.roll_rad = t.number(r, 4);
+    row.pitch_rad = t.number(r, 5);
+    row.yaw_rad = t.number(r, 6);
+    row.d_net_m = t.number(r, 7);
+    row.psi_net_rad = t.number(r, 8);
+    row.pitch_net_rad = t.number(r, 9);
+    row.net_fraction = t.number(r, 10);
+    g.rows.push_back(row);
+  }
+  require_time_order(g.rows, file);
+  g.has_depth = fs::is_directory(dir / "depth");
+  return g;
+}
+
+}  // namespace
+
+Dataset read_dataset(const fs::path& root) {
+  if (!fs::is_directory(root)) {
+    throw Error("dataset folder '" + root.string() + "' not found");
+  }
+  if (!fs::is_directory(root / "cam0")) {
+    throw Error("'" + root.string() +
+                "' has no cam0/ folder: not a dataset in the layout of "
+                "dataset-format.md");
+  }
+  Dataset d;
+  d.root = root;
+  d.scene = read_scene_yaml(root / "scene.yaml");
+  d.cam0 = read_camera_yaml(root / "cam0" / "sensor.yaml");
+  d.frames = read_frames(root / "cam0" / "data.csv");
+  if (fs::is_directory(root / "dvl0")) d.dvl0 = read_dvl(root / "dvl0");
+  if (fs::is_directory(root / "pressure0")) {
+    d.pressure0 = read_pressure(root / "pressure0" / "data.csv");
+  }
+  if (fs::is_directory(root / "imu0")) d.imu0 = read_attitude(root / "imu0" / "attitude.csv");
+  if (fs::is_directory(root / "groundtruth0")) {
+    d.groundtruth0 = read_groundtruth(root / "groundtruth0");
+  }
+  return d;
+}
+
+ImageU8 Dataset::load_frame(size_t i) const {
+  if (i >= frames.size()) throw Error("frame index out of range");
+  return read_png_grey8(root / "cam0" / "data" / frames[i].filename, cam0.camera.width_px,
+                        cam0.camera.height_px);
+}
+
+ImageU16 Dataset::load_depth_mm(size_t i) const {
+  if (i >= frames.size()) throw Error("frame index out of range");
+  if (!groundtruth0 || !groundtruth0->has_depth) {
+    throw Error("'" + root.string() + "' has no groundtruth0/depth/ folder");
+  }
+  return read_png_u16(root / "groundtruth0" / "depth" / frames[i].filename, cam0.camera.width_px,
+                      cam0.camera.height_px);
+}
+
+ImageF32 Dataset::load_depth_m(size_t i) const {
+  const ImageU16 mm = load_depth_mm(i);
+  ImageF32 out(mm.width, mm.height);
+  std::transform(mm.pixels.begin(), mm.pixels.end(), out.pixels.begin(),
+                 [](uint16_t v) { return v == 0 ? std::nanf("") : static_cast<float>(v) * 1e-3f; });
+  return out;
+}
+
+const GroundTruthRow* Dataset::truth_for_frame(size_t i) const {
+  if (!groundtruth0 || i >= frames.size()) return nullptr;
+  const auto& rows = groundtruth0->rows;
+  const auto it =
+      std::lower_bound(rows.begin(), rows.end(), frames[i].timestamp_ns,
+                       [](const GroundTruthRow& r, int64_t t) { return r.timestamp_ns < t; });
+  return it != rows.end() && it->timestamp_ns == frames[i].timestamp_ns ? &*it : nullptr;
+}
+
+}  // namespace pensight

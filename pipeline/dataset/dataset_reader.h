@@ -1,0 +1,51 @@
+#pragma once
+// Reading a dataset in the layout of ../shared/dataset-format.md. Everything but the images is
+// read up front; images are loaded one at a time on request.
+#include <filesystem>
+#include <optional>
+#include <vector>
+
+#include "pipeline/dataset/dataset_types.h"
+#include "runtime/image.h"
+
+namespace pensight {
+
+struct DvlData {
+  DvlCalibration calibration;
+  std::vector<DvlSample> samples;
+  bool has_beam_ranges = false;  // data.csv has the optional r1..r4 columns
+};
+
+struct GroundTruth {
+  std::vector<GroundTruthRow> rows;
+  bool has_depth = false;  // groundtruth0/depth/ exists
+};
+
+class Dataset {
+ public:
+  std::filesystem::path root;
+  SceneConfig scene;
+  CameraCalibration cam0;
+  std::vector<ImageEntry> frames;  // in time order
+  // Absent sensor folders are nullopt.
+  std::optional<DvlData> dvl0;
+  std::optional<std::vector<PressureSample>> pressure0;
+  std::optional<std::vector<AttitudeSample>> imu0;
+  std::optional<GroundTruth> groundtruth0;
+
+  // Frame i as 8-bit grey (colour and 16-bit PNGs are converted); throws pensight::Error when the
+  // file is missing or its size differs from cam0/sensor.yaml.
+  ImageU8 load_frame(size_t i) const;
+  // Ground-truth z-depth of frame i in millimetres (0 = no net); requires groundtruth0/depth/.
+  ImageU16 load_depth_mm(size_t i) const;
+  // The same in metres, NaN where there is no net.
+  ImageF32 load_depth_m(size_t i) const;
+  // The ground-truth row with the timestamp of frame i, or nullptr.
+  const GroundTruthRow* truth_for_frame(size_t i) const;
+};
+
+// Reads scene.yaml, cam0/ (required) and the optional sensor folders. Throws pensight::Error
+// naming the file (and line or key) for anything missing or malformed.
+Dataset read_dataset(const std::filesystem::path& root);
+
+}  // namespace pensight

@@ -1,0 +1,84 @@
+#pragma once
+// Value types of the dataset contract (../shared/dataset-format.md, version 1). Timestamps are
+// integer nanoseconds shared by all sensors; frames and signs are those of the contract.
+#include <Eigen/Geometry>
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "pipeline/camera.h"
+
+namespace pensight {
+
+inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// cam0/sensor.yaml.
+struct CameraCalibration {
+  PinholeCamera camera;
+  Eigen::Isometry3d T_BS = Eigen::Isometry3d::Identity();  // camera -> body
+  double rate_hz = 10.0;
+};
+
+// scene.yaml.
+struct SceneConfig {
+  double net_mesh_size_m = 0.030;  // centre-to-centre twine spacing of the square mesh
+  double pen_radius_m = 12.0;      // a flat net is a large radius (e.g. 100)
+  std::optional<double> initial_rho_rad;
+};
+
+// One line of cam0/data.csv; the image is cam0/data/<filename>, the ground-truth depth (when
+// present) groundtruth0/depth/<filename>.
+struct ImageEntry {
+  int64_t timestamp_ns = 0;
+  std::string filename;
+};
+
+// dvl0/sensor.yaml.
+struct DvlCalibration {
+  Eigen::Isometry3d T_BS = Eigen::Isometry3d::Identity();  // DVL -> body
+  std::array<Eigen::Vector3d, 4> beam_directions_S;        // unit vectors in the DVL frame
+  double rate_hz = 4.0;
+};
+
+// One line of dvl0/data.csv. The velocity is the body-frame velocity over the ground/net.
+struct DvlSample {
+  int64_t timestamp_ns = 0;
+  Eigen::Vector3d velocity_B_mps = Eigen::Vector3d::Zero();
+  bool valid = false;
+  std::array<double, 4> beam_range_m = {kNaN, kNaN, kNaN, kNaN};  // NaN: no return / not recorded
+};
+
+// One line of pressure0/data.csv.
+struct PressureSample {
+  int64_t timestamp_ns = 0;
+  double depth_m = 0;  // positive below the surface
+};
+
+// One line of imu0/attitude.csv: body attitude in the world (pen) frame.
+struct AttitudeSample {
+  int64_t timestamp_ns = 0;
+  double roll_rad = 0, pitch_rad = 0, yaw_rad = 0;
+};
+
+// One line of groundtruth0/data.csv: body pose in the pen frame, net values for cam0 (NaN where
+// the optical axis misses the net).
+struct GroundTruthRow {
+  int64_t timestamp_ns = 0;
+  Eigen::Vector3d p_world_body_m = Eigen::Vector3d::Zero();
+  double roll_rad = 0, pitch_rad = 0, yaw_rad = 0;
+  double d_net_m = kNaN, psi_net_rad = kNaN, pitch_net_rad = kNaN;
+  double net_fraction = 0;  // share of pixels that see net
+};
+
+// Rotation body -> world from the contract's roll, pitch, yaw (Z-Y-X, yaw about +z down).
+inline Eigen::Matrix3d rotation_from_rpy(double roll_rad, double pitch_rad, double yaw_rad) {
+  return (Eigen::AngleAxisd(yaw_rad, Eigen::Vector3d::UnitZ()) *
+          Eigen::AngleAxisd(pitch_rad, Eigen::Vector3d::UnitY()) *
+          Eigen::AngleAxisd(roll_rad, Eigen::Vector3d::UnitX()))
+      .toRotationMatrix();
+}
+
+}  // namespace pensight

@@ -1,0 +1,176 @@
+#include "pipeline/dataset/dataset_writer.h"
+
+#include "pipeline/dataset/atomic_file.h"
+#include "pipeline/dataset/calibration_yaml.h"
+#include "pipeline/dataset/csv.h"
+#include "pipeline/dataset/png_io.h"
+#include "runtime/error.h"
+
+namespace pensight {
+namespace fs = std::filesystem;
+namespace {
+
+void write_text(const fs::path& file, const std::string& text) {
+  std::ofstream out(file);
+  out << text;
+  if (!out) throw Error("cannot write '" + file.string() + "'");
+}
+
+void check_replaceable(const fs::path& root) {
+  if (!fs::exists(root)) return;
+  const bool is_dir = fs::is_directory(root);
+  if (is_dir && (fs::is_empty(root) || fs::exists(root / "scene.yaml"))) return;
+  throw Error("output '" + root.string() + "' exists and is not a dataset; choose another --out " +
+              (is_dir ? "folder" : "path") + " or remove it");
+}
+
+}  // namespace
+
+std::string frame_filename(int64_t timestamp_ns) {
+  return std::to_string(timestamp_ns) + ".png";
+}
+
+DatasetWriter::DatasetWriter(fs::path root, DatasetContents contents)
+    : root_(std::move(root)), contents_(std::move(contents)) {
+  if (root_.filename().empty()) root_ = root_.parent_path();  // "out/" -> "out"
+  check_replaceable(root_);
+  if (!root_.parent_path().empty() && !fs::is_directory(root_.parent_path())) {
+    throw Error("cannot write dataset '" + root_.string() + "': folder '" +
+                root_.parent_path().string() + "' does not exist");
+  }
+  temp_ = temporary_sibling(root_);
+  std::error_code ec;
+  fs::create_directories(temp_ / "cam0" / "data", ec);
+  if (ec) throw Error("cannot create '" + temp_.string() + "': " + ec.message());
+
+  write_text(temp_ / "scene.yaml", scene_yaml(contents_.scene));
+  write_text(temp_ / "cam0" / "sensor.yaml", camera_yaml(contents_.cam0));
+  cam_csv_ = open_csv("cam0/data.csv", "#timestamp [ns],filename");
+  if (contents_.dvl0) {
+    fs::create_directories(temp_ / "dvl0");
+    write_text(temp_ / "dvl0" / "sensor.yaml", dvl_yaml(*contents_.dvl0));
+    dvl_csv_ = open_csv("dvl0/data.csv",
+                        contents_.dvl_beam_ranges
+                            ? "#timestamp [ns],vx [m/s],vy [m/s],vz [m/s],valid,r1 [m],r2 [m],"
+                              "r3 [m],r4 [m]"
+                            : "#timestamp [ns],vx [m/s],vy [m/s],vz [m/s],valid");
+  }
+  if (contents_.pressure0) {
+    fs::create_directories(temp_ / "pressure0");
+    pressure_csv_ = open_csv("pressure0/data.csv", "#timestamp [ns],depth [m]");
+  }
+  if (contents_.imu0) {
+    fs::create_directories(temp_ / "imu0");
+    imu_csv_ = open_csv("imu0/attitude.csv", "#timestamp [ns],roll [rad],pitch [rad],yaw [rad]");
+  }
+  if (contents_.groundtruth0) {
+    fs::create_directories(temp_ / "groundtruth0" / "depth");
+    gt_csv_ = open_csv("groundtruth0/data.csv",
+                       "#timestamp [ns],x [m],y [m],z [m],roll [rad],pitch [rad],yaw [rad],"
+                       "d_net [m],psi_net [rad],pitch_net [rad],net_fraction");
+  }
+}
+
+DatasetWriter::~DatasetWriter() {
+  if (finished_) return;
+  std::error_code ec;
+  fs::remove_all(temp_, ec);
+}
+
+std::ofstream DatasetWriter::open_csv(const fs::path& rel, const char* header) {
+  std::ofstream out(temp_ / rel);
+  out << header << "\n";
+  if (!out) throw Error("cannot write '" + (temp_ / rel).string() + "'");
+  return out;
+}
+
+void DatasetWriter::check_frame(const char* what, int64_t t, int64_t& last, int w, int h) const {
+  if (t <= last) throw Error(std::string(what) + ": timestamps must increase");
+  const PinholeCamera& cam = contents_.cam0.camera;
+  if (w != cam.width_px || h != cam.height_px) {
+    throw Error(std::string(what) + ": image is " + std::to_string(w) + "x" + std::to_string(h) +
+                " but the camera is " + std::to_string(cam.width_px) + "x" +
+                std::to_string(cam.height_px));
+  }
+  last = t;
+}
+
+void DatasetWriter::add_frame(int64_t timestamp_ns, const ImageU8& image) {
+  check_frame("DatasetWriter::add_frame", timestamp_ns, last_frame_ns_, image.width, image.height);
+  const std::string name = frame_filename(timestamp_ns);
+  write_png(temp_ / "cam0" / "data" / name, image);
+  cam_csv_ << timestamp_ns << "," << name << "\n";
+}
+
+void DatasetWriter::add_groundtruth(const GroundTruthRow& r, const ImageU16& depth_mm) {
+  if (!contents_.groundtruth0) throw Error("DatasetWriter: groundtruth0 was not requested");
+  check_frame("DatasetWriter::add_groundtruth", r.timestamp_ns, last_gt_ns_, depth_mm.width,
+              depth_mm.height);
+  write_png(temp_ / "groundtruth0" / "depth" / frame_filename(r.timestamp_ns), depth_mm);
+  gt_csv_ << r.timestamp_ns;
+  for (const double v :
+       {r.p_world_body_m.x(), r.p_world_body_m.y(), r.p_world_body_m.z(), r.roll_rad, r.pitch_rad,
+        r.yaw_rad, r.d_net_m, r.psi_net_rad, r.pitch_net_rad, r.net_fraction}) {
+    gt_csv_ << "," << format_number(v);
+  }
+  gt_csv_ << "\n";
+}
+
+void DatasetWriter::add_dvl(const DvlSample& s) {
+  if (!contents_.dvl0) throw Error("DatasetWriter: dvl0 was not requested");
+  if (s.timestamp_ns <= last_dvl_ns_)
+    throw Error("DatasetWriter::add_dvl: timestamps must increase");
+  last_dvl_ns_ = s.timestamp_ns;
+  dvl_csv_ << s.timestamp_ns << "," << format_number(s.velocity_B_mps.x()) << ","
+           << format_number(s.velocity_B_mps.y()) << "," << format_number(s.velocity_B_mps.z())
+           << "," << (s.valid ? 1 : 0);
+  if (contents_.dvl_beam_ranges) {
+    for (const double r : s.beam_range_m) dvl_csv_ << "," << format_number(r);
+  }
+  dvl_csv_ << "\n";
+}
+
+void DatasetWriter::add_pressure(const PressureSample& s) {
+  if (!contents_.pressure0) throw Error("DatasetWriter: pressure0 was not requested");
+  if (s.timestamp_ns <= last_pressure_ns_) {
+    throw Error("DatasetWriter::add_pressure: timestamps must increase");
+  }
+  last_pressure_ns_ = s.timestamp_ns;
+  pressure_csv_ << s.timestamp_ns << "," << format_number(s.depth_m) << "\n";
+}
+
+void DatasetWriter::add_attitude(const AttitudeSample& s) {
+  if (!contents_.imu0) throw Error("DatasetWriter: imu0 was not requested");
+  if (s.timestamp_ns <= last_imu_ns_) {
+    throw Error("DatasetWriter::add_attitude: timestamps must increase");
+  }
+  last_imu_ns_ = s.timestamp_ns;
+  imu_csv_ << s.timestamp_ns << "," << format_number(s.roll_rad) << ","
+           << format_number(s.pitch_rad) << "," << format_number(s.yaw_rad) << "\n";
+}
+
+void DatasetWriter::finish() {
+  if (finished_) throw Error("DatasetWriter::finish called twice");
+  for (std::ofstream* f : {&cam_csv_, &dvl_csv_, &pressure_csv_, &imu_csv_, &gt_csv_}) {
+    if (!f->is_open()) continue;
+    f->flush();
+    if (!*f) throw Error("writing dataset '" + temp_.string() + "' failed (disk full?)");
+    f->close();
+  }
+  // Move an earlier dataset aside first: rename cannot replace a non-empty folder.
+  const fs::path old = temporary_sibling(root_);
+  const bool replace = fs::exists(root_);
+  std::error_code ec;
+  if (replace) {
+    fs::rename(root_, old, ec);
+    if (ec) throw Error("cannot replace '" + root_.string() + "': " + ec.message());
+  }
+  fs::rename(temp_, root_, ec);
+  if (ec)
+    throw Error("cannot move '" + temp_.string() + "' to '" + root_.string() +
+                "': " + ec.message());
+  finished_ = true;
+  if (replace) fs::remove_all(old, ec);
+}
+
+}  // namespace pensight

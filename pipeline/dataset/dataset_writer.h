@@ -1,0 +1,66 @@
+#pragma once
+// Writing a dataset in the layout of ../shared/dataset-format.md. Everything goes into a hidden
+// temporary folder beside the target, which finish() renames onto the target: an interrupted or
+// failed run never leaves a folder that looks like a complete dataset.
+#include <filesystem>
+#include <fstream>
+#include <optional>
+
+#include "pipeline/dataset/dataset_types.h"
+#include "runtime/image.h"
+
+namespace pensight {
+
+// Which sensor folders the dataset has (an absent folder means the sensor is absent).
+struct DatasetContents {
+  SceneConfig scene;
+  CameraCalibration cam0;
+  std::optional<DvlCalibration> dvl0;
+  bool dvl_beam_ranges = true;  // write the optional r1..r4 columns
+  bool pressure0 = true;
+  bool imu0 = true;
+  bool groundtruth0 = true;  // data.csv and depth/
+};
+
+class DatasetWriter {
+ public:
+  // `root` may be absent, an empty folder or an earlier dataset (it is replaced on finish());
+  // any other existing path is refused so that no unrelated folder is ever overwritten.
+  DatasetWriter(std::filesystem::path root, DatasetContents contents);
+  // Removes the temporary folder unless finish() succeeded.
+  ~DatasetWriter();
+  DatasetWriter(const DatasetWriter&) = delete;
+  DatasetWriter& operator=(const DatasetWriter&) = delete;
+
+  // cam0 frame, stored as data/<timestamp_ns>.png; must match the calibration's size and come
+  // after the previous frame.
+  void add_frame(int64_t timestamp_ns, const ImageU8& image);
+  // Ground truth for the frame with the same timestamp: one data.csv row and its z-depth image
+  // in millimetres (0 = no net).
+  void add_groundtruth(const GroundTruthRow& row, const ImageU16& depth_mm);
+  void add_dvl(const DvlSample& sample);
+  void add_pressure(const PressureSample& sample);
+  void add_attitude(const AttitudeSample& sample);
+
+  // Closes every file and moves the dataset to `root`.
+  void finish();
+
+  const std::filesystem::path& temporary_root() const { return temp_; }
+
+ private:
+  std::ofstream open_csv(const std::filesystem::path& rel, const char* header);
+  void check_frame(const char* what, int64_t t, int64_t& last, int w, int h) const;
+
+  std::filesystem::path root_;
+  std::filesystem::path temp_;
+  DatasetContents contents_;
+  std::ofstream cam_csv_, dvl_csv_, pressure_csv_, imu_csv_, gt_csv_;
+  int64_t last_frame_ns_ = INT64_MIN, last_gt_ns_ = INT64_MIN, last_dvl_ns_ = INT64_MIN,
+          last_pressure_ns_ = INT64_MIN, last_imu_ns_ = INT64_MIN;
+  bool finished_ = false;
+};
+
+// Frame file name used by DatasetWriter: "<timestamp_ns>.png".
+std::string frame_filename(int64_t timestamp_ns);
+
+}  // namespace pensight

@@ -1,0 +1,83 @@
+#include "pipeline/dataset/png_io.h"
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "pipeline/dataset/atomic_file.h"
+#include "runtime/error.h"
+
+namespace pensight {
+namespace {
+
+cv::Mat read_any(const std::filesystem::path& file, int expect_width, int expect_height) {
+  if (!std::filesystem::is_regular_file(file)) {
+    throw Error("image '" + file.string() + "' not found: check the file names in data.csv");
+  }
+  cv::Mat m = cv::imread(file.string(), cv::IMREAD_UNCHANGED);
+  if (m.empty()) throw Error("cannot decode image '" + file.string() + "': not a valid PNG");
+  if (expect_width > 0 && (m.cols != expect_width || m.rows != expect_height)) {
+    throw Error("image '" + file.string() + "' is " + std::to_string(m.cols) + "x" +
+                std::to_string(m.rows) + " but sensor.yaml says " + std::to_string(expect_width) +
+                "x" + std::to_string(expect_height) + ": fix the resolution or the image");
+  }
+  return m;
+}
+
+template <class T>
+Image<T> to_image(const cv::Mat& m) {
+  Image<T> img(m.cols, m.rows);
+  cv::Mat view(m.rows, m.cols, m.type(), img.pixels.data());
+  m.copyTo(view);
+  return img;
+}
+
+void write_mat(const std::filesystem::path& file, const cv::Mat& m) {
+  std::vector<uchar> bytes;
+  // Fast zlib level: the images are rewritten every run and PNG size matters less than time.
+  if (!cv::imencode(".png", m, bytes, {cv::IMWRITE_PNG_COMPRESSION, 1})) {
+    throw Error("cannot encode '" + file.string() + "' as PNG");
+  }
+  write_file_atomically(
+      file, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
+}
+
+}  // namespace
+
+ImageU8 read_png_grey8(const std::filesystem::path& file, int expect_width, int expect_height) {
+  cv::Mat m = read_any(file, expect_width, expect_height);
+  if (m.channels() == 3) {
+    cv::cvtColor(m, m, cv::COLOR_BGR2GRAY);
+  } else if (m.channels() == 4) {
+    cv::cvtColor(m, m, cv::COLOR_BGRA2GRAY);
+  } else if (m.channels() != 1) {
+    throw Error("image '" + file.string() + "' has " + std::to_string(m.channels()) +
+                " channels; expected grey or colour");
+  }
+  if (m.depth() == CV_16U) {
+    m.convertTo(m, CV_8U, 255.0 / 65535.0);
+  } else if (m.depth() != CV_8U) {
+    throw Error("image '" + file.string() + "' is neither 8- nor 16-bit");
+  }
+  return to_image<uint8_t>(m);
+}
+
+ImageU16 read_png_u16(const std::filesystem::path& file, int expect_width, int expect_height) {
+  const cv::Mat m = read_any(file, expect_width, expect_height);
+  if (m.type() != CV_16UC1) {
+    throw Error("image '" + file.string() + "' must be a 16-bit single-channel PNG");
+  }
+  return to_image<uint16_t>(m);
+}
+
+void write_png(const std::filesystem::path& file, const ImageU8& image) {
+  write_mat(file,
+            cv::Mat(image.height, image.width, CV_8UC1, const_cast<uint8_t*>(image.pixels.data())));
+}
+
+void write_png(const std::filesystem::path& file, const ImageU16& image) {
+  write_mat(file, cv::Mat(image.height, image.width, CV_16UC1,
+                          const_cast<uint16_t*>(image.pixels.data())));
+}
+
+}  // namespace pensight

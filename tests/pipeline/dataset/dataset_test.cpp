@@ -1,0 +1,301 @@
+// Dataset contract I/O: round trips through DatasetWriter/read_dataset and EstimatesCsvWriter,
+// and the refusals for malformed input.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <fstream>
+#include <opencv2/imgcodecs.hpp>
+#include <random>
+
+#include "pipeline/dataset/dataset_reader.h"
+#include "pipeline/dataset/dataset_writer.h"
+#include "pipeline/dataset/estimates_csv.h"
+#include "runtime/error.h"
+#include "tests/support/vulkan_fixture.h"
+
+namespace pensight {
+namespace {
+namespace fs = std::filesystem;
+
+class DatasetTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::temp_directory_path() /
+           ("pensight_dataset_test_" + std::to_string(::getpid()) + "_" + info->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  DatasetContents contents() const {
+    DatasetContents c;
+    c.scene = {0.025, 6.5, 0.3};
+    c.cam0.camera.width_px = 36;
+    c.cam0.camera.height_px = 27;
+    c.cam0.camera.fx_px = 23.1;
+    c.cam0.camera.fy_px = 23.2;
+    c.cam0.camera.cx_px = 17.5;
+    c.cam0.camera.cy_px = 13.25;
+    c.cam0.camera.k1 = -0.05;
+    c.cam0.camera.p2 = 1e-4;
+    c.cam0.T_BS.linear() = rotation_from_rpy(0.1, -0.2, 1.4);
+    c.cam0.T_BS.translation() = Eigen::Vector3d(0.3, -0.02, 0.1);
+    DvlCalibration dvl;
+    dvl.rate_hz = 4;
+    dvl.T_BS.linear() = rotation_from_rpy(0, 0.5, 0);
+    for (size_t i = 0; i < 4; ++i) {
+      const double a = 0.5 + 1.5707963267948966 * static_cast<double>(i);
+      dvl.beam_directions_S[i] =
+          Eigen::Vector3d(0.5 * std::cos(a), 0.5 * std::sin(a), 1).normalized();
+    }
+    c.dvl0 = dvl;
+    return c;
+  }
+
+  ImageU8 random_frame(std::mt19937_64& rng, int w, int h) {
+    ImageU8 img(w, h);
+    for (auto& p : img.pixels) p = static_cast<uint8_t>(rng() & 0xff);
+    return img;
+  }
+
+  fs::path dir_;
+};
+
+void write_file(const fs::path& p, const std::string& text) {
+  std::ofstream(p) << text;
+}
+
+std::string error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+TEST_F(DatasetTest, RoundTripKeepsEverySensorAndImage) {
+  std::mt19937_64 rng(testing::fresh_seed());
+  std::uniform_real_distribution<double> u(-3, 3);
+  const DatasetContents c = contents();
+  const fs::path root = dir_ / "seq";
+  std::vector<ImageU8> frames;
+  std::vector<ImageU16> depths;
+  std::vector<GroundTruthRow> truth;
+  std::vector<DvlSample> dvl;
+  std::vector<PressureSample> pressure;
+  std::vector<AttitudeSample> attitude;
+  {
+    DatasetWriter w(root, c);
+    for (int i = 0; i < 3; ++i) {
+      const int64_t t = 1'700'000'000'000'000'000 + i * 100'000'000LL;
+      frames.push_back(random_frame(rng, 36, 27));
+      ImageU16 depth(36, 27);
+      for (auto& p : depth.pixels) p = static_cast<uint16_t>(rng() & 0xffff);
+      depths.push_back(depth);
+      GroundTruthRow g{t,      {u(rng), u(rng), u(rng)}, u(rng),  u(rng), u(rng), u(rng),
+                       u(rng), i == 1 ? kNaN : u(rng),   0.25 * i};
+      truth.push_back(g);
+      w.add_frame(t, frames.back());
+      w.add_groundtruth(g, depth);
+      DvlSample d{t + 1, {u(rng), u(rng), u(rng)}, i != 2, {u(rng), kNaN, u(rng), u(rng)}};
+      dvl.push_back(d);
+      w.add_dvl(d);
+      pressure.push_back({t + 2, u(rng)});
+      w.add_pressure(pressure.back());
+      attitude.push_back({t + 3, u(rng), u(rng), u(rng)});
+      w.add_attitude(attitude.back());
+    }
+    EXPECT_FALSE(fs::exists(root)) << "the dataset must appear only on finish()";
+    w.finish();
+  }
+  const Dataset d = read_dataset(root);
+  EXPECT_DOUBLE_EQ(d.scene.net_mesh_size_m, 0.025);
+  EXPECT_DOUBLE_EQ(d.scene.pen_radius_m, 6.5);
+  ASSERT_TRUE(d.scene.initial_rho_rad);
+  EXPECT_DOUBLE_EQ(*d.scene.initial_rho_rad, 0.3);
+  EXPECT_EQ(d.cam0.camera.width_px, 36);
+  EXPECT_EQ(d.cam0.camera.height_px, 27);
+  EXPECT_DOUBLE_EQ(d.cam0.camera.fy_px, 23.2);
+  EXPECT_DOUBLE_EQ(d.cam0.camera.cy_px, 13.25);
+  EXPECT_DOUBLE_EQ(d.cam0.camera.k1, -0.05);
+  EXPECT_DOUBLE_EQ(d.cam0.camera.p2, 1e-4);
+  EXPECT_TRUE(d.cam0.T_BS.isApprox(c.cam0.T_BS, 1e-8));
+  ASSERT_TRUE(d.dvl0 && d.pressure0 && d.imu0 && d.groundtruth0);
+  EXPECT_TRUE(d.dvl0->calibration.T_BS.isApprox(c.dvl0->T_BS, 1e-8));
+  EXPECT_TRUE(d.dvl0->has_beam_ranges);
+  ASSERT_EQ(d.frames.size(), 3u);
+  for (size_t i = 0; i < 3; ++i) {
+    EXPECT_EQ(d.load_frame(i).pixels, frames[i].pixels);
+    EXPECT_EQ(d.load_depth_mm(i).pixels, depths[i].pixels);
+    const GroundTruthRow* g = d.truth_for_frame(i);
+    ASSERT_NE(g, nullptr);
+    EXPECT_NEAR(g->p_world_body_m.x(), truth[i].p_world_body_m.x(), 1e-8);
+    EXPECT_NEAR(g->yaw_rad, truth[i].yaw_rad, 1e-8);
+    EXPECT_NEAR(g->d_net_m, truth[i].d_net_m, 1e-8);
+    EXPECT_EQ(std::isnan(g->pitch_net_rad), std::isnan(truth[i].pitch_net_rad));
+    EXPECT_DOUBLE_EQ(g->net_fraction, truth[i].net_fraction);
+    const DvlSample& s = d.dvl0->samples[i];
+    EXPECT_EQ(s.timestamp_ns, dvl[i].timestamp_ns);
+    EXPECT_NEAR(s.velocity_B_mps.z(), dvl[i].velocity_B_mps.z(), 1e-8);
+    EXPECT_EQ(s.valid, dvl[i].valid);
+    EXPECT_TRUE(std::isnan(s.beam_range_m[1]));
+    EXPECT_NEAR(s.beam_range_m[3], dvl[i].beam_range_m[3], 1e-8);
+    EXPECT_NEAR((*d.pressure0)[i].depth_m, pressure[i].depth_m, 1e-8);
+    EXPECT_NEAR((*d.imu0)[i].pitch_rad, attitude[i].pitch_rad, 1e-8);
+  }
+  const ImageF32 depth_m = d.load_depth_m(0);
+  const uint16_t mm = depths[0].pixels[5];
+  if (mm == 0) {
+    EXPECT_TRUE(std::isnan(depth_m.pixels[5]));
+  } else {
+    EXPECT_FLOAT_EQ(depth_m.pixels[5], mm * 1e-3f);
+  }
+}
+
+TEST_F(DatasetTest, UnfinishedWriterLeavesNothing) {
+  {
+    DatasetWriter w(dir_ / "seq", contents());
+    std::mt19937_64 rng(1);
+    w.add_frame(10, random_frame(rng, 36, 27));
+    EXPECT_TRUE(fs::exists(w.temporary_root()));
+  }
+  EXPECT_TRUE(fs::is_empty(dir_));
+}
+
+TEST_F(DatasetTest, ReplacesAnEarlierDatasetButNoOtherFolder) {
+  std::mt19937_64 rng(2);
+  for (int run = 0; run < 2; ++run) {
+    DatasetWriter w(dir_ / "seq", contents());
+    w.add_frame(10 + run, random_frame(rng, 36, 27));
+    w.finish();
+  }
+  EXPECT_EQ(read_dataset(dir_ / "seq").frames.at(0).timestamp_ns, 11);
+  fs::create_directories(dir_ / "photos");
+  write_file(dir_ / "photos" / "holiday.jpg", "x");
+  EXPECT_NE(error_of([&] { DatasetWriter(dir_ / "photos", contents()); }).find("not a dataset"),
+            std::string::npos);
+  EXPECT_TRUE(fs::exists(dir_ / "photos" / "holiday.jpg"));
+}
+
+TEST_F(DatasetTest, WriterRefusesWrongSizeAndTimeOrder) {
+  DatasetWriter w(dir_ / "seq", contents());
+  std::mt19937_64 rng(3);
+  EXPECT_NE(error_of([&] { w.add_frame(5, random_frame(rng, 35, 27)); }).find("35x27"),
+            std::string::npos);
+  w.add_frame(5, random_frame(rng, 36, 27));
+  EXPECT_NE(error_of([&] { w.add_frame(5, random_frame(rng, 36, 27)); }).find("increase"),
+            std::string::npos);
+}
+
+class DatasetFilesTest : public DatasetTest {
+ protected:
+  void SetUp() override {
+    DatasetTest::SetUp();
+    root_ = dir_ / "seq";
+    DatasetContents c = contents();
+    c.dvl0.reset();
+    c.imu0 = false;
+    DatasetWriter w(root_, c);
+    std::mt19937_64 rng(4);
+    w.add_frame(100, random_frame(rng, 36, 27));
+    w.add_frame(200, random_frame(rng, 36, 27));
+    w.finish();
+  }
+  fs::path root_;
+};
+
+TEST_F(DatasetFilesTest, MissingSensorFolderMeansAbsentSensor) {
+  const Dataset d = read_dataset(root_);
+  EXPECT_FALSE(d.dvl0);
+  EXPECT_FALSE(d.imu0);
+  EXPECT_TRUE(d.pressure0);
+  EXPECT_EQ(d.frames.size(), 2u);
+}
+
+TEST_F(DatasetFilesTest, MissingFolderOrSensorYamlIsNamed) {
+  EXPECT_NE(error_of([&] { read_dataset(dir_ / "nope"); }).find("nope"), std::string::npos);
+  fs::remove(root_ / "cam0" / "sensor.yaml");
+  EXPECT_NE(error_of([&] { read_dataset(root_); }).find("cam0/sensor.yaml"), std::string::npos);
+}
+
+TEST_F(DatasetFilesTest, BadYamlUnknownAndMissingKeysAreNamed) {
+  const fs::path scene = root_ / "scene.yaml";
+  write_file(scene, "net_mesh_size_m: [0.03\npen_radius_m: 12\n");
+  EXPECT_NE(error_of([&] { read_dataset(root_); }).find("not valid YAML"), std::string::npos);
+  write_file(scene, "net_mesh_size_m: 0.03\npen_radius_m: 12\npen_radios_m: 3\n");
+  std::string e = error_of([&] { read_dataset(root_); });
+  EXPECT_NE(e.find("pen_radios_m"), std::string::npos) << e;
+  EXPECT_NE(e.find("scene.yaml"), std::string::npos) << e;
+  write_file(scene, "net_mesh_size_m: 0.03\n");
+  e = error_of([&] { read_dataset(root_); });
+  EXPECT_NE(e.find("'pen_radius_m': missing"), std::string::npos) << e;
+  write_file(scene, "net_mesh_size_m: -0.03\npen_radius_m: 12\n");
+  EXPECT_NE(error_of([&] { read_dataset(root_); }).find("positive"), std::string::npos);
+  write_file(scene, "net_mesh_size_m: 0.03\npen_radius_m: 12\n");
+  write_file(root_ / "cam0" / "sensor.yaml", "sensor_type: camera\nrate_hz: 10\n");
+  e = error_of([&] { read_dataset(root_); });
+  EXPECT_NE(e.find("'resolution': missing"), std::string::npos) << e;
+}
+
+TEST_F(DatasetFilesTest, BadCsvFieldIsNamedWithLine) {
+  write_file(root_ / "pressure0" / "data.csv", "#timestamp [ns],depth [m]\n\n100,1.5\n200,abc\n");
+  const std::string e = error_of([&] { read_dataset(root_); });
+  EXPECT_NE(e.find("data.csv:4: field 2"), std::string::npos) << e;
+}
+
+TEST_F(DatasetFilesTest, WrongImageSizeIsRefusedOnLoad) {
+  const Dataset d = read_dataset(root_);
+  cv::imwrite((root_ / "cam0" / "data" / d.frames[1].filename).string(),
+              cv::Mat(20, 30, CV_8UC1, cv::Scalar(7)));
+  EXPECT_NO_THROW(d.load_frame(0));
+  EXPECT_NE(error_of([&] { d.load_frame(1); }).find("30x20"), std::string::npos);
+  fs::remove(root_ / "cam0" / "data" / d.frames[0].filename);
+  EXPECT_NE(error_of([&] { d.load_frame(0); }).find("not found"), std::string::npos);
+}
+
+TEST_F(DatasetFilesTest, ColourAndSixteenBitFramesBecomeGrey8) {
+  const Dataset d = read_dataset(root_);
+  cv::Mat colour(27, 36, CV_8UC3, cv::Scalar(10, 200, 60));  // B, G, R
+  cv::imwrite((root_ / "cam0" / "data" / d.frames[0].filename).string(), colour);
+  const ImageU8 grey = d.load_frame(0);
+  EXPECT_NEAR(grey.at(3, 4), 0.114 * 10 + 0.587 * 200 + 0.299 * 60, 1.0);
+  cv::Mat wide(27, 36, CV_16UC1, cv::Scalar(257 * 123));
+  cv::imwrite((root_ / "cam0" / "data" / d.frames[1].filename).string(), wide);
+  EXPECT_EQ(d.load_frame(1).at(35, 26), 123);
+}
+
+TEST_F(DatasetTest, EstimatesCsvHasContractColumnsAndNan) {
+  const fs::path file = dir_ / "estimates.csv";
+  {
+    EstimatesCsvWriter w(file);
+    EstimateRow r;
+    r.timestamp_ns = 42;
+    r.d_net_fft_m = 1.25;
+    r.valid_rois = 17;
+    w.write(r);
+    EXPECT_FALSE(fs::exists(file));
+    w.finish();
+  }
+  std::ifstream in(file);
+  std::string header, row;
+  std::getline(in, header);
+  std::getline(in, row);
+  EXPECT_EQ(header,
+            "#timestamp [ns],d_net_fft [m],psi_net_fft [rad],pitch_net_fft [rad],d_net_depth [m],"
+            "psi_net_depth [rad],pitch_net_depth [rad],r_g [m],rho_g [rad],z_g [m],psi_g [rad],"
+            "valid_rois");
+  EXPECT_EQ(row, "42,1.25,nan,nan,nan,nan,nan,nan,nan,nan,nan,17");
+  const auto rows = read_estimates_csv(file);
+  ASSERT_EQ(rows.size(), 1u);
+  EXPECT_EQ(rows[0].valid_rois, 17);
+  EXPECT_TRUE(std::isnan(rows[0].psi_g_rad));
+  { EstimatesCsvWriter unfinished(dir_ / "other.csv"); }
+  EXPECT_FALSE(fs::exists(dir_ / "other.csv"));
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir_), fs::directory_iterator()), 1);
+}
+
+}  // namespace
+}  // namespace pensight
