@@ -127,9 +127,8 @@ DeviceInfo describe(VkPhysicalDevice pd, uint32_t index) {
   compute_queue_family(pd, &info.timestamps);
   info.timestamp_period_ns = props.properties.limits.timestampPeriod;
   info.subgroup_size = subgroup.subgroupSize;
-  info.subgroup_arithmetic =
-      (subgroup.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) &&
-      (subgroup.supportedOperations & VK_SUBGROUP_FEATURE_ARITHMETIC_BIT);
+  info.subgroup_arithmetic = (subgroup.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) &&
+                             (subgroup.supportedOperations & VK_SUBGROUP_FEATURE_ARITHMETIC_BIT);
   info.max_workgroup_invocations = props.properties.limits.maxComputeWorkGroupInvocations;
   info.max_shared_memory_bytes = props.properties.limits.maxComputeSharedMemorySize;
   return info;
