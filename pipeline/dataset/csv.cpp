@@ -76,6 +76,7 @@ int64_t CsvTable::integer(size_t row, size_t field) const {
 
 std::string format_number(double v) {
   if (std::isnan(v)) return "nan";
+  if (v == 0) return "0";  // not "-0"
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.9g", v);
   return buf;

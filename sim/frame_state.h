@@ -1,0 +1,35 @@
+#pragma once
+// What changes from frame to frame: the vehicle and camera pose, the lamps and the fish.
+#include <Eigen/Geometry>
+#include <vector>
+
+#include "sim/scenario.h"
+#include "sim/trajectory.h"
+
+namespace pensight::sim {
+
+struct FishPose {
+  Eigen::Vector3d centre_m;  // in P
+  Eigen::Vector3d axis;      // unit, head direction
+  double half_length_m = 0, half_thickness_m = 0, albedo = 0;
+};
+
+struct LampPose {
+  Eigen::Vector3d position_m, direction;  // in P
+  double intensity = 0;                   // dimmer applied
+  double exponent = 1;                    // cos^exponent spot fall-off, 1/2 at the half angle
+};
+
+struct FrameState {
+  int frame = 0;
+  double t_s = 0;
+  int64_t timestamp_ns = 0;
+  BodyState body;
+  Eigen::Isometry3d T_world_camera = Eigen::Isometry3d::Identity();
+  std::vector<LampPose> lamps;
+  std::vector<FishPose> fish;
+};
+
+FrameState frame_state(const Scenario& s, int frame);
+
+}  // namespace pensight::sim

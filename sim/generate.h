@@ -1,0 +1,37 @@
+#pragma once
+// A scenario rendered into a dataset in the layout of dataset-format.md: cam0 frames,
+// groundtruth0 rows with depth images, and the dvl0 / pressure0 / imu0 streams.
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "sim/frame_state.h"
+#include "sim/render_cpu.h"
+
+namespace pensight::sim {
+
+// Renders frames of one scenario; the CPU reference or the Vulkan renderer.
+class FrameRenderer {
+ public:
+  virtual ~FrameRenderer() = default;
+  virtual RenderedFrame render(const FrameState& f) = 0;
+  virtual const char* name() const = 0;
+};
+
+std::unique_ptr<FrameRenderer> make_cpu_renderer(const Scenario& s, const RenderOptions& o);
+// "cpu", "vulkan", or "auto" (Vulkan where a device can be opened, else the CPU reference).
+std::unique_ptr<FrameRenderer> make_renderer(const Scenario& s, const RenderOptions& o,
+                                             const std::string& which);
+
+struct GenerateOptions {
+  std::function<void(int frames_done, int frames_total)> progress;
+};
+
+// Writes the dataset to `out` (replacing an earlier dataset there, never any other folder);
+// nothing appears under `out` unless every frame was written.
+void generate_dataset(const Scenario& s, FrameRenderer& renderer,
+                      const std::filesystem::path& out, const GenerateOptions& options = {});
+
+}  // namespace pensight::sim

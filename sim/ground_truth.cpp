@@ -1,0 +1,51 @@
+#include "sim/ground_truth.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace pensight::sim {
+
+NetRelative net_relative(const Scenario& s, const NetGeometry& net,
+                         const Eigen::Isometry3d& T_world_camera) {
+  NetRelative r;
+  const Eigen::Vector3d o = T_world_camera.translation();
+  const Eigen::Vector3d d = T_world_camera.linear().col(2);
+  const auto hit = net.intersect(o, d);
+  if (!hit || hit->t > net_visible_range_m(s.water)) return r;
+  if (d.z() < 0 && -o.z() / d.z() <= hit->t) return r;  // the surface comes first
+  r.d_net_m = hit->t;
+  r.m_C = T_world_camera.linear().transpose() * hit->normal;
+  r.psi_net_rad = std::atan2(-r.m_C.x(), r.m_C.z());
+  r.pitch_net_rad = std::atan2(-r.m_C.y(), r.m_C.z());
+  return r;
+}
+
+GroundTruthRow ground_truth_row(const Scenario& s, const NetGeometry& net, const FrameState& f,
+                                const ImageF32& depth_m) {
+  GroundTruthRow g;
+  g.timestamp_ns = f.timestamp_ns;
+  g.p_world_body_m = f.body.T_world_body.translation();
+  g.roll_rad = f.body.roll_rad;
+  g.pitch_rad = f.body.pitch_rad;
+  g.yaw_rad = std::remainder(f.body.yaw_rad, 2 * M_PI);
+  const NetRelative r = net_relative(s, net, f.T_world_camera);
+  g.d_net_m = r.d_net_m;
+  g.psi_net_rad = r.psi_net_rad;
+  g.pitch_net_rad = r.pitch_net_rad;
+  const auto seen = std::count_if(depth_m.pixels.begin(), depth_m.pixels.end(),
+                                  [](float z) { return z > 0; });
+  g.net_fraction = depth_m.pixels.empty()
+                       ? 0.0
+                       : static_cast<double>(seen) / static_cast<double>(depth_m.pixels.size());
+  return g;
+}
+
+ImageU16 depth_to_mm(const ImageF32& depth_m) {
+  ImageU16 mm(depth_m.width, depth_m.height);
+  std::transform(depth_m.pixels.begin(), depth_m.pixels.end(), mm.pixels.begin(), [](float z) {
+    return static_cast<uint16_t>(std::clamp(std::lround(z * 1000.0), 0L, 65535L));
+  });
+  return mm;
+}
+
+}  // namespace pensight::sim

@@ -1,0 +1,123 @@
+#include "sim/net_geometry.h"
+
+#include <cmath>
+
+namespace pensight::sim {
+
+NetGeometry::NetGeometry(const PenConfig& pen, const NetConfig& net) : pen_(pen), net_(net) {}
+
+double NetGeometry::displacement(double along_m, double depth_m) const {
+  double sum = 0;
+  for (const Bulge& b : net_.bulges) {
+    const double da = along_m - b.along_m, dz = depth_m - b.depth_m;
+    sum += b.amplitude_m * std::exp(-(da * da + dz * dz) / (2 * b.radius_m * b.radius_m));
+  }
+  return sum;
+}
+
+Eigen::Vector2d NetGeometry::displacement_gradient(double along_m, double depth_m) const {
+  Eigen::Vector2d g = Eigen::Vector2d::Zero();
+  for (const Bulge& b : net_.bulges) {
+    const double da = along_m - b.along_m, dz = depth_m - b.depth_m, s2 = b.radius_m * b.radius_m;
+    const double e = b.amplitude_m * std::exp(-(da * da + dz * dz) / (2 * s2));
+    g += Eigen::Vector2d(-da / s2 * e, -dz / s2 * e);
+  }
+  return g;
+}
+
+double NetGeometry::along_of(const Eigen::Vector3d& p) const {
+  return pen_.shape == NetShape::kPlane ? p.y() : pen_.radius_m * std::atan2(p.y(), p.x());
+}
+
+double NetGeometry::clearance(const Eigen::Vector3d& p) const {
+  const double surface = pen_.radius_m - displacement(along_of(p), p.z());
+  return surface - (pen_.shape == NetShape::kPlane ? p.x() : std::hypot(p.x(), p.y()));
+}
+
+std::optional<NetHit> NetGeometry::intersect_wall_or_plane(const Eigen::Vector3d& o,
+                                                           const Eigen::Vector3d& d) const {
+  const double R = pen_.radius_m;
+  double offset = 0, t = -1;
+  const int steps = net_.bulges.empty() ? 1 : kBulgeIterations;
+  Eigen::Vector3d p;
+  for (int i = 0; i < steps; ++i) {
+    const double r = R - offset;
+    if (pen_.shape == NetShape::kPlane) {
+      if (!(d.x() > 0)) return std::nullopt;
+      t = (r - o.x()) / d.x();
+    } else {
+      // |o_xy + t d_xy| = r, the far root (the camera is inside the cylinder).
+      const double a = d.x() * d.x() + d.y() * d.y();
+      if (a < 1e-12) return std::nullopt;
+      const double b = o.x() * d.x() + o.y() * d.y();
+      const double c = o.x() * o.x() + o.y() * o.y() - r * r;
+      const double disc = b * b - a * c;
+      if (disc < 0) return std::nullopt;
+      t = (-b + std::sqrt(disc)) / a;
+    }
+    if (!(t > 0)) return std::nullopt;
+    p = o + t * d;
+    if (i + 1 < steps) offset = displacement(along_of(p), p.z());
+  }
+  NetHit h;
+  h.t = t;
+  h.point = p;
+  const double along = along_of(p);
+  const Eigen::Vector2d g = displacement_gradient(along, p.z());
+  h.u_m = along;
+  h.v_m = p.z();
+  h.tangent_v = Eigen::Vector3d::UnitZ();
+  if (pen_.shape == NetShape::kPlane) {
+    h.part = NetPart::kPlane;
+    h.tangent_u = Eigen::Vector3d::UnitY();
+    h.normal = Eigen::Vector3d(1, g.x(), g.y()).normalized();
+  } else {
+    h.part = NetPart::kWall;
+    const double theta = along / R;
+    const Eigen::Vector3d e_r(std::cos(theta), std::sin(theta), 0);
+    const Eigen::Vector3d e_t(-std::sin(theta), std::cos(theta), 0);
+    const double k = (R - displacement(along, p.z())) / R;
+    h.tangent_u = e_t;
+    // Cross product of the surface's along and depth derivatives (see docs/sim.md).
+    h.normal = (k * e_r + g.x() * e_t + k * g.y() * Eigen::Vector3d::UnitZ()).normalized();
+  }
+  return h;
+}
+
+std::optional<NetHit> NetGeometry::intersect(const Eigen::Vector3d& o,
+                                             const Eigen::Vector3d& d) const {
+  auto hit = intersect_wall_or_plane(o, d);
+  if (pen_.shape == NetShape::kPlane) {
+    if (!hit) return std::nullopt;
+    const Eigen::Vector3d& p = hit->point;
+    if (std::abs(p.y()) > pen_.width_m / 2 || p.z() < pen_.top_m ||
+        p.z() > pen_.top_m + pen_.height_m) {
+      return std::nullopt;
+    }
+    return hit;
+  }
+  if (hit && hit->point.z() <= pen_.depth_m) return hit;
+  if (!pen_.bottom || !(d.z() > 0)) return std::nullopt;
+  const double t = (pen_.depth_m - o.z()) / d.z();
+  if (!(t > 0)) return std::nullopt;
+  NetHit b;
+  b.t = t;
+  b.point = o + t * d;
+  if (b.point.head<2>().norm() > pen_.radius_m) return std::nullopt;
+  b.normal = Eigen::Vector3d::UnitZ();
+  b.u_m = b.point.x();
+  b.v_m = b.point.y();
+  b.tangent_u = Eigen::Vector3d::UnitX();
+  b.tangent_v = Eigen::Vector3d::UnitY();
+  b.part = NetPart::kBottom;
+  return b;
+}
+
+std::optional<double> NetGeometry::intersect_wall(const Eigen::Vector3d& o,
+                                                  const Eigen::Vector3d& d) const {
+  if (pen_.shape != NetShape::kPlane || pen_.wall_gap_m <= 0 || !(d.x() > 0)) return std::nullopt;
+  const double t = (pen_.radius_m + pen_.wall_gap_m - o.x()) / d.x();
+  return t > 0 ? std::optional<double>(t) : std::nullopt;
+}
+
+}  // namespace pensight::sim

@@ -1,0 +1,294 @@
+#include "sim/render_cpu.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <thread>
+
+#include "sim/sim_hash.h"
+
+namespace pensight::sim {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr int kSnowCellPx = 24;
+
+// Box-filtered share of [x - h/2, x + h/2] covered by pulses [offset, offset + width) repeating
+// with `period`: the exact integral of the pulse train, so the twine pattern fades to its mean
+// coverage instead of aliasing once a mesh shrinks below a few pixels.
+double pulse_coverage(double x, double h, double period, double width, double offset) {
+  if (width <= 0) return 0;
+  x -= offset;
+  x -= period * std::floor(x / period);
+  if (h < 1e-6 * period) return x < width ? 1 : 0;
+  auto integral = [&](double y) {
+    const double n = std::floor(y / period);
+    return n * width + std::min(y - n * period, width);
+  };
+  return (integral(x + h / 2) - integral(x - h / 2)) / h;
+}
+
+// Smooth value noise in [0, 1] on a lattice of `scale` metres.
+double value_noise(double u, double v, double scale, uint32_t seed) {
+  const double x = u / scale, y = v / scale;
+  const double fx = std::floor(x), fy = std::floor(y);
+  const auto ix = static_cast<uint32_t>(static_cast<int32_t>(fx));
+  const auto iy = static_cast<uint32_t>(static_cast<int32_t>(fy));
+  auto lattice = [&](uint32_t i, uint32_t j) { return unit_float(hash3(i, j, seed)); };
+  const double tx = x - fx, ty = y - fy;
+  const double sx = tx * tx * (3 - 2 * tx), sy = ty * ty * (3 - 2 * ty);
+  const double a = lattice(ix, iy) + sx * (lattice(ix + 1, iy) - lattice(ix, iy));
+  const double b = lattice(ix, iy + 1) + sx * (lattice(ix + 1, iy + 1) - lattice(ix, iy + 1));
+  return a + sy * (b - a);
+}
+
+std::optional<double> intersect_fish(const FishPose& f, const Eigen::Vector3d& o,
+                                     const Eigen::Vector3d& d) {
+  const Eigen::Vector3d q = o - f.centre_m;
+  const double qa = q.dot(f.axis), da = d.dot(f.axis);
+  const Eigen::Vector3d qp = q - qa * f.axis, dp = d - da * f.axis;
+  const double ia = 1 / (f.half_length_m * f.half_length_m);
+  const double ib = 1 / (f.half_thickness_m * f.half_thickness_m);
+  const double A = dp.squaredNorm() * ib + da * da * ia;
+  const double B = qp.dot(dp) * ib + qa * da * ia;
+  const double C = qp.squaredNorm() * ib + qa * qa * ia - 1;
+  const double disc = B * B - A * C;
+  if (disc < 0) return std::nullopt;
+  const double t = (-B - std::sqrt(disc)) / A;
+  return t > 0 ? std::optional<double>(t) : std::nullopt;
+}
+
+class Tracer {
+ public:
+  Tracer(const Scenario& s, const NetGeometry& net, const FrameState& f)
+      : s_(s), net_(net), f_(f), o_(f.T_world_camera.translation()),
+        R_wc_(f.T_world_camera.linear()), seed_(fold_seed(s.seed)),
+        range_(net_visible_range_m(s.water)) {
+    c_ = s.water.attenuation_per_m;
+    E0_ = s.light.ambient;
+    background_ = s.water.backscatter * ambient(o_.z());
+    const PinholeCamera& cam = s.camera.calibration.camera;
+    dDx_ = R_wc_ * Eigen::Vector3d(1 / cam.fx_px, 0, 0);
+    dDy_ = R_wc_ * Eigen::Vector3d(0, 1 / cam.fy_px, 0);
+    n_ = s.camera.samples_per_axis;
+    ca_ = std::cos(s.net.mesh_angle_rad);
+    sa_ = std::sin(s.net.mesh_angle_rad);
+  }
+
+  double ambient(double z) const {
+    return E0_ * std::exp(-s_.water.diffuse_attenuation_per_m * std::max(z, 0.0));
+  }
+
+  // `n_in` points into the surface (away from the viewer); twine is lit from most sides.
+  double irradiance(const Eigen::Vector3d& p, const Eigen::Vector3d& n_in, bool twine) const {
+    double e = ambient(p.z());
+    for (const LampPose& l : f_.lamps) {
+      const Eigen::Vector3d v = p - l.position_m;
+      const double r2 = v.squaredNorm(), r = std::sqrt(r2);
+      const Eigen::Vector3d vh = v / r;
+      const double ca = vh.dot(l.direction);
+      if (ca <= 0) continue;
+      const double cosi = n_in.dot(vh);
+      const double shade = twine ? 0.5 + 0.5 * std::abs(cosi) : std::max(cosi, 0.0);
+      e += l.intensity * std::pow(ca, l.exponent) * shade * std::exp(-c_ * r) / std::max(r2, 0.01);
+    }
+    return e;
+  }
+
+  double net_coverage(const NetHit& h, const Eigen::Vector3d& D_w, double s) const {
+    const double denom = D_w.dot(h.normal);
+    const Eigen::Vector3d px = s * (dDx_ - dDx_.dot(h.normal) / denom * D_w);
+    const Eigen::Vector3d py = s * (dDy_ - dDy_.dot(h.normal) / denom * D_w);
+    const double hu0 = (std::abs(px.dot(h.tangent_u)) + std::abs(py.dot(h.tangent_u))) / n_;
+    const double hv0 = (std::abs(px.dot(h.tangent_v)) + std::abs(py.dot(h.tangent_v))) / n_;
+    const double u = ca_ * h.u_m + sa_ * h.v_m, v = -sa_ * h.u_m + ca_ * h.v_m;
+    const double hu = std::abs(ca_) * hu0 + std::abs(sa_) * hv0;
+    const double hv = std::abs(sa_) * hu0 + std::abs(ca_) * hv0;
+    const NetConfig& n = s_.net;
+    const double w = n.twine_width_m, k = n.knot_size_m, P = n.mesh_m;
+    const double cu = pulse_coverage(u, hu, P, w, -w / 2);
+    const double cv = pulse_coverage(v, hv, P, w, -w / 2);
+    const double knot = pulse_coverage(u, hu, P, k, -k / 2) * pulse_coverage(v, hv, P, k, -k / 2);
+    return std::max(1 - (1 - cu) * (1 - cv), knot);
+  }
+
+  struct Opaque {
+    double t = kInf;
+    double radiance = 0;
+  };
+
+  Opaque first_opaque(const Eigen::Vector3d& d) const {
+    Opaque best;
+    enum { kNone, kSurface, kFish, kWall } kind = kNone;
+    int fish_index = -1;
+    if (d.z() < 0) {
+      best.t = -o_.z() / d.z();
+      kind = kSurface;
+    }
+    for (size_t i = 0; i < f_.fish.size(); ++i) {
+      const auto t = intersect_fish(f_.fish[i], o_, d);
+      if (t && *t < best.t) {
+        best.t = *t;
+        kind = kFish;
+        fish_index = static_cast<int>(i);
+      }
+    }
+    if (const auto t = net_.intersect_wall(o_, d); t && *t < best.t) {
+      best.t = *t;
+      kind = kWall;
+    }
+    double J = 0;
+    const Eigen::Vector3d p = o_ + best.t * d;
+    switch (kind) {
+      case kNone:
+        best.radiance = background_;
+        return best;
+      case kSurface:
+        J = s_.light.surface_brightness * E0_;
+        break;
+      case kFish: {
+        const FishPose& fp = f_.fish[static_cast<size_t>(fish_index)];
+        const Eigen::Vector3d q = p - fp.centre_m;
+        const double qa = q.dot(fp.axis);
+        const Eigen::Vector3d grad = (q - qa * fp.axis) / (fp.half_thickness_m * fp.half_thickness_m) +
+                                     qa * fp.axis / (fp.half_length_m * fp.half_length_m);
+        J = fp.albedo * irradiance(p, -grad.normalized(), false);
+        break;
+      }
+      case kWall:
+        J = s_.pen.wall_albedo * irradiance(p, Eigen::Vector3d::UnitX(), false);
+        break;
+    }
+    const double T = std::exp(-c_ * best.t);
+    best.radiance = J * T + background_ * (1 - T);
+    return best;
+  }
+
+  double lamp_backscatter(const Eigen::Vector3d& d, double t_end) const {
+    double sum = 0;
+    for (const LampPose& l : f_.lamps) sum += l.intensity * 0.5 * (1 + d.dot(l.direction));
+    return s_.water.lamp_backscatter * sum * (1 - std::exp(-c_ * std::min(t_end, 50.0)));
+  }
+
+  // Radiance along the camera ray D_c (camera frame, z = 1).
+  double radiance(const Eigen::Vector3d& D_c) const {
+    const double len = D_c.norm();
+    const Eigen::Vector3d D_w = R_wc_ * D_c, d = D_w / len;
+    const Opaque opaque = first_opaque(d);
+    const auto hit = net_.intersect(o_, d);
+    if (!hit || hit->t >= opaque.t) return opaque.radiance + lamp_backscatter(d, opaque.t);
+    const double cover = net_coverage(*hit, D_w, hit->t / len);
+    double albedo = s_.net.albedo;
+    if (s_.net.fouling > 0) {
+      albedo *= 1 - s_.net.fouling * value_noise(hit->u_m, hit->v_m, s_.net.fouling_scale_m,
+                                                  seed_ ^ kStreamFouling);
+    }
+    const double T = std::exp(-c_ * hit->t);
+    const double twine = albedo * irradiance(hit->point, hit->normal, true) * T +
+                         background_ * (1 - T);
+    return cover * twine + (1 - cover) * opaque.radiance + lamp_backscatter(d, hit->t);
+  }
+
+  // z-depth of the net seen along D_c, 0 if none.
+  double depth(const Eigen::Vector3d& D_c) const {
+    const Eigen::Vector3d d = (R_wc_ * D_c).normalized();
+    const auto hit = net_.intersect(o_, d);
+    if (!hit || hit->t > range_ || hit->t >= first_opaque(d).t) return 0;
+    return hit->t / D_c.norm() * D_c.z();
+  }
+
+  double snow(int x, int y) const {
+    const int cx = x / kSnowCellPx, cy = y / kSnowCellPx;
+    double light = 0.5 * ambient(o_.z());
+    for (const LampPose& l : f_.lamps) light += l.intensity;
+    double sum = 0;
+    for (int dy = -1; dy <= 1; ++dy) {
+      for (int dx = -1; dx <= 1; ++dx) {
+        const auto cell = static_cast<uint32_t>(cx + dx) + (static_cast<uint32_t>(cy + dy) << 16);
+        uint32_t h = hash3(cell, static_cast<uint32_t>(f_.frame), seed_ ^ kStreamSnow);
+        if (unit_float(h) >= s_.water.marine_snow) continue;
+        const double px = (cx + dx + unit_float(h = hash32(h))) * kSnowCellPx;
+        const double py = (cy + dy + unit_float(h = hash32(h))) * kSnowCellPx;
+        const double u = unit_float(h = hash32(h));
+        const double radius = 0.7 + 2.5 * u * u;
+        const double bright = 0.4 + 0.6 * unit_float(hash32(h));
+        const double d2 = (x - px) * (x - px) + (y - py) * (y - py);
+        sum += bright * std::exp(-d2 / (2 * radius * radius));
+      }
+    }
+    return s_.water.snow_brightness * light * sum;
+  }
+
+  uint32_t seed() const { return seed_; }
+  int samples_per_axis() const { return n_; }
+
+ private:
+  const Scenario& s_;
+  const NetGeometry& net_;
+  const FrameState& f_;
+  Eigen::Vector3d o_;
+  Eigen::Matrix3d R_wc_;
+  uint32_t seed_;
+  double range_;
+  double c_ = 0, E0_ = 0, background_ = 0, ca_ = 1, sa_ = 0;
+  Eigen::Vector3d dDx_, dDy_;
+  int n_ = 1;
+};
+
+double gaussian(uint32_t h1, uint32_t h2) {
+  const double u1 = (static_cast<double>(h1 >> 8) + 0.5) * (1.0 / 16777216.0);
+  return std::sqrt(-2 * std::log(u1)) * std::cos(2 * M_PI * unit_float(h2));
+}
+
+}  // namespace
+
+double net_visible_range_m(const WaterConfig& water) {
+  return std::min(std::log(50.0) / water.attenuation_per_m, 65.0);
+}
+
+RenderedFrame render_cpu(const Scenario& s, const NetGeometry& net, const FrameState& f,
+                         const RenderOptions& options) {
+  const PinholeCamera& cam = s.camera.calibration.camera;
+  const Tracer tracer(s, net, f);
+  RenderedFrame out{ImageU8(cam.width_px, cam.height_px), ImageF32(cam.width_px, cam.height_px)};
+  const int n = tracer.samples_per_axis();
+  const double gain = 255.0 * s.camera.exposure;
+  auto render_row = [&](int y) {
+    for (int x = 0; x < cam.width_px; ++x) {
+      double L = 0;
+      for (int sy = 0; sy < n; ++sy) {
+        for (int sx = 0; sx < n; ++sx) {
+          L += tracer.radiance(cam.ray({x + (sx + 0.5) / n - 0.5, y + (sy + 0.5) / n - 0.5}));
+        }
+      }
+      L /= n * n;
+      const Eigen::Vector3d D0 = cam.ray({static_cast<double>(x), static_cast<double>(y)});
+      out.depth_m.at(x, y) = static_cast<float>(tracer.depth(D0));
+      if (options.marine_snow) L += tracer.snow(x, y);
+      L *= std::pow(1 / D0.norm(), 4 * s.camera.vignetting);
+      double grey = gain * L;
+      if (options.noise) {
+        const auto pixel = static_cast<uint32_t>(y * cam.width_px + x);
+        const auto frame = static_cast<uint32_t>(f.frame);
+        const double sigma = std::sqrt(s.camera.read_noise * s.camera.read_noise +
+                                       s.camera.shot_noise * s.camera.shot_noise *
+                                           std::max(grey, 0.0));
+        grey += sigma * gaussian(hash3(pixel, frame, tracer.seed() ^ kStreamNoise),
+                                 hash3(pixel, frame, ~(tracer.seed() ^ kStreamNoise)));
+      }
+      out.image.at(x, y) = static_cast<uint8_t>(std::clamp(std::floor(grey + 0.5), 0.0, 255.0));
+    }
+  };
+  const int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  {
+    std::vector<std::jthread> pool;
+    for (int t = 0; t < threads; ++t) {
+      pool.emplace_back([&, t] {
+        for (int y = t; y < cam.height_px; y += threads) render_row(y);
+      });
+    }
+  }
+  return out;
+}
+
+}  // namespace pensight::sim

@@ -1,0 +1,158 @@
+#pragma once
+// A scenario of the synthetic net-pen world: the pen and its net, water and light, the vehicle's
+// sensors and its trajectory, and the random seed. Parsed strictly from YAML (docs/sim.md gives
+// every key); all lengths in metres, angles in radians, frames as in dataset-format.md.
+#include <Eigen/Core>
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "pipeline/dataset/dataset_types.h"
+
+namespace pensight::sim {
+
+enum class NetShape { kCylinder, kPlane };
+
+// A smooth Gaussian dent of the net, pushed towards the pen's centre (amplitude > 0) as a current
+// does; `along_m` is the arc length along the net, `depth_m` the depth of its centre.
+struct Bulge {
+  double along_m = 0, depth_m = 0, amplitude_m = 0, radius_m = 1;
+};
+
+struct PenConfig {
+  NetShape shape = NetShape::kCylinder;
+  // Cylinder: net radius. Plane: the net is the plane x = radius_m (facing -x), which is also
+  // the radius written to scene.yaml so that cylinder-based estimators see a near-flat wall.
+  double radius_m = 12.0;
+  double depth_m = 15.0;  // cylinder: depth of the net wall's lower edge (and of the bottom)
+  bool bottom = true;     // cylinder: flat bottom net at depth_m
+  // Plane (test tank): net rectangle centred at along = 0.
+  double width_m = 4.9, top_m = 0.5, height_m = 1.5;
+  double wall_gap_m = 1.0;  // plane: basin wall this far behind the net (0: open water)
+  double wall_albedo = 0.3;
+};
+
+struct NetConfig {
+  double mesh_m = 0.030;  // centre-to-centre twine spacing
+  double twine_width_m = 0.0035;
+  double knot_size_m = 0.006;
+  double mesh_angle_rad = 0;  // 0: twines horizontal and vertical; pi/4: diamond mesh
+  double albedo = 0.55;
+  double fouling = 0.0;  // 0..1: depth of the slowly varying albedo loss
+  double fouling_scale_m = 0.6;
+  std::vector<Bulge> bulges;  // at most kMaxBulges
+};
+
+struct WaterConfig {
+  double attenuation_per_m = 0.25;          // beam attenuation c (Beer-Lambert)
+  double diffuse_attenuation_per_m = 0.12;  // Kd: ambient light falls off as exp(-Kd z)
+  double backscatter = 0.25;                // veiling light, as a share of the ambient light
+  double lamp_backscatter = 0.03;           // veiling light from the lamps, per unit intensity
+  double marine_snow = 0.04;                // particles per 24 px cell and frame
+  double snow_brightness = 0.3;
+};
+
+struct Lamp {
+  Eigen::Vector3d position_B_m{0.3, 0.0, 0.0};
+  Eigen::Vector3d direction_B{1.0, 0.0, 0.0};  // unit after parsing
+  double intensity = 0.1;                       // irradiance at 1 m on the axis, in clear water
+  double half_angle_rad = 0.5;                  // half intensity at this angle off the axis
+};
+
+struct LightConfig {
+  double ambient = 1.0;  // irradiance just below the surface (0: night)
+  double surface_brightness = 1.5;
+  double lamp_level = 1.0;  // dimmer for all lamps (0..1)
+  std::vector<Lamp> lamps;  // at most kMaxLamps
+};
+
+// A fish swimming along the net at a fixed distance from it.
+struct Fish {
+  double net_distance_m = 0.3, depth_m = 3, speed_mps = 0.5, along_m = 0;
+  double length_m = 0.45, thickness_m = 0.1, albedo = 0.45;
+};
+
+struct CameraConfig {
+  CameraCalibration calibration;  // intrinsics, size, rate; T_BS built from the mount below
+  Eigen::Vector3d position_B_m{0.3, 0.0, 0.0};
+  double pan_rad = 0, tilt_rad = 0;  // from looking straight ahead; tilt > 0 looks down
+  int samples_per_axis = 3;          // supersampling: N x N rays per pixel
+  double exposure = 1.0;
+  double vignetting = 0.3;  // 0: none, 1: cos^4 fall-off
+  double read_noise = 1.5;  // grey levels
+  double shot_noise = 0.3;  // grey levels per sqrt(grey level)
+};
+
+struct DvlConfig {
+  bool enabled = true;
+  double rate_hz = 4;
+  Eigen::Vector3d position_B_m{0.2, 0.0, 0.1};
+  double pan_rad = 0, tilt_rad = 0;  // from looking forward (DVL z along body x)
+  double beam_angle_rad = 0.4363;    // 25 deg from the DVL axis
+  double velocity_noise_mps = 0.005;
+  double range_noise_m = 0.01;
+  double max_range_m = 8;
+  double dropout_probability = 0.02;
+  double spike_probability = 0.005;
+  double spike_mps = 0.3;
+};
+
+struct PressureConfig {
+  bool enabled = true;
+  double rate_hz = 10;
+  double noise_m = 0.01, bias_m = 0.02;
+};
+
+struct AttitudeConfig {
+  bool enabled = true;
+  double rate_hz = 20;
+  double noise_rad = 0.003;
+};
+
+// A pose in net coordinates: `along_m` is the arc length along the net (azimuth * radius for a
+// cylinder, the horizontal position for a plane), `net_distance_m` the body origin's distance
+// from the undeformed net, heading 0 = facing the net squarely, heading > 0 = turned right.
+struct Waypoint {
+  double t_s = 0, along_m = 0, net_distance_m = 1, depth_m = 3;
+  double heading_rad = 0, pitch_rad = 0, roll_rad = 0;
+};
+
+inline constexpr size_t kMaxBulges = 8, kMaxLamps = 4, kMaxFish = 8;
+
+struct Scenario {
+  std::string name;  // file stem
+  std::filesystem::path file;
+  uint64_t seed = 1;
+  int64_t start_time_ns = 1'600'000'000'000'000'000;
+  double duration_s = 0;  // default: the last waypoint's time
+  CameraConfig camera;
+  PenConfig pen;
+  NetConfig net;
+  WaterConfig water;
+  LightConfig light;
+  std::vector<Fish> fish;
+  DvlConfig dvl;
+  PressureConfig pressure;
+  AttitudeConfig attitude;
+  std::vector<Waypoint> waypoints;  // sorted by time, at least one
+
+  int num_frames() const;
+  int64_t frame_time_ns(int frame) const;
+  SceneConfig scene_config() const;
+};
+
+// Parses and validates; throws pensight::Error naming the file and key for a typo, a missing
+// file, a bad value or an impossible set-up (camera outside the pen, negative radius, ...).
+Scenario load_scenario(const std::filesystem::path& file);
+Scenario parse_scenario(const std::string& yaml_text, const std::string& file_name);
+
+// Checks what cannot be checked key by key (the trajectory stays inside the pen, ...). Called
+// by the loaders; call it again after changing a Scenario in code.
+void validate(const Scenario& s);
+
+// Camera -> body for a forward-looking camera turned by pan (right) and tilt (down).
+Eigen::Isometry3d forward_mount(const Eigen::Vector3d& position_B_m, double pan_rad,
+                                double tilt_rad);
+
+}  // namespace pensight::sim

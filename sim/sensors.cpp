@@ -1,0 +1,100 @@
+#include "sim/sensors.h"
+
+#include <cmath>
+#include <random>
+
+#include "sim/trajectory.h"
+
+namespace pensight::sim {
+namespace {
+
+std::mt19937_64 stream(const Scenario& s, uint64_t id) {
+  return std::mt19937_64(s.seed * 0x9E3779B97F4A7C15ull + id);
+}
+
+// Sample times k / rate for k = 0, 1, ... up to the scenario's duration.
+template <class F>
+void for_each_sample(const Scenario& s, double rate_hz, F&& f) {
+  for (int k = 0;; ++k) {
+    const double t = k / rate_hz;
+    if (t > s.duration_s + 1e-9) break;
+    f(t, s.start_time_ns + static_cast<int64_t>(std::llround(t * 1e9)));
+  }
+}
+
+}  // namespace
+
+DvlCalibration dvl_calibration(const DvlConfig& dvl) {
+  DvlCalibration c;
+  c.rate_hz = dvl.rate_hz;
+  c.T_BS = forward_mount(dvl.position_B_m, dvl.pan_rad, dvl.tilt_rad);
+  for (size_t k = 0; k < 4; ++k) {
+    const double phi = M_PI / 4 + M_PI / 2 * static_cast<double>(k);
+    c.beam_directions_S[k] = Eigen::Vector3d(std::sin(dvl.beam_angle_rad) * std::cos(phi),
+                                             std::sin(dvl.beam_angle_rad) * std::sin(phi),
+                                             std::cos(dvl.beam_angle_rad));
+  }
+  return c;
+}
+
+std::vector<DvlSample> simulate_dvl(const Scenario& s, const NetGeometry& net) {
+  const DvlConfig& cfg = s.dvl;
+  const DvlCalibration calib = dvl_calibration(cfg);
+  auto rng = stream(s, 1);
+  std::normal_distribution<double> gauss(0, 1);
+  std::uniform_real_distribution<double> uniform(0, 1);
+  std::vector<DvlSample> out;
+  for_each_sample(s, cfg.rate_hz, [&](double t, int64_t ns) {
+    const BodyState b = body_state(s, t);
+    const Eigen::Isometry3d T_world_dvl = b.T_world_body * calib.T_BS;
+    DvlSample d;
+    d.timestamp_ns = ns;
+    int returns = 0;
+    for (size_t k = 0; k < 4; ++k) {
+      const Eigen::Vector3d dir = T_world_dvl.linear() * calib.beam_directions_S[k];
+      const auto hit = net.intersect(T_world_dvl.translation(), dir);
+      const double noise = gauss(rng);
+      if (hit && hit->t <= cfg.max_range_m && hit->point.z() > 0) {
+        d.beam_range_m[k] = hit->t + cfg.range_noise_m * noise;
+        ++returns;
+      }
+    }
+    Eigen::Vector3d v = b.T_world_body.linear().transpose() * b.velocity_world_mps;
+    for (int i = 0; i < 3; ++i) v[i] += cfg.velocity_noise_mps * gauss(rng);
+    if (uniform(rng) < cfg.spike_probability) {
+      v[static_cast<int>(rng() % 3)] += (uniform(rng) < 0.5 ? -1 : 1) * cfg.spike_mps;
+    }
+    const bool dropout = uniform(rng) < cfg.dropout_probability;
+    d.valid = returns >= 3 && !dropout;
+    d.velocity_B_mps = d.valid ? v : Eigen::Vector3d::Constant(kNaN);
+    if (dropout) d.beam_range_m.fill(kNaN);
+    out.push_back(d);
+  });
+  return out;
+}
+
+std::vector<PressureSample> simulate_pressure(const Scenario& s) {
+  auto rng = stream(s, 2);
+  std::normal_distribution<double> gauss(0, s.pressure.noise_m);
+  std::vector<PressureSample> out;
+  for_each_sample(s, s.pressure.rate_hz, [&](double t, int64_t ns) {
+    const double z = body_state(s, t).T_world_body.translation().z();
+    out.push_back({ns, z + s.pressure.bias_m + gauss(rng)});
+  });
+  return out;
+}
+
+std::vector<AttitudeSample> simulate_attitude(const Scenario& s) {
+  auto rng = stream(s, 3);
+  std::normal_distribution<double> gauss(0, s.attitude.noise_rad);
+  std::vector<AttitudeSample> out;
+  for_each_sample(s, s.attitude.rate_hz, [&](double t, int64_t ns) {
+    const BodyState b = body_state(s, t);
+    const double roll = b.roll_rad + gauss(rng), pitch = b.pitch_rad + gauss(rng);
+    const double yaw = std::remainder(b.yaw_rad + gauss(rng), 2 * M_PI);
+    out.push_back({ns, roll, pitch, yaw});
+  });
+  return out;
+}
+
+}  // namespace pensight::sim
