@@ -2,6 +2,7 @@
 // same tie-break, same sub-harmonic and sub-bin rules) so the backends agree bin for bin.
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "kernels/fft_roi/fft_roi.h"
 
@@ -24,6 +25,9 @@ class Spectrum {
     const std::complex<float> c = s_[static_cast<size_t>(row) * w_ + kx];
     return c.real() * c.real() + c.imag() * c.imag();
   }
+  const std::complex<float>* row(int ky) const {
+    return s_.data() + static_cast<size_t>(((ky % n_) + n_) % n_) * w_;
+  }
   int n() const { return n_; }
   int w() const { return w_; }
 
@@ -34,12 +38,33 @@ class Spectrum {
 
 struct Band {
   float r2_min, r2_max;
-  bool contains(int kx, int ky) const {
-    if (kx == 0 && ky <= 0) return false;  // the other half plane
-    const float r2 = static_cast<float>(kx * kx + ky * ky);
-    return r2 >= r2_min && r2 <= r2_max;
-  }
 };
+
+// In-band kx range [lo, hi] of a row of the half plane (kx > 0, or kx == 0 and ky > 0); lo > hi
+// when the row has none. The same bins, in the same order, as the shader's per-bin test.
+std::pair<int, int> band_row(const Band& band, int ky, int w) {
+  const int ky2 = ky * ky;
+  int lo = ky > 0 ? 0 : 1;
+  while (lo < w && static_cast<float>(lo * lo + ky2) < band.r2_min) ++lo;
+  int hi = lo - 1;
+  while (hi + 1 < w && static_cast<float>((hi + 1) * (hi + 1) + ky2) <= band.r2_max) ++hi;
+  return {lo, hi};
+}
+
+// Calls f(kx, ky, power) for every in-band bin, rows in storage order, kx ascending.
+template <class F>
+void for_each_in_band(const Spectrum& s, const Band& band, F f) {
+  const int n = s.n();
+  for (int r = 0; r < n; ++r) {
+    const int ky = r < n / 2 ? r : r - n;
+    const auto [lo, hi] = band_row(band, ky, s.w());
+    const std::complex<float>* row = s.row(ky);
+    for (int kx = lo; kx <= hi; ++kx) {
+      const std::complex<float> c = row[kx];
+      f(kx, ky, c.real() * c.real() + c.imag() * c.imag());
+    }
+  }
+}
 
 // If the spectrum at half the peak's frequency is strong, the peak was a harmonic.
 Bin fundamental(const Spectrum& s, const Band& band, Bin p, float ratio) {
@@ -87,19 +112,19 @@ RoiLattice analyze_spectrum(std::span<const std::complex<float>> spectrum, const
   const Band band{params.min_cycles * params.min_cycles, r_max * r_max};
 
   // Pass 1: in-band energy and the strongest bin (ties: the first in row-major order).
+  // Energy in 8 float lanes (vectorisable; the row sums are short), totals in double.
   double energy = 0;
   int count = 0;
   Bin p1;
-  for (int row = 0; row < n; ++row) {
-    const int ky = row < n / 2 ? row : row - n;
-    for (int kx = 0; kx < s.w(); ++kx) {
-      if (!band.contains(kx, ky)) continue;
-      const float v = s.power(kx, ky);
-      energy += v;
-      ++count;
-      if (v > p1.power) p1 = {kx, ky, v};
-    }
-  }
+  float lanes[8] = {};
+  int lane = 0;
+  for_each_in_band(s, band, [&](int kx, int ky, float v) {
+    lanes[lane] += v;
+    lane = (lane + 1) & 7;
+    ++count;
+    if (v > p1.power) p1 = {kx, ky, v};
+  });
+  for (float l : lanes) energy += l;
   RoiLattice out;
   if (p1.power <= 0 || count == 0) return out;
   p1 = fundamental(s, band, p1, params.subharmonic_ratio);
@@ -109,16 +134,11 @@ RoiLattice analyze_spectrum(std::span<const std::complex<float>> spectrum, const
   const float c2 = cos_max * cos_max;
   const float p1_r2 = static_cast<float>(p1.kx * p1.kx + p1.ky * p1.ky);
   Bin p2;
-  for (int row = 0; row < n; ++row) {
-    const int ky = row < n / 2 ? row : row - n;
-    for (int kx = 0; kx < s.w(); ++kx) {
-      if (!band.contains(kx, ky)) continue;
-      const float dot = static_cast<float>(kx * p1.kx + ky * p1.ky);
-      if (dot * dot >= c2 * static_cast<float>(kx * kx + ky * ky) * p1_r2) continue;
-      const float v = s.power(kx, ky);
-      if (v > p2.power) p2 = {kx, ky, v};
-    }
-  }
+  for_each_in_band(s, band, [&](int kx, int ky, float v) {
+    const float dot = static_cast<float>(kx * p1.kx + ky * p1.ky);
+    if (dot * dot >= c2 * static_cast<float>(kx * kx + ky * ky) * p1_r2) return;
+    if (v > p2.power) p2 = {kx, ky, v};
+  });
   if (p2.power <= 0) return out;
   p2 = fundamental(s, band, p2, params.subharmonic_ratio);
 
