@@ -21,6 +21,19 @@ Eigen::Isometry3d forward_camera() {
   return T;
 }
 
+DvlConfig forward_dvl() {
+  DvlConfig dvl;
+  dvl.T_body_dvl.linear() = forward_camera().linear();
+  dvl.T_body_dvl.translation() = Eigen::Vector3d(0.4, 0.0, 0.2);
+  const double off = 22.5 * std::numbers::pi / 180.0;
+  for (int i = 0; i < 4; ++i) {
+    const double az = std::numbers::pi / 4 + i * std::numbers::pi / 2;
+    dvl.beams_S[i] =
+        Eigen::Vector3d(std::sin(off) * std::cos(az), std::sin(off) * std::sin(az), std::cos(off));
+  }
+  return dvl;
+}
+
 NetObservation net_observation(const Pose& pose, double radius_m,
                                const Eigen::Isometry3d& T_body_camera, const PointNoise& noise,
                                std::mt19937_64& rng, const PinholeCamera& camera) {
@@ -82,8 +95,7 @@ int64_t to_ns(double t_s) {
 }  // namespace
 
 Sequence make_sequence(const Trajectory& traj, const SensorNoise& noise, uint64_t seed,
-                       const Eigen::Isometry3d& T_body_camera, const Eigen::Isometry3d& T_body_dvl,
-                       const std::vector<Eigen::Vector3d>& beams_S) {
+                       const Eigen::Isometry3d& T_body_camera, const DvlConfig& dvl) {
   Sequence seq;
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> unit(0.0, 1.0);
@@ -98,11 +110,9 @@ Sequence make_sequence(const Trajectory& traj, const SensorNoise& noise, uint64_
     const Eigen::Vector3d v = traj.body_velocity(t);
     s.v_B_mps = (1.0 + noise.dvl_scale_error) * v + noise.dvl_bias_mps +
                 noise.dvl_sigma_mps * Eigen::Vector3d(unit(rng), unit(rng), unit(rng));
-    const Eigen::Isometry3d T_pen_dvl = traj.at(t).T_pen_body() * T_body_dvl;
-    for (size_t i = 0; i < beams_S.size() && i < 4; ++i) {
-      const auto range = ray_to_cylinder(
-          T_pen_dvl.translation(), T_pen_dvl.linear() * beams_S[i].normalized(), traj.radius_m);
-      if (range && *range < 30.0) s.range_m[i] = *range + noise.dvl_range_sigma_m * unit(rng);
+    const auto ranges = dvl_ranges_to_cylinder(dvl, traj.at(t).T_pen_body(), traj.radius_m);
+    for (size_t i = 0; i < 4; ++i) {
+      if (ranges[i] < 30.0) s.range_m[i] = ranges[i] + noise.dvl_range_sigma_m * unit(rng);
     }
     seq.dvl.push_back(s);
   }

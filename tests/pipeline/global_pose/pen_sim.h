@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "pipeline/camera.h"
+#include "pipeline/global_pose/dvl_plane.h"
 #include "pipeline/global_pose/measurements.h"
 
 namespace pensight::global_pose::sim {
@@ -26,6 +27,8 @@ struct Pose {
 
 // Forward-looking camera 0.3 m ahead of and 0.1 m below the body origin.
 Eigen::Isometry3d forward_camera();
+// Forward-looking DVL 0.4 m ahead, 0.2 m below, four beams 22.5 deg off its boresight (+z_S).
+DvlConfig forward_dvl();
 
 struct PointNoise {
   double range_sigma_frac = 0.015;  // FFT depth noise, relative to range
@@ -77,12 +80,10 @@ struct Sequence {
 
 inline constexpr int64_t kStartNs = 1'700'000'000'000'000'000;
 
-// Camera 10 Hz, DVL 4 Hz, pressure 8 Hz, attitude 20 Hz, on staggered clocks. DVL beam ranges are
-// filled when `beams_S` (beam directions in the DVL frame) is not empty.
+// Camera 10 Hz, DVL 4 Hz, pressure 8 Hz, attitude 20 Hz, on staggered clocks.
 Sequence make_sequence(const Trajectory& traj, const SensorNoise& noise, uint64_t seed,
                        const Eigen::Isometry3d& T_body_camera = forward_camera(),
-                       const Eigen::Isometry3d& T_body_dvl = Eigen::Isometry3d::Identity(),
-                       const std::vector<Eigen::Vector3d>& beams_S = {});
+                       const DvlConfig& dvl = forward_dvl());
 
 // Calls the visitor with every sample of the sequence in timestamp order.
 struct Visitor {
