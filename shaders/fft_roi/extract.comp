@@ -1,5 +1,6 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
 // One workgroup per ROI: bilinear resample of the ROI to FFT_N^2 samples, zero mean / unit
 // variance, separable Hann window. Mirrors FftRoiCpu's prepare step (kernels/fft_roi).
 

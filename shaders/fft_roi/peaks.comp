@@ -1,5 +1,6 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
 // One workgroup per ROI: the two base frequency vectors of the net lattice from the ROI's half
 // spectrum. Mirrors analyze_spectrum() in kernels/fft_roi/fft_roi_peaks.cpp step by step: same
 // band, same tie-break (first bin in row-major order), same sub-harmonic and sub-bin rules.
