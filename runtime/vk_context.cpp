@@ -127,6 +127,8 @@ DeviceInfo describe(VkPhysicalDevice pd, uint32_t index) {
   compute_queue_family(pd, &info.timestamps);
   info.timestamp_period_ns = props.properties.limits.timestampPeriod;
   info.subgroup_size = subgroup.subgroupSize;
+  info.subgroup_arithmetic = (subgroup.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) &&
+                             (subgroup.supportedOperations & VK_SUBGROUP_FEATURE_ARITHMETIC_BIT);
   info.max_workgroup_invocations = props.properties.limits.maxComputeWorkGroupInvocations;
   info.max_shared_memory_bytes = props.properties.limits.maxComputeSharedMemorySize;
   return info;
@@ -153,9 +155,10 @@ VKAPI_ATTR VkBool32 VKAPI_CALL on_debug_message(VkDebugUtilsMessageSeverityFlagB
 
 bool has_layer(const char* name) {
   uint32_t n = 0;
-  vkEnumerateInstanceLayerProperties(&n, nullptr);
+  PENSIGHT_VK(vkEnumerateInstanceLayerProperties(&n, nullptr));
   std::vector<VkLayerProperties> layers(n);
-  vkEnumerateInstanceLayerProperties(&n, layers.data());
+  PENSIGHT_VK(vkEnumerateInstanceLayerProperties(&n, layers.data()));
+  layers.resize(n);
   return std::any_of(layers.begin(), layers.end(), [&](const VkLayerProperties& l) {
     return std::strcmp(l.layerName, name) == 0;
   });
@@ -361,6 +364,11 @@ Context::Context(ContextOptions options) : impl_(std::make_unique<Impl>()) {
                 std::to_string(VK_API_VERSION_MAJOR(d.info.api_version)) + "." +
                 std::to_string(VK_API_VERSION_MINOR(d.info.api_version)) +
                 "; pensight needs 1.2. Update the driver (Mesa >= 21 for lavapipe).");
+  }
+  if (!d.info.subgroup_arithmetic) {
+    throw Error("Vulkan device '" + d.info.name +
+                "' lacks subgroup arithmetic in compute shaders, which pensight's reductions use; "
+                "choose another device with PENSIGHT_VK_DEVICE or use --backend cpu");
   }
   const int family = compute_queue_family(d.physical, nullptr);
   if (family < 0) throw Error("Vulkan device '" + d.info.name + "' has no compute queue");

@@ -27,6 +27,7 @@ struct DeviceInfo {
   bool timestamps = false;                  // compute queue supports timestamp queries
   float timestamp_period_ns = 0;
   uint32_t subgroup_size = 0;
+  bool subgroup_arithmetic = false;  // required: reductions use subgroupAdd
   uint32_t max_workgroup_invocations = 0;
   uint32_t max_shared_memory_bytes = 0;
 };

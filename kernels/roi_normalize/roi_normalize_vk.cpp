@@ -7,8 +7,6 @@
 namespace pensight::kernels {
 namespace {
 
-constexpr uint32_t kWorkgroup = 256;  // must match local_size_x in roi_normalize.comp
-
 struct Push {
   uint32_t num_rois;
 };

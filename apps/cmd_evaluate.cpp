@@ -1,0 +1,36 @@
+#include <CLI/CLI.hpp>
+#include <cstdio>
+
+#include "apps/command.h"
+#include "pipeline/evaluation/evaluation.h"
+
+namespace pensight::app {
+
+int cmd_evaluate(const Args& args) {
+  CLI::App cli("Score OUT/estimates.csv against the dataset's groundtruth0", "pensight evaluate");
+  std::string dataset_dir, out_dir;
+  AccuracyEnvelope envelope;
+  cli.add_option("DATASET", dataset_dir, "dataset folder with groundtruth0/")->required();
+  cli.add_option("OUT", out_dir, "folder holding estimates.csv (pensight run --out)")->required();
+  cli.add_option("--min-net-fraction", envelope.min_net_fraction,
+                 "measurable frames: share of pixels that see net")
+      ->capture_default_str();
+  try {
+    cli.parse(std::vector<std::string>(args.rbegin(), args.rend()));
+  } catch (const CLI::ParseError& e) {
+    return cli.exit(e);
+  }
+  const Dataset dataset = read_dataset(dataset_dir);
+  const auto rows = read_estimates_csv(std::filesystem::path(out_dir) / "estimates.csv");
+  std::printf(
+      "measurable: net fraction >= %.2f, %.1f-%.1f m, |psi_net| <= 35 deg\n"
+      "net pose from FFT:\n%s",
+      envelope.min_net_fraction, envelope.min_d_net_m, envelope.max_d_net_m,
+      describe(score_net_pose(dataset, rows, NetPoseSource::kFft, envelope)).c_str());
+  return 0;
+}
+
+PENSIGHT_COMMAND("evaluate", "score OUT/estimates.csv against the dataset's ground truth",
+                 cmd_evaluate);
+
+}  // namespace pensight::app

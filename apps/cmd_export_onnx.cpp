@@ -1,0 +1,62 @@
+// pensight export-onnx MODEL --out FILE [--fp16]: writes a TensorRT-ready ONNX file (opset 17,
+// static shapes, BN folded, initializers embedded). MODEL is an ONNX file (re-written through
+// our importer) or a built-in architecture: builtin:compact or builtin:trudepth (320x240,
+// random weights; for engine tests and TensorRT smoke tests).
+#include <cstdio>
+#include <string>
+
+#include "apps/command.h"
+#include "kernels/nn/nn_models.h"
+#include "kernels/nn/nn_onnx.h"
+#include "runtime/error.h"
+
+namespace pensight::app {
+namespace {
+
+nn::Graph load(const std::string& model) {
+  if (model == "builtin:compact") return nn::compact_depth_net({320, 240}, 1);
+  if (model == "builtin:trudepth") return nn::trudepth_net({320, 240}, 0.5f, 1);
+  if (model.starts_with("builtin:")) {
+    throw Error("export-onnx: unknown built-in model '" + model +
+                "'; use builtin:compact or builtin:trudepth");
+  }
+  return nn::import_onnx(model);
+}
+
+}  // namespace
+
+int cmd_export_onnx(const Args& args) {
+  std::string model, out;
+  nn::OnnxExportOptions options;
+  for (size_t i = 0; i < args.size(); ++i) {
+    if (args[i] == "--out" && i + 1 < args.size()) {
+      out = args[++i];
+    } else if (args[i] == "--fp16") {
+      options.fp16_weights = true;
+    } else if (model.empty() && !args[i].starts_with("--")) {
+      model = args[i];
+    } else {
+      throw Error("export-onnx: unexpected argument '" + args[i] +
+                  "'; usage: pensight export-onnx MODEL --out FILE [--fp16]");
+    }
+  }
+  if (model.empty() || out.empty()) {
+    throw Error(
+        "export-onnx: usage: pensight export-onnx MODEL --out FILE [--fp16] (MODEL: a .onnx file, "
+        "builtin:compact or builtin:trudepth)");
+  }
+  const nn::Graph graph = load(model);
+  const std::string bytes = nn::export_onnx_bytes(graph, options);
+  nn::check_onnx_bytes(bytes);
+  nn::export_onnx(graph, out, options);
+  std::printf("wrote %s: %zu nodes, %.3f GFLOP per inference, %s weights, %zu bytes\n", out.c_str(),
+              graph.nodes().size(), graph.flops() * 1e-9, options.fp16_weights ? "fp16" : "fp32",
+              bytes.size());
+  return 0;
+}
+
+PENSIGHT_COMMAND("export-onnx",
+                 "write a model as TensorRT-compatible ONNX (opset 17, static shapes)",
+                 cmd_export_onnx);
+
+}  // namespace pensight::app

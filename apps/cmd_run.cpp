@@ -1,0 +1,54 @@
+#include <CLI/CLI.hpp>
+#include <cstdio>
+
+#include "apps/command.h"
+#include "apps/progress_bar.h"
+#include "pipeline/runner.h"
+
+namespace pensight::app {
+
+int cmd_run(const Args& args) {
+  CLI::App cli(
+      "Run the pipeline on a dataset (../shared/dataset-format.md layout) and write "
+      "OUT/estimates.csv",
+      "pensight run");
+  std::string dataset_dir, out_dir, backend = "auto";
+  bool quiet = false;
+  RunOptions options;
+  kernels::RoiGrid& grid = options.detector.grid;
+  cli.add_option("DATASET", dataset_dir, "dataset folder")->required();
+  cli.add_option("--out", out_dir, "output folder")->required();
+  cli.add_option("--backend", backend,
+                 "auto|cpu|vulkan|cuda (auto: a real GPU if there is one, else the CPU path)")
+      ->capture_default_str();
+  cli.add_option("--roi-rows", grid.rows, "ROI grid rows")->capture_default_str();
+  cli.add_option("--roi-cols", grid.cols, "ROI grid columns")->capture_default_str();
+  cli.add_option("--roi-size", grid.size_px, "ROI side in pixels")->capture_default_str();
+  cli.add_option("--roi-border", grid.border_px, "margin kept free at the image edges, pixels")
+      ->capture_default_str();
+  cli.add_option("--fft-size", options.detector.fft_size, "resampled ROI side (power of two)")
+      ->capture_default_str();
+  cli.add_option("--cpu-threads", options.detector.cpu_threads, "CPU path threads (0: all)")
+      ->capture_default_str();
+  cli.add_flag("--quiet", quiet, "no progress bar");
+  try {
+    cli.parse(std::vector<std::string>(args.rbegin(), args.rend()));
+  } catch (const CLI::ParseError& e) {
+    return cli.exit(e);
+  }
+
+  options.detector.backend = parse_backend(backend);
+  ProgressBar bar("run");
+  if (!quiet) options.on_progress = [&](size_t done, size_t total) { bar.update(done, total); };
+  const Dataset dataset = read_dataset(dataset_dir);
+  const RunSummary s = run_dataset(dataset, out_dir, options);
+  std::printf("backend: %s\n", s.backend.c_str());
+  std::printf("frames: %zu (%zu unreadable, %zu without a net pose)\nstage times:\n%s", s.frames,
+              s.frames_skipped, s.frames_without_pose, s.times.summary().c_str());
+  std::printf("wrote %s/estimates.csv\n", out_dir.c_str());
+  return 0;
+}
+
+PENSIGHT_COMMAND("run", "run the pipeline on a dataset and write OUT/estimates.csv", cmd_run);
+
+}  // namespace pensight::app

@@ -1,0 +1,239 @@
+// FFT net detection for the default grid (30 ROIs of 300 px from 720x540 u8, resampled to 256^2),
+// side by side in one run:
+//  - the whole stage (resample + normalise + window + FFT + peak search): CPU reference on FFTW
+//    with 1 and 2 threads, and Vulkan (upload, one submission, download of 30 x 24 bytes);
+//  - the stage plus net geometry and relative pose (the CPU budget: <= 10 ms per frame);
+//  - the spectra alone on the same windowed samples: FFTW plan_many (the peer), OpenCV cv::dft,
+//    our FFTW-per-ROI path, our Vulkan radix-2 shaders.
+// Floor: 30 real 256^2 FFTs = 30 * 5 N log2 N / 2 flops with N = 256^2 points (the complex count
+// halved for real input) = 78.6 MFlop; "x_fftw" is each spectra time over FFTW plan_many's in this
+// run.
+#include <benchmark/benchmark.h>
+#include <fftw3.h>
+
+#include <algorithm>
+#include <cmath>
+#include <opencv2/core.hpp>
+#include <vector>
+
+#include "kernels/fft_roi/fft_roi.h"
+#include "pipeline/net_detector.h"
+#include "runtime/timing.h"
+#include "runtime/vk_buffer.h"
+#include "runtime/vk_context.h"
+#include "runtime/vk_stream.h"
+
+namespace {
+
+using namespace pensight;
+
+constexpr int kN = 256;
+constexpr size_t kNN = static_cast<size_t>(kN) * kN;
+constexpr size_t kNC = static_cast<size_t>(kN) * (kN / 2 + 1);
+
+// A net-like frame: twine lattice with perspective-free 22 px period, slight rotation, noise.
+ImageU8 frame() {
+  ImageU8 img(720, 540);
+  uint32_t state = 1;
+  for (int y = 0; y < 540; ++y) {
+    for (int x = 0; x < 720; ++x) {
+      const double u = 0.996 * x + 0.087 * y, v = -0.087 * x + 0.996 * y;
+      const bool twine = std::fmod(u, 22.0) < 3 || std::fmod(v, 22.0) < 3;
+      state = state * 1664525u + 1013904223u;
+      img.at(x, y) = static_cast<uint8_t>((twine ? 180 : 70) + (state >> 28));
+    }
+  }
+  return img;
+}
+
+const std::vector<kernels::RoiOrigin>& grid() {
+  static const auto rois = kernels::roi_grid(720, 540, {});
+  return rois;
+}
+
+// The windowed samples every spectra benchmark transforms.
+const std::vector<float>& samples() {
+  static const std::vector<float> s = [] {
+    kernels::FftRoiCpu cpu({}, {}, 1, false);
+    std::vector<float> out(grid().size() * kNN);
+    cpu.prepare(frame(), grid(), out);
+    return out;
+  }();
+  return s;
+}
+
+double flops() {
+  return 30.0 * 5.0 * static_cast<double>(kNN) * std::log2(double(kNN)) / 2;
+}
+
+struct FftwMany {
+  float* in;
+  fftwf_complex* out;
+  fftwf_plan plan;
+  FftwMany() {
+    in = fftwf_alloc_real(grid().size() * kNN);
+    out = fftwf_alloc_complex(grid().size() * kNC);
+    const int n[2] = {kN, kN};
+    plan = fftwf_plan_many_dft_r2c(2, n, static_cast<int>(grid().size()), in, nullptr, 1,
+                                   static_cast<int>(kNN), out, nullptr, 1, static_cast<int>(kNC),
+                                   FFTW_MEASURE);
+    std::copy(samples().begin(), samples().end(), in);
+  }
+  ~FftwMany() {
+    fftwf_destroy_plan(plan);
+    fftwf_free(in);
+    fftwf_free(out);
+  }
+};
+
+// FFTW plan_many time for this run, measured once (median of 31), for the x_fftw ratios.
+double fftw_ms() {
+  static const double ms = [] {
+    FftwMany f;
+    std::vector<double> t;
+    for (int i = 0; i < 31; ++i) {
+      Stopwatch sw;
+      fftwf_execute(f.plan);
+      t.push_back(sw.elapsed_ms());
+    }
+    std::nth_element(t.begin(), t.begin() + 15, t.end());
+    return t[15];
+  }();
+  return ms;
+}
+
+void spectra_counters(benchmark::State& state, double total_ms) {
+  const double ms = total_ms / static_cast<double>(state.iterations());
+  state.counters["MFlop"] = flops() / 1e6;
+  state.counters["GFlop/s"] = flops() / (ms * 1e6);
+  state.counters["x_fftw"] = ms / fftw_ms();
+}
+
+void BM_Spectra_FftwPlanMany(benchmark::State& state) {
+  FftwMany f;
+  Stopwatch sw;
+  for (auto _ : state) {
+    fftwf_execute(f.plan);
+    benchmark::DoNotOptimize(f.out);
+  }
+  spectra_counters(state, sw.elapsed_ms());
+}
+BENCHMARK(BM_Spectra_FftwPlanMany)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_Spectra_CvDft(benchmark::State& state) {
+  cv::setNumThreads(1);
+  std::vector<cv::Mat> in, out(grid().size());
+  for (size_t r = 0; r < grid().size(); ++r) {
+    in.emplace_back(kN, kN, CV_32F, const_cast<float*>(samples().data() + r * kNN));
+  }
+  Stopwatch sw;
+  for (auto _ : state) {
+    for (size_t r = 0; r < in.size(); ++r) cv::dft(in[r], out[r]);  // packed CCS real spectrum
+    benchmark::DoNotOptimize(out[0].data);
+  }
+  spectra_counters(state, sw.elapsed_ms());
+}
+BENCHMARK(BM_Spectra_CvDft)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_Spectra_FftRoiCpu(benchmark::State& state) {
+  kernels::FftRoiCpu cpu({}, {}, static_cast<int>(state.range(0)));
+  std::vector<std::complex<float>> out(grid().size() * kNC);
+  Stopwatch sw;
+  for (auto _ : state) {
+    cpu.transform(samples(), out);
+    benchmark::DoNotOptimize(out.data());
+  }
+  spectra_counters(state, sw.elapsed_ms());
+}
+BENCHMARK(BM_Spectra_FftRoiCpu)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_Spectra_Vulkan(benchmark::State& state) {
+  const vk::Context ctx;
+  state.SetLabel(ctx.info().name);
+  const kernels::FftRoiVk kernel(ctx, {});
+  const auto n = static_cast<uint32_t>(grid().size());
+  vk::Buffer in(ctx, kernel.samples_bytes(n)), out(ctx, kernel.spectrum_bytes(n));
+  in.upload(samples().data(), kernel.samples_bytes(n));
+  vk::CommandStream stream(ctx);
+  kernel.record_fft(stream, in, out, n);
+  double device_ms = 0;
+  Stopwatch sw;
+  for (auto _ : state) {
+    stream.submit_and_wait();
+    for (const auto& t : stream.timings()) device_ms += t.device_ms;
+  }
+  spectra_counters(state, sw.elapsed_ms());
+  state.counters["device_ms"] = device_ms / static_cast<double>(state.iterations());
+}
+BENCHMARK(BM_Spectra_Vulkan)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The stage's pieces on the CPU: resample + normalise + window alone.
+void BM_Prepare_Cpu(benchmark::State& state) {
+  kernels::FftRoiCpu cpu({}, {}, 1, false);
+  const ImageU8 img = frame();
+  std::vector<float> out(grid().size() * kNN);
+  for (auto _ : state) {
+    cpu.prepare(img, grid(), out);
+    benchmark::DoNotOptimize(out.data());
+  }
+}
+BENCHMARK(BM_Prepare_Cpu)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_FftStage_Cpu(benchmark::State& state) {
+  kernels::FftRoiCpu cpu({}, {}, static_cast<int>(state.range(0)));
+  const ImageU8 img = frame();
+  for (auto _ : state) benchmark::DoNotOptimize(cpu.run(img, grid()));
+  state.counters["rois"] = static_cast<double>(grid().size());
+}
+BENCHMARK(BM_FftStage_Cpu)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// Whole stage on the Vulkan device: upload the frame, one submission of the four dispatches,
+// download the 30 lattices. device_ms: sum of the dispatches' device times.
+void BM_FftStage_Vulkan(benchmark::State& state) {
+  const vk::Context ctx;
+  state.SetLabel(ctx.info().name);
+  const kernels::FftRoiVk kernel(ctx, {});
+  const ImageU8 img = frame();
+  const auto n = static_cast<uint32_t>(grid().size());
+  vk::Buffer image(ctx, kernel.image_bytes()), rois(ctx, n * sizeof(kernels::RoiOrigin));
+  rois.upload(grid().data(), n * sizeof(kernels::RoiOrigin));
+  vk::Buffer samp(ctx, kernel.samples_bytes(n)), spec(ctx, kernel.spectrum_bytes(n));
+  vk::TypedBuffer<kernels::RoiLattice> lat(ctx, n, vk::MemoryUsage::kReadback);
+  vk::CommandStream stream(ctx);
+  kernel.record(stream, image, rois, samp, spec, lat.raw(), n);
+  double device_ms = 0;
+  std::vector<double> per(4, 0.0);
+  for (auto _ : state) {
+    image.upload(img.pixels.data(), img.pixels.size());
+    stream.submit_and_wait();
+    benchmark::DoNotOptimize(lat.to_vector());
+    const auto t = stream.timings();
+    for (size_t i = 0; i < t.size() && i < per.size(); ++i) per[i] += t[i].device_ms;
+    for (const auto& d : t) device_ms += d.device_ms;
+  }
+  const auto iters = static_cast<double>(state.iterations());
+  state.counters["device_ms"] = device_ms / iters;
+  const char* names[] = {"extract_ms", "rows_ms", "cols_ms", "peaks_ms"};
+  for (size_t i = 0; i < per.size(); ++i) state.counters[names[i]] = per[i] / iters;
+}
+BENCHMARK(BM_FftStage_Vulkan)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The CPU budget: FFT stage + per-ROI geometry + relative pose, per 720x540 frame.
+void BM_FftStagePlusPose_Cpu(benchmark::State& state) {
+  NetDetector detector(PinholeCamera{},
+                       {.backend = Backend::kCpu, .cpu_threads = static_cast<int>(state.range(0))});
+  const ImageU8 img = frame();
+  double fft = 0, pose = 0;
+  for (auto _ : state) {
+    const NetDetection d = detector.detect(img);
+    fft += d.fft_ms;
+    pose += d.pose_ms;
+    if (!d.pose.valid()) state.SkipWithError(d.pose.reason.c_str());
+  }
+  const auto iters = static_cast<double>(state.iterations());
+  state.counters["fft_ms"] = fft / iters;
+  state.counters["pose_ms"] = pose / iters;
+}
+BENCHMARK(BM_FftStagePlusPose_Cpu)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+}  // namespace

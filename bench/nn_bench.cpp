@@ -1,0 +1,81 @@
+// The nn engine on the compact depth-completion net and the TRUDepth-architecture graph (width
+// 0.5) at 320x240: Vulkan executor, CPU reference executor, OpenCV DNN (compact only: OpenCV 4.6
+// cannot import LayerNormalization). ONNX Runtime CPU: bench/ort_bench.js on the exported files.
+// Counters: GFLOP per inference (conv/matmul multiply-adds x 2) and achieved GFLOP/s.
+#include <benchmark/benchmark.h>
+
+#include <opencv2/dnn.hpp>
+#include <random>
+
+#include "kernels/nn/nn.h"
+#include "kernels/nn/nn_models.h"
+#include "kernels/nn/nn_onnx.h"
+#include "runtime/vk_context.h"
+
+namespace {
+
+using namespace pensight;
+
+nn::Graph model(int which) {
+  return which == 0 ? nn::compact_depth_net({320, 240}, 1) : nn::trudepth_net({320, 240}, 0.5f, 1);
+}
+
+std::vector<nn::Tensor> inputs(const nn::Graph& g) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(0, 1);
+  std::vector<nn::Tensor> in;
+  for (int v : g.inputs()) {
+    nn::Tensor t{g.value(v).shape,
+                 std::vector<float>(static_cast<size_t>(nn::num_elements(g.value(v).shape)))};
+    for (float& x : t.data) x = u(rng);
+    in.push_back(std::move(t));
+  }
+  return in;
+}
+
+void counters(benchmark::State& state, const nn::Graph& g) {
+  state.counters["GFLOP"] = g.flops() * 1e-9;
+  state.counters["GFLOP/s"] = benchmark::Counter(
+      g.flops() * 1e-9 * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+  state.SetLabel(state.range(0) == 0 ? "compact" : "trudepth-0.5");
+}
+
+void BM_Nn_Vulkan(benchmark::State& state) {
+  const nn::Graph g = model(static_cast<int>(state.range(0)));
+  const auto in = inputs(g);
+  const vk::Context ctx;
+  nn::VkModel m(ctx, g);
+  for (size_t i = 0; i < in.size(); ++i)
+    m.input_buffer(i).upload(in[i].data.data(), in[i].data.size() * 4);
+  for (auto _ : state) m.submit();
+  counters(state, g);
+  state.counters["dispatches"] = static_cast<double>(m.num_dispatches());
+  state.counters["act_MB"] = static_cast<double>(m.activation_bytes()) / 1e6;
+  state.counters["unplanned_MB"] = static_cast<double>(m.unplanned_activation_bytes()) / 1e6;
+}
+BENCHMARK(BM_Nn_Vulkan)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_Nn_CpuReference(benchmark::State& state) {
+  const nn::Graph g = model(static_cast<int>(state.range(0)));
+  const auto in = inputs(g);
+  for (auto _ : state) benchmark::DoNotOptimize(nn::run_cpu(g, in));
+  counters(state, g);
+}
+BENCHMARK(BM_Nn_CpuReference)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_Nn_OpenCvDnn(benchmark::State& state) {
+  const nn::Graph g = model(static_cast<int>(state.range(0)));
+  const auto in = inputs(g);
+  const std::string bytes = nn::export_onnx_bytes(g);
+  cv::dnn::Net net = cv::dnn::readNetFromONNX(bytes.data(), bytes.size());
+  for (size_t i = 0; i < in.size(); ++i) {
+    std::vector<int> dims(in[i].shape.begin(), in[i].shape.end());
+    net.setInput(cv::Mat(4, dims.data(), CV_32F, const_cast<float*>(in[i].data.data())),
+                 g.value(g.inputs()[i]).name);
+  }
+  for (auto _ : state) benchmark::DoNotOptimize(net.forward());
+  counters(state, g);
+}
+BENCHMARK(BM_Nn_OpenCvDnn)->Arg(0)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+}  // namespace

@@ -1,0 +1,147 @@
+#pragma once
+// FFT net detection per ROI: a grid of square ROIs is cut from a grey frame, each ROI resampled
+// to a power-of-two square (bilinear), normalised to zero mean / unit variance, multiplied by a
+// separable Hann window, transformed with a real-to-complex 2D FFT, and its power spectrum searched
+// for the two base frequency vectors of the net lattice (sub-bin refined). Only the small per-ROI
+// RoiLattice records leave the device.
+//
+// Spectrum layout (all backends, as FFTW's r2c): per ROI fft_size rows (ky, natural order with
+// negative frequencies in the upper half) of fft_size/2+1 complex bins (kx >= 0), row-major.
+// A bin index k is k cycles per ROI, whatever fft_size is, so frequencies in image pixels are
+// k / roi_size cycles per pixel.
+#include <complex>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "kernels/roi_normalize/roi_normalize.h"
+#include "runtime/image.h"
+#include "runtime/vk_buffer.h"
+#include "runtime/vk_pipeline.h"
+#include "runtime/vk_stream.h"
+
+namespace pensight::kernels {
+
+// rows x cols ROIs of size_px; top-left corners spread evenly from border_px to the far edge
+// (the last column ends at width - 1, the last row at height - 1).
+struct RoiGrid {
+  int rows = 5;
+  int cols = 6;
+  int size_px = 300;
+  int border_px = 0;
+};
+
+// Row-major top-left corners; throws pensight::Error naming the parameter when the grid does not
+// fit the image.
+std::vector<RoiOrigin> roi_grid(int width, int height, const RoiGrid& grid);
+
+struct FftRoiShape {
+  int width = 720;
+  int height = 540;
+  int roi_size = 300;  // ROI side in image pixels
+  int fft_size = 256;  // resampled side; a power of two for the Vulkan and CUDA paths
+  bool window = true;  // separable Hann window (off = the published method)
+};
+
+// Peak search over the power spectrum. Frequencies are in cycles per ROI (= FFT bins).
+struct PeakParams {
+  float min_cycles = 3.0f;         // below: illumination gradients and window leakage
+  float max_nyquist_share = 0.9f;  // above max_nyquist_share * fft_size / 2: resampling alias
+  float min_angle_deg = 25.0f;  // the second base vector makes at least this angle with the first
+  float subharmonic_ratio = 0.2f;  // a peak at half the frequency this strong is the fundamental
+  bool subbin = true;              // log-parabolic sub-bin refinement (off = integer bins)
+};
+
+// Per-ROI result (plain floats: the layout of the Vulkan and CUDA result buffers).
+struct RoiLattice {
+  float f1x = 0, f1y = 0;  // base frequency vectors in cycles per image pixel, half plane f.x >= 0,
+  float f2x = 0, f2y = 0;  // ordered by angle atan2(f.y, f.x) ascending
+  float quality = 0;       // share of the ROI's in-band spectral energy in the two peaks (0..1)
+  float contrast = 0;      // weaker peak's power over the mean in-band power
+};
+static_assert(sizeof(RoiLattice) == 6 * sizeof(float));
+
+void validate(const FftRoiShape& shape, bool needs_power_of_two);
+
+// Analyses one ROI's r2c spectrum (layout above). Used by the CPU path; the shaders mirror it.
+RoiLattice analyze_spectrum(std::span<const std::complex<float>> spectrum, const FftRoiShape& shape,
+                            const PeakParams& params);
+
+// CPU reference on FFTW: planned once per shape (FFTW_MEASURE unless `measure` is off), ROIs spread
+// over `threads` OpenMP threads. Not thread-safe itself (owns its work buffers).
+class FftRoiCpu {
+ public:
+  FftRoiCpu(const FftRoiShape& shape, const PeakParams& params = {}, int threads = 1,
+            bool measure = true);
+  ~FftRoiCpu();
+  FftRoiCpu(FftRoiCpu&&) noexcept;
+  FftRoiCpu& operator=(FftRoiCpu&&) noexcept;
+
+  const FftRoiShape& shape() const;
+  size_t samples_per_roi() const;   // fft_size^2 floats
+  size_t spectrum_per_roi() const;  // fft_size * (fft_size / 2 + 1) complex bins
+
+  // The whole stage: ROIs -> one RoiLattice each.
+  std::vector<RoiLattice> run(const ImageU8& image, std::span<const RoiOrigin> rois);
+  // Stage pieces, for tests and benchmarks. samples: rois * samples_per_roi() floats.
+  void prepare(const ImageU8& image, std::span<const RoiOrigin> rois, std::span<float> samples);
+  // spectra: rois * spectrum_per_roi() bins.
+  void transform(std::span<const float> samples, std::span<std::complex<float>> spectra);
+
+  struct Impl;
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
+// Vulkan: extract (resample + normalise + window), row FFT (two real rows per complex FFT),
+// column FFT, spectrum analysis; four dispatches recorded once, data kept on the device.
+class FftRoiVk {
+ public:
+  FftRoiVk(const vk::Context& ctx, const FftRoiShape& shape, const PeakParams& params = {});
+
+  const FftRoiShape& shape() const { return shape_; }
+  size_t image_bytes() const;  // packed 8-bit frame, padded to whole words
+  size_t samples_bytes(uint32_t num_rois) const;
+  size_t spectrum_bytes(uint32_t num_rois) const;
+
+  // image: packed u8 pixels; rois: RoiOrigin[num_rois]; samples / spectrum: scratch of the sizes
+  // above; lattices: RoiLattice[num_rois].
+  void record(vk::CommandStream& stream, const vk::Buffer& image, const vk::Buffer& rois,
+              const vk::Buffer& samples, const vk::Buffer& spectrum, const vk::Buffer& lattices,
+              uint32_t num_rois) const;
+  // Only the two FFT passes (samples -> spectrum), for tests against FFTW.
+  void record_fft(vk::CommandStream& stream, const vk::Buffer& samples, const vk::Buffer& spectrum,
+                  uint32_t num_rois) const;
+
+  // One-off convenience (allocates buffers on each call).
+  std::vector<RoiLattice> run(const ImageU8& image, std::span<const RoiOrigin> rois) const;
+
+ private:
+  const vk::Context* ctx_;
+  FftRoiShape shape_;
+  vk::Pipeline extract_;
+  vk::Pipeline rows_;
+  vk::Pipeline cols_;
+  vk::Pipeline peaks_;
+};
+
+#if PENSIGHT_HAS_CUDA
+// CUDA: the same stage with cuFFT (batched r2c plan made once per shape).
+class FftRoiCuda {
+ public:
+  FftRoiCuda(const FftRoiShape& shape, const PeakParams& params, int max_rois);
+  ~FftRoiCuda();
+  FftRoiCuda(FftRoiCuda&&) noexcept;
+  FftRoiCuda& operator=(FftRoiCuda&&) noexcept;
+  std::vector<RoiLattice> run(const ImageU8& image, std::span<const RoiOrigin> rois);
+
+  struct Impl;
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+#endif
+
+}  // namespace pensight::kernels

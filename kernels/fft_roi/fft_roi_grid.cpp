@@ -1,0 +1,50 @@
+#include <string>
+
+#include "kernels/fft_roi/fft_roi.h"
+#include "runtime/error.h"
+
+namespace pensight::kernels {
+
+std::vector<RoiOrigin> roi_grid(int width, int height, const RoiGrid& g) {
+  if (g.rows < 1 || g.cols < 1) {
+    throw Error("roi_grid: rows and cols must be >= 1, got " + std::to_string(g.rows) + " x " +
+                std::to_string(g.cols));
+  }
+  if (g.size_px < 16 || g.border_px < 0 || g.border_px + g.size_px > width ||
+      g.border_px + g.size_px > height) {
+    throw Error("roi_grid: ROIs of " + std::to_string(g.size_px) + " px with a border of " +
+                std::to_string(g.border_px) + " px do not fit a " + std::to_string(width) + "x" +
+                std::to_string(height) + " image; use a smaller --roi-size or --roi-border");
+  }
+  // Corners are spread evenly over [border, far edge - size]; integer positions, rounded.
+  auto spread = [&](int i, int count, int extent) {
+    if (count == 1) return g.border_px;
+    const int span = extent - g.size_px - g.border_px;
+    return g.border_px + (2 * i * span + (count - 1)) / (2 * (count - 1));
+  };
+  std::vector<RoiOrigin> rois;
+  rois.reserve(static_cast<size_t>(g.rows) * g.cols);
+  for (int r = 0; r < g.rows; ++r) {
+    for (int c = 0; c < g.cols; ++c)
+      rois.push_back({spread(c, g.cols, width), spread(r, g.rows, height)});
+  }
+  return rois;
+}
+
+void validate(const FftRoiShape& s, bool needs_power_of_two) {
+  if (s.width <= 0 || s.height <= 0 || s.roi_size < 16 || s.roi_size > s.width ||
+      s.roi_size > s.height) {
+    throw Error("fft_roi: ROI size " + std::to_string(s.roi_size) + " does not fit a " +
+                std::to_string(s.width) + "x" + std::to_string(s.height) + " image");
+  }
+  const bool pow2 = (s.fft_size & (s.fft_size - 1)) == 0;
+  if (s.fft_size < 16 || s.fft_size > s.roi_size || s.fft_size > 1024 ||
+      (needs_power_of_two && !pow2)) {
+    throw Error("fft_roi: FFT size " + std::to_string(s.fft_size) + " is unusable for ROIs of " +
+                std::to_string(s.roi_size) + " px; use " +
+                (needs_power_of_two ? "a power of two " : "a size ") +
+                "between 16 and min(roi size, 1024), e.g. 256 or 128");
+  }
+}
+
+}  // namespace pensight::kernels

@@ -1,0 +1,168 @@
+// Spectrum analysis of one ROI. shaders/fft_roi/peaks.comp mirrors this step by step (same band,
+// same tie-break, same sub-harmonic and sub-bin rules) so the backends agree bin for bin.
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+#include "kernels/fft_roi/fft_roi.h"
+
+namespace pensight::kernels {
+namespace {
+
+struct Bin {
+  int kx = 0, ky = 0;
+  float power = -1;
+};
+
+class Spectrum {
+ public:
+  Spectrum(std::span<const std::complex<float>> s, int n) : s_(s), n_(n), w_(n / 2 + 1) {}
+
+  // Power at any (kx, ky), negative kx through Hermitian symmetry.
+  float power(int kx, int ky) const {
+    if (kx < 0) kx = -kx, ky = -ky;
+    const int row = ((ky % n_) + n_) % n_;
+    const std::complex<float> c = s_[static_cast<size_t>(row) * w_ + kx];
+    return c.real() * c.real() + c.imag() * c.imag();
+  }
+  const std::complex<float>* row(int ky) const {
+    return s_.data() + static_cast<size_t>(((ky % n_) + n_) % n_) * w_;
+  }
+  int n() const { return n_; }
+  int w() const { return w_; }
+
+ private:
+  std::span<const std::complex<float>> s_;
+  int n_, w_;
+};
+
+struct Band {
+  float r2_min, r2_max;
+};
+
+// In-band kx range [lo, hi] of a row of the half plane (kx > 0, or kx == 0 and ky > 0); lo > hi
+// when the row has none. The same bins, in the same order, as the shader's per-bin test.
+std::pair<int, int> band_row(const Band& band, int ky, int w) {
+  const int ky2 = ky * ky;
+  int lo = ky > 0 ? 0 : 1;
+  while (lo < w && static_cast<float>(lo * lo + ky2) < band.r2_min) ++lo;
+  int hi = lo - 1;
+  while (hi + 1 < w && static_cast<float>((hi + 1) * (hi + 1) + ky2) <= band.r2_max) ++hi;
+  return {lo, hi};
+}
+
+// Calls f(kx, ky, power) for every in-band bin, rows in storage order, kx ascending.
+template <class F>
+void for_each_in_band(const Spectrum& s, const Band& band, F f) {
+  const int n = s.n();
+  for (int r = 0; r < n; ++r) {
+    const int ky = r < n / 2 ? r : r - n;
+    const auto [lo, hi] = band_row(band, ky, s.w());
+    const std::complex<float>* row = s.row(ky);
+    for (int kx = lo; kx <= hi; ++kx) {
+      const std::complex<float> c = row[kx];
+      f(kx, ky, c.real() * c.real() + c.imag() * c.imag());
+    }
+  }
+}
+
+// If the spectrum at half the peak's frequency is strong, the peak was a harmonic.
+Bin fundamental(const Spectrum& s, const Band& band, Bin p, float ratio) {
+  const int hx = static_cast<int>(std::floor(static_cast<float>(p.kx) * 0.5f + 0.5f));
+  const int hy = static_cast<int>(std::floor(static_cast<float>(p.ky) * 0.5f + 0.5f));
+  if (static_cast<float>(hx * hx + hy * hy) < band.r2_min) return p;
+  Bin best;
+  for (int dy = -1; dy <= 1; ++dy) {
+    for (int dx = -1; dx <= 1; ++dx) {
+      const float v = s.power(hx + dx, hy + dy);
+      if (v > best.power) best = {hx + dx, hy + dy, v};
+    }
+  }
+  if (!(best.power >= ratio * p.power)) return p;
+  if (best.kx < 0 || (best.kx == 0 && best.ky < 0)) best.kx = -best.kx, best.ky = -best.ky;
+  return best;
+}
+
+float log_power(float p) {
+  return std::log(std::max(p, 1e-30f));
+}
+
+// Vertex of the parabola through log power at -1, 0, +1 (exact for a Gaussian peak; close to
+// the Hann main lobe).
+float vertex(float lm, float l0, float lp) {
+  const float denom = lm - 2.0f * l0 + lp;
+  if (!(denom < 0.0f)) return 0.0f;
+  return std::clamp(0.5f * (lm - lp) / denom, -0.5f, 0.5f);
+}
+
+float energy3x3(const Spectrum& s, const Bin& b) {
+  float e = 0;
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx) e += s.power(b.kx + dx, b.ky + dy);
+  return e;
+}
+
+}  // namespace
+
+RoiLattice analyze_spectrum(std::span<const std::complex<float>> spectrum, const FftRoiShape& shape,
+                            const PeakParams& params) {
+  const int n = shape.fft_size;
+  const Spectrum s(spectrum, n);
+  const float r_max = params.max_nyquist_share * static_cast<float>(n / 2);
+  const Band band{params.min_cycles * params.min_cycles, r_max * r_max};
+
+  // Pass 1: in-band energy and the strongest bin (ties: the first in row-major order).
+  // Energy in 8 float lanes (vectorisable; the row sums are short), totals in double.
+  double energy = 0;
+  int count = 0;
+  Bin p1;
+  float lanes[8] = {};
+  int lane = 0;
+  for_each_in_band(s, band, [&](int kx, int ky, float v) {
+    lanes[lane] += v;
+    lane = (lane + 1) & 7;
+    ++count;
+    if (v > p1.power) p1 = {kx, ky, v};
+  });
+  for (float l : lanes) energy += l;
+  RoiLattice out;
+  if (p1.power <= 0 || count == 0) return out;
+  p1 = fundamental(s, band, p1, params.subharmonic_ratio);
+
+  // Pass 2: the strongest bin at least min_angle away from p1's direction.
+  const float cos_max = std::cos(params.min_angle_deg * 3.14159265f / 180.0f);
+  const float c2 = cos_max * cos_max;
+  const float p1_r2 = static_cast<float>(p1.kx * p1.kx + p1.ky * p1.ky);
+  Bin p2;
+  for_each_in_band(s, band, [&](int kx, int ky, float v) {
+    const float dot = static_cast<float>(kx * p1.kx + ky * p1.ky);
+    if (dot * dot >= c2 * static_cast<float>(kx * kx + ky * ky) * p1_r2) return;
+    if (v > p2.power) p2 = {kx, ky, v};
+  });
+  if (p2.power <= 0) return out;
+  p2 = fundamental(s, band, p2, params.subharmonic_ratio);
+
+  auto refine = [&](const Bin& b, float& fx, float& fy) {
+    float dx = 0, dy = 0;
+    if (params.subbin) {
+      const float l0 = log_power(b.power);
+      dx = vertex(log_power(s.power(b.kx - 1, b.ky)), l0, log_power(s.power(b.kx + 1, b.ky)));
+      dy = vertex(log_power(s.power(b.kx, b.ky - 1)), l0, log_power(s.power(b.kx, b.ky + 1)));
+    }
+    const float inv = 1.0f / static_cast<float>(shape.roi_size);
+    fx = (static_cast<float>(b.kx) + dx) * inv;
+    fy = (static_cast<float>(b.ky) + dy) * inv;
+  };
+  refine(p1, out.f1x, out.f1y);
+  refine(p2, out.f2x, out.f2y);
+  if (std::atan2(out.f1y, out.f1x) > std::atan2(out.f2y, out.f2x)) {
+    std::swap(out.f1x, out.f2x);
+    std::swap(out.f1y, out.f2y);
+  }
+  const double peak_energy = static_cast<double>(energy3x3(s, p1)) + energy3x3(s, p2);
+  out.quality = static_cast<float>(std::min(1.0, peak_energy / energy));
+  out.contrast = static_cast<float>(std::min(p1.power, p2.power) / (energy / count));
+  return out;
+}
+
+}  // namespace pensight::kernels

@@ -1,0 +1,31 @@
+#pragma once
+// Models built in code with random weights (tests, benchmarks, the export-onnx command): the
+// architectures matter here, not the weights (the trained model is a later step).
+#include <cstdint>
+#include <random>
+
+#include "kernels/nn/nn.h"
+
+namespace pensight::nn {
+
+struct ModelSize {
+  int width = 320;  // network input resolution
+  int height = 240;
+};
+
+// Compact depth-completion net: inputs "image" [1,1,H,W] and "prior" [1,2,H,W] (S1, S2); a
+// 3-level conv encoder, bilinear decoder with the prior concatenated at every scale; output
+// "depth" [1,1,H,W] (softplus).
+Graph compact_depth_net(ModelSize size, uint64_t seed);
+
+// TRUDepth architecture at reduced width (width_mult scales every channel count): inputs
+// "image" [1,3,H,W] and "prior" [1,2,H,W]; MobileNetV2 encoder (inverted residuals, ReLU6),
+// bilinear decoder concatenating the resized prior at every scale, AdaBins-style head (patch
+// embedding, one transformer encoder layer, bin widths -> centres, range-attention logits,
+// per-pixel softmax over bins); output "depth" [1,1,H,W].
+Graph trudepth_net(ModelSize size, float width_mult, uint64_t seed);
+
+// Small random graph that uses every op of the engine at least once (export/import coverage).
+Graph all_ops_net(uint64_t seed);
+
+}  // namespace pensight::nn

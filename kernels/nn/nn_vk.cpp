@@ -1,0 +1,502 @@
+// Vulkan executor: fuses activations into convolutions, plans activation buffers by liveness,
+// builds one pipeline per (shader, specialization) and records the whole graph once.
+#include <algorithm>
+#include <bit>
+#include <map>
+#include <optional>
+
+#include "kernels/nn/nn.h"
+#include "kernels/nn/nn_detail.h"
+#include "runtime/error.h"
+
+namespace pensight::nn {
+namespace {
+
+uint32_t u32(int64_t v) {
+  return static_cast<uint32_t>(v);
+}
+uint32_t fbits(float v) {
+  return std::bit_cast<uint32_t>(v);
+}
+
+// Activation codes of nn_act.glsl.
+std::optional<uint32_t> act_code(Op op) {
+  switch (op) {
+    case Op::kRelu:
+      return 1;
+    case Op::kClip:
+      return 2;
+    case Op::kLeakyRelu:
+      return 3;
+    case Op::kSigmoid:
+      return 4;
+    case Op::kSoftplus:
+      return 5;
+    case Op::kSqrt:
+      return 6;
+    default:
+      return std::nullopt;
+  }
+}
+
+uint32_t binary_code(Op op) {
+  switch (op) {
+    case Op::kAdd:
+      return 0;
+    case Op::kSub:
+      return 1;
+    case Op::kMul:
+      return 2;
+    case Op::kDiv:
+      return 3;
+    default:
+      return 4;
+  }
+}
+
+vk::Groups groups1d(int64_t count) {
+  const auto g = static_cast<uint32_t>((count + 255) / 256);
+  const uint32_t gx = std::min<uint32_t>(g, 65535);
+  return {gx, (g + gx - 1) / gx, 1};
+}
+
+struct Copy4 {
+  uint32_t shape[4], ss[4], ds[4], src_off, dst_off, count;
+};
+
+// A node as executed: the conv's output may be replaced by the fused activation's.
+struct ExecNode {
+  const Node* node;
+  int output;
+  Op act = Op::kRelu;
+  bool fused = false;
+  Attrs act_attrs;
+};
+
+}  // namespace
+
+struct VkModel::Impl {
+  const vk::Context* ctx;
+  Graph graph;
+  std::vector<ExecNode> exec;
+  std::map<std::pair<std::string, std::vector<uint32_t>>, vk::Pipeline> pipelines;
+  std::vector<vk::Buffer> constants;   // per constant value, or a zero/dummy buffer
+  std::vector<int> storage_of;         // value id -> buffer slot, -1 constant
+  std::vector<vk::Buffer> pool;        // planned activation buffers
+  std::vector<vk::Buffer*> buffer_of;  // value id -> buffer
+  size_t activation_bytes = 0, unplanned_bytes = 0;
+  std::unique_ptr<vk::CommandStream> stream;
+
+  const vk::Pipeline& pipeline(const std::string& shader, uint32_t buffers, uint32_t push,
+                               std::vector<uint32_t> spec) {
+    auto key = std::make_pair(shader, spec);
+    auto it = pipelines.find(key);
+    if (it == pipelines.end()) {
+      it = pipelines
+               .emplace(key, vk::Pipeline(*ctx, {.shader = "nn/" + shader,
+                                                 .num_buffers = buffers,
+                                                 .push_constant_bytes = push,
+                                                 .specialization = std::move(spec)}))
+               .first;
+    }
+    return it->second;
+  }
+
+  vk::Buffer& make_const(std::span<const float> data) {
+    constants.emplace_back(*ctx, std::max<size_t>(data.size_bytes(), 4));
+    if (!data.empty()) constants.back().upload(data.data(), data.size_bytes());
+    return constants.back();
+  }
+
+  void fuse(const VkModelOptions& options);
+  void plan();
+  void record();
+  void record_node(const ExecNode& e);
+  const vk::Buffer& buf(int v) const { return *buffer_of[static_cast<size_t>(v)]; }
+  const Dims& shape(int v) const { return graph.value(v).shape; }
+};
+
+void VkModel::Impl::fuse(const VkModelOptions& options) {
+  std::vector<int> readers(graph.values().size(), 0);
+  for (const Node& n : graph.nodes())
+    for (int v : n.inputs) ++readers[static_cast<size_t>(v)];
+  for (int v : graph.outputs()) ++readers[static_cast<size_t>(v)];
+  const auto& nodes = graph.nodes();
+  for (size_t i = 0; i < nodes.size(); ++i) {
+    ExecNode e{&nodes[i], nodes[i].output};
+    const bool conv = nodes[i].op == Op::kConv || nodes[i].op == Op::kConvTranspose;
+    if (options.fuse_activations && conv && i + 1 < nodes.size() && act_code(nodes[i + 1].op) &&
+        nodes[i + 1].inputs[0] == nodes[i].output &&
+        readers[static_cast<size_t>(nodes[i].output)] == 1) {
+      e.fused = true;
+      e.act = nodes[i + 1].op;
+      e.act_attrs = nodes[i + 1].attrs;
+      e.output = nodes[i + 1].output;
+      ++i;
+    }
+    exec.push_back(e);
+  }
+}
+
+void VkModel::Impl::plan() {
+  const size_t nv = graph.values().size();
+  storage_of.assign(nv, -1);
+  std::vector<int> last_use(nv, -1);
+  std::vector<bool> pinned(nv, false);  // graph inputs/outputs keep their own buffer
+  for (int v : graph.inputs()) pinned[static_cast<size_t>(v)] = true;
+  for (int v : graph.outputs()) pinned[static_cast<size_t>(v)] = true;
+  // Reshape/Flatten alias their input: the root's lifetime covers every alias.
+  std::vector<int> root(nv);
+  for (size_t v = 0; v < nv; ++v) root[v] = static_cast<int>(v);
+  for (const ExecNode& e : exec) {
+    if ((e.node->op == Op::kReshape || e.node->op == Op::kFlatten) &&
+        !pinned[static_cast<size_t>(e.output)]) {
+      root[static_cast<size_t>(e.output)] = root[static_cast<size_t>(e.node->inputs[0])];
+    }
+  }
+  for (size_t i = 0; i < exec.size(); ++i) {
+    for (int v : exec[i].node->inputs)
+      last_use[static_cast<size_t>(root[static_cast<size_t>(v)])] = static_cast<int>(i);
+  }
+  std::vector<size_t> sizes;
+  std::vector<bool> busy;
+  auto bytes = [&](int v) { return static_cast<size_t>(num_elements(shape(v))) * sizeof(float); };
+  auto allocate = [&](int v) {
+    const size_t need = bytes(v);
+    unplanned_bytes += need;
+    int best = -1;
+    for (size_t s = 0; s < sizes.size(); ++s) {
+      if (busy[s]) continue;
+      // Smallest free buffer that fits, else the largest free one (grown).
+      if (best < 0) {
+        best = static_cast<int>(s);
+        continue;
+      }
+      const size_t b = sizes[static_cast<size_t>(best)];
+      const bool fits = sizes[s] >= need, best_fits = b >= need;
+      if ((fits && (!best_fits || sizes[s] < b)) || (!fits && !best_fits && sizes[s] > b))
+        best = static_cast<int>(s);
+    }
+    if (best < 0 || pinned[static_cast<size_t>(v)]) {
+      sizes.push_back(need);
+      busy.push_back(true);
+      best = static_cast<int>(sizes.size()) - 1;
+    }
+    sizes[static_cast<size_t>(best)] = std::max(sizes[static_cast<size_t>(best)], need);
+    busy[static_cast<size_t>(best)] = true;
+    storage_of[static_cast<size_t>(v)] = best;
+  };
+  for (int v : graph.inputs()) allocate(v);
+  for (size_t i = 0; i < exec.size(); ++i) {
+    const int out = exec[i].output;
+    if (root[static_cast<size_t>(out)] != out) {
+      storage_of[static_cast<size_t>(out)] =
+          storage_of[static_cast<size_t>(root[static_cast<size_t>(out)])];
+    } else {
+      allocate(out);
+    }
+    for (int v : exec[i].node->inputs) {
+      const int r = root[static_cast<size_t>(v)];
+      if (graph.value(r).is_constant || pinned[static_cast<size_t>(r)]) continue;
+      if (last_use[static_cast<size_t>(r)] == static_cast<int>(i))
+        busy[static_cast<size_t>(storage_of[static_cast<size_t>(r)])] = false;
+    }
+  }
+  for (size_t s : sizes) {
+    pool.emplace_back(*ctx, std::max<size_t>(s, 4));
+    activation_bytes += s;
+  }
+  buffer_of.assign(nv, nullptr);
+  constants.reserve(nv + 2 * exec.size());  // pointers into it must stay valid
+  for (size_t v = 0; v < nv; ++v) {
+    const Value& val = graph.values()[v];
+    if (val.is_constant)
+      buffer_of[v] = &make_const(val.data);
+    else if (storage_of[v] >= 0)
+      buffer_of[v] = &pool[static_cast<size_t>(storage_of[v])];
+  }
+}
+
+void VkModel::Impl::record_node(const ExecNode& e) {
+  const Node& n = *e.node;
+  const Attrs& a = n.attrs;
+  vk::CommandStream& s = *stream;
+  const int x = n.inputs[0];
+  const Dims& xs = shape(x);
+  const Dims& ys = shape(e.output);
+  const vk::Buffer& y = buf(e.output);
+  const int64_t count = num_elements(ys);
+  switch (n.op) {
+    case Op::kConv:
+    case Op::kConvTranspose: {
+      const bool conv = n.op == Op::kConv;
+      const uint32_t act = e.fused ? *act_code(e.act) : 0;
+      const int64_t cog = ys[1] / a.group;
+      const uint32_t ocb = conv && cog % 4 == 0 ? 4 : 1;
+      const vk::Pipeline& p =
+          pipeline(conv ? "conv2d" : "conv_transpose", 4, 15 * 4,
+                   {ocb, act, fbits(e.act_attrs.alpha), fbits(e.act_attrs.beta)});
+      const vk::Buffer& bias =
+          n.inputs.size() > 2 ? buf(n.inputs[2])
+                              : make_const(std::vector<float>(static_cast<size_t>(ys[1]), 0.f));
+      const uint32_t push[15] = {u32(xs[1]),       u32(xs[2]),         u32(xs[3]),
+                                 u32(ys[1]),       u32(ys[2]),         u32(ys[3]),
+                                 u32(a.kernel[0]), u32(a.kernel[1]),   u32(a.stride[0]),
+                                 u32(a.stride[1]), u32(a.dilation[0]), u32(a.dilation[1]),
+                                 u32(a.pads[0]),   u32(a.pads[1]),     u32(a.group)};
+      s.dispatch(p, {vk::in(buf(x)), vk::in(buf(n.inputs[1])), vk::in(bias), vk::out(y)},
+                 {u32((ys[2] * ys[3] + 63) / 64), u32((ys[1] + ocb - 1) / ocb), u32(ys[0])}, push,
+                 sizeof(push), n.name);
+      return;
+    }
+    case Op::kRelu:
+    case Op::kClip:
+    case Op::kLeakyRelu:
+    case Op::kSigmoid:
+    case Op::kSoftplus:
+    case Op::kSqrt: {
+      const vk::Pipeline& p =
+          pipeline("unary", 2, 4, {*act_code(n.op), fbits(a.alpha), fbits(a.beta)});
+      s.dispatch(p, {vk::in(buf(x)), vk::out(y)}, groups1d(count), u32(count), n.name);
+      return;
+    }
+    case Op::kAdd:
+    case Op::kSub:
+    case Op::kMul:
+    case Op::kDiv:
+    case Op::kPow: {
+      const Shape4 o = shape4(ys), sa = broadcast_strides(shape(x)),
+                   sb = broadcast_strides(shape(n.inputs[1]));
+      // Inputs of lower rank are aligned to the right: pad their strides the same way.
+      const uint32_t push[13] = {u32(o[0]),  u32(o[1]),  u32(o[2]),  u32(o[3]),  u32(sa[0]),
+                                 u32(sa[1]), u32(sa[2]), u32(sa[3]), u32(sb[0]), u32(sb[1]),
+                                 u32(sb[2]), u32(sb[3]), u32(count)};
+      const vk::Pipeline& p = pipeline("binary", 3, sizeof(push), {binary_code(n.op)});
+      s.dispatch(p, {vk::in(buf(x)), vk::in(buf(n.inputs[1])), vk::out(y)}, groups1d(count), push,
+                 sizeof(push), n.name);
+      return;
+    }
+    case Op::kConcat: {
+      const auto ax = static_cast<size_t>(a.axis);
+      const int64_t outer = num_elements(Dims(ys.begin(), ys.begin() + a.axis));
+      const int64_t inner = num_elements(Dims(ys.begin() + a.axis + 1, ys.end()));
+      const vk::Pipeline& p = pipeline("strided_copy", 2, sizeof(Copy4), {});
+      int64_t offset = 0;
+      for (int v : n.inputs) {
+        const int64_t len = shape(v)[ax] * inner;
+        const Copy4 c{{1, 1, u32(outer), u32(len)},
+                      {0, 0, u32(len), 1},
+                      {0, 0, u32(ys[ax] * inner), 1},
+                      0,
+                      u32(offset),
+                      u32(outer * len)};
+        s.dispatch(p, {vk::in(buf(v)), vk::inout(y)}, groups1d(outer * len), c, n.name);
+        offset += len;
+      }
+      return;
+    }
+    case Op::kTranspose:
+    case Op::kSlice: {
+      Shape4 st{};
+      int64_t off = 0;
+      if (n.op == Op::kTranspose) {
+        st = transpose_strides(xs, a.ints);
+      } else {
+        const SliceMap m = slice_map(xs, a.starts, a.steps);
+        st = m.strides;
+        off = m.offset;
+      }
+      const Shape4 o = shape4(ys), ds = contiguous_strides(o);
+      const Copy4 c{{u32(o[0]), u32(o[1]), u32(o[2]), u32(o[3])},
+                    {u32(st[0]), u32(st[1]), u32(st[2]), u32(st[3])},
+                    {u32(ds[0]), u32(ds[1]), u32(ds[2]), u32(ds[3])},
+                    u32(off),
+                    0,
+                    u32(count)};
+      s.dispatch(pipeline("strided_copy", 2, sizeof(Copy4), {}), {vk::in(buf(x)), vk::inout(y)},
+                 groups1d(count), c, n.name);
+      return;
+    }
+    case Op::kReshape:
+    case Op::kFlatten:
+      if (&buf(x) != &y) s.copy(buf(x), y, static_cast<size_t>(count) * sizeof(float));
+      return;
+    case Op::kResize: {
+      const uint32_t mode = a.resize == ResizeMode::kNearest           ? 0
+                            : a.resize == ResizeMode::kLinearHalfPixel ? 1
+                                                                       : 2;
+      const uint32_t push[5] = {u32(xs[0] * xs[1]), u32(xs[2]), u32(xs[3]), u32(ys[2]), u32(ys[3])};
+      s.dispatch(pipeline("resize", 2, sizeof(push), {mode}), {vk::in(buf(x)), vk::out(y)},
+                 groups1d(count), push, sizeof(push), n.name);
+      return;
+    }
+    case Op::kMaxPool:
+    case Op::kAveragePool: {
+      const uint32_t push[11] = {u32(xs[0] * xs[1]), u32(xs[2]),       u32(xs[3]),
+                                 u32(ys[2]),         u32(ys[3]),       u32(a.kernel[0]),
+                                 u32(a.kernel[1]),   u32(a.stride[0]), u32(a.stride[1]),
+                                 u32(a.pads[0]),     u32(a.pads[1])};
+      s.dispatch(pipeline("pool", 2, sizeof(push),
+                          {n.op == Op::kMaxPool ? 1u : 0u, a.count_include_pad ? 1u : 0u}),
+                 {vk::in(buf(x)), vk::out(y)}, groups1d(count), push, sizeof(push), n.name);
+      return;
+    }
+    case Op::kGlobalAveragePool:
+    case Op::kReduceMean: {
+      const Shape4 in4 = shape4(xs);
+      const Shape4 keep =
+          n.op == Op::kGlobalAveragePool ? Shape4{xs[0], xs[1], 1, 1} : reduced_shape4(xs, a.axes);
+      const uint32_t push[9] = {u32(keep[0]), u32(keep[1]), u32(keep[2]), u32(keep[3]), u32(in4[0]),
+                                u32(in4[1]),  u32(in4[2]),  u32(in4[3]),  u32(count)};
+      s.dispatch(pipeline("reduce_mean", 2, sizeof(push), {}), {vk::in(buf(x)), vk::out(y)},
+                 groups1d(count), push, sizeof(push), n.name);
+      return;
+    }
+    case Op::kMatMul:
+    case Op::kGemm: {
+      const Dims& bs = shape(n.inputs[1]);
+      uint32_t push[14];
+      const int64_t m = ys[ys.size() - 2], nn = ys.back();
+      int64_t k, batch = 1;
+      const vk::Buffer* bias = nullptr;
+      float alpha = 1, beta = 0;
+      uint32_t scm = 0, scn = 0;
+      int64_t sab, sam, sak, sbb, sbk, sbn;
+      if (n.op == Op::kMatMul) {
+        k = xs.back();
+        batch = count / (m * nn);
+        sab = m * k, sam = k, sak = 1;
+        sbb = bs.size() == 2 ? 0 : k * nn, sbk = nn, sbn = 1;
+      } else {
+        k = a.trans_a ? xs[0] : xs[1];
+        sab = 0;
+        sam = a.trans_a ? 1 : xs[1], sak = a.trans_a ? xs[1] : 1;
+        sbb = 0;
+        sbk = a.trans_b ? 1 : bs[1], sbn = a.trans_b ? bs[1] : 1;
+        alpha = a.alpha;
+        if (n.inputs.size() > 2) {
+          beta = a.beta;
+          bias = &buf(n.inputs[2]);
+          const Shape4 cs = broadcast_strides(shape(n.inputs[2]));
+          scm = u32(cs[2]), scn = u32(cs[3]);
+        }
+      }
+      if (!bias) bias = &make_const(std::vector<float>{0.f});
+      const uint32_t vals[14] = {u32(m),   u32(nn),      u32(k),      u32(sab), u32(sam),
+                                 u32(sak), u32(sbb),     u32(sbk),    u32(sbn), scm,
+                                 scn,      fbits(alpha), fbits(beta), 0};
+      std::copy(vals, vals + 14, push);
+      s.dispatch(pipeline("matmul", 4, 13 * 4, {}),
+                 {vk::in(buf(x)), vk::in(buf(n.inputs[1])), vk::in(*bias), vk::out(y)},
+                 {u32((nn + 15) / 16), u32((m + 15) / 16), u32(batch)}, push, 13 * 4, n.name);
+      return;
+    }
+    case Op::kSoftmax: {
+      const auto ax = static_cast<size_t>(a.axis);
+      const int64_t inner = num_elements(Dims(xs.begin() + a.axis + 1, xs.end()));
+      const int64_t outer = count / (xs[ax] * inner);
+      const uint32_t push[3] = {u32(outer), u32(xs[ax]), u32(inner)};
+      s.dispatch(pipeline("softmax", 2, sizeof(push), {}), {vk::in(buf(x)), vk::out(y)},
+                 groups1d(outer * inner), push, sizeof(push), n.name);
+      return;
+    }
+    case Op::kLayerNorm: {
+      const int64_t inner = num_elements(Dims(xs.begin() + a.axis, xs.end()));
+      const vk::Buffer& bias =
+          n.inputs.size() > 2 ? buf(n.inputs[2])
+                              : make_const(std::vector<float>(static_cast<size_t>(inner), 0.f));
+      const uint32_t push[3] = {u32(count / inner), u32(inner), fbits(a.epsilon)};
+      s.dispatch(pipeline("layer_norm", 4, sizeof(push), {}),
+                 {vk::in(buf(x)), vk::in(buf(n.inputs[1])), vk::in(bias), vk::out(y)},
+                 groups1d(count / inner), push, sizeof(push), n.name);
+      return;
+    }
+  }
+}
+
+void VkModel::Impl::record() {
+  stream = std::make_unique<vk::CommandStream>(*ctx);
+  for (const ExecNode& e : exec) record_node(e);
+}
+
+VkModel::VkModel(const vk::Context& ctx, const Graph& graph, VkModelOptions options)
+    : impl_(std::make_unique<Impl>()) {
+  Impl& m = *impl_;
+  m.ctx = &ctx;
+  m.graph = graph;
+  for (const Value& v : graph.values()) {
+    if (num_elements(v.shape) >= (int64_t{1} << 31)) {
+      throw Error("nn::VkModel: tensor '" + v.name + "' " + to_string(v.shape) +
+                  " has 2^31 or more elements; split the input");
+    }
+  }
+  m.fuse(options);
+  m.plan();
+  m.record();
+}
+
+VkModel::~VkModel() = default;
+VkModel::VkModel(VkModel&&) noexcept = default;
+VkModel& VkModel::operator=(VkModel&&) noexcept = default;
+
+vk::Buffer& VkModel::input_buffer(size_t i) {
+  return *impl_->buffer_of[static_cast<size_t>(impl_->graph.inputs().at(i))];
+}
+vk::Buffer& VkModel::output_buffer(size_t i) {
+  return *impl_->buffer_of[static_cast<size_t>(impl_->graph.outputs().at(i))];
+}
+void VkModel::fill_activations(float value) {
+  for (vk::Buffer& b : impl_->pool) {
+    b.upload(std::vector<float>(b.size_bytes() / sizeof(float), value).data(),
+             b.size_bytes() / sizeof(float) * sizeof(float));
+  }
+}
+
+void VkModel::submit() {
+  impl_->stream->submit_and_wait();
+}
+
+std::vector<Tensor> VkModel::run(std::span<const Tensor> inputs) {
+  const Graph& g = impl_->graph;
+  if (inputs.size() != g.inputs().size()) {
+    throw Error("nn::VkModel::run: " + std::to_string(inputs.size()) +
+                " inputs given, the graph has " + std::to_string(g.inputs().size()));
+  }
+  for (size_t i = 0; i < inputs.size(); ++i) {
+    const Value& v = g.value(g.inputs()[i]);
+    if (inputs[i].shape != v.shape ||
+        inputs[i].data.size() != static_cast<size_t>(num_elements(v.shape))) {
+      throw Error("nn::VkModel::run: input '" + v.name + "' must have shape " + to_string(v.shape) +
+                  ", got " + to_string(inputs[i].shape));
+    }
+    const_cast<vk::Buffer&>(input_buffer(i))
+        .upload(inputs[i].data.data(), inputs[i].data.size() * sizeof(float));
+  }
+  submit();
+  std::vector<Tensor> out;
+  for (size_t i = 0; i < g.outputs().size(); ++i) {
+    const Dims& s = g.value(g.outputs()[i]).shape;
+    Tensor t{s, std::vector<float>(static_cast<size_t>(num_elements(s)))};
+    output_buffer(i).download(t.data.data(), t.data.size() * sizeof(float));
+    out.push_back(std::move(t));
+  }
+  return out;
+}
+
+size_t VkModel::num_dispatches() const {
+  return impl_->stream->num_commands();
+}
+size_t VkModel::num_pipelines() const {
+  return impl_->pipelines.size();
+}
+size_t VkModel::activation_bytes() const {
+  return impl_->activation_bytes;
+}
+size_t VkModel::unplanned_activation_bytes() const {
+  return impl_->unplanned_bytes;
+}
+std::vector<vk::DispatchTime> VkModel::timings() const {
+  return impl_->stream->timings();
+}
+
+}  // namespace pensight::nn

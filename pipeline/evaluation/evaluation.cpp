@@ -1,0 +1,105 @@
+#include "pipeline/evaluation/evaluation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <unordered_map>
+#include <vector>
+
+#include "runtime/error.h"
+
+namespace pensight {
+namespace {
+
+constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
+
+struct Estimate {
+  double d_m, psi_rad, pitch_rad;
+};
+
+Estimate pick(const EstimateRow& r, NetPoseSource source) {
+  return source == NetPoseSource::kFft
+             ? Estimate{r.d_net_fft_m, r.psi_net_fft_rad, r.pitch_net_fft_rad}
+             : Estimate{r.d_net_depth_m, r.psi_net_depth_rad, r.pitch_net_depth_rad};
+}
+
+bool inside(const GroundTruthRow& t, const AccuracyEnvelope& e) {
+  return std::isfinite(t.d_net_m) && t.net_fraction >= e.min_net_fraction &&
+         t.d_net_m >= e.min_d_net_m && t.d_net_m <= e.max_d_net_m &&
+         std::abs(t.psi_net_rad) <= e.max_abs_psi_net_rad;
+}
+
+}  // namespace
+
+ErrorStats error_stats(std::span<const double> errors) {
+  ErrorStats s;
+  s.count = errors.size();
+  if (errors.empty()) return s;
+  std::vector<double> v(errors.size());
+  std::transform(errors.begin(), errors.end(), v.begin(), [](double x) { return std::abs(x); });
+  std::sort(v.begin(), v.end());
+  const auto rank = [&](double q) {
+    const size_t k = static_cast<size_t>(std::ceil(q * static_cast<double>(v.size())));
+    return v[std::clamp<size_t>(k, 1, v.size()) - 1];
+  };
+  s.median = rank(0.5);
+  s.p95 = rank(0.95);
+  s.max = v.back();
+  return s;
+}
+
+NetPoseAccuracy score_net_pose(const Dataset& dataset, std::span<const EstimateRow> rows,
+                               NetPoseSource source, const AccuracyEnvelope& envelope) {
+  if (!dataset.groundtruth0) {
+    throw Error("dataset " + dataset.root.string() +
+                " has no groundtruth0/data.csv, so estimates cannot be scored");
+  }
+  std::unordered_map<int64_t, const GroundTruthRow*> truth;
+  for (const GroundTruthRow& t : dataset.groundtruth0->rows) truth[t.timestamp_ns] = &t;
+
+  NetPoseAccuracy a;
+  std::vector<double> d_rel, psi_deg, pitch_deg;
+  for (const EstimateRow& r : rows) {
+    const auto it = truth.find(r.timestamp_ns);
+    if (it == truth.end()) continue;
+    const GroundTruthRow& t = *it->second;
+    const Estimate e = pick(r, source);
+    ++a.frames;
+    if (std::isfinite(e.d_m) &&
+        (!std::isfinite(t.d_net_m) || std::abs(e.d_m - t.d_net_m) > a.gross_rel * t.d_net_m)) {
+      ++a.gross_errors;
+    }
+    if (!inside(t, envelope)) continue;
+    ++a.measurable;
+    if (!std::isfinite(e.d_m)) continue;
+    ++a.measurable_estimated;
+    d_rel.push_back((e.d_m - t.d_net_m) / t.d_net_m);
+    if (std::isfinite(e.psi_rad)) psi_deg.push_back((e.psi_rad - t.psi_net_rad) * kRadToDeg);
+    if (std::isfinite(e.pitch_rad)) {
+      pitch_deg.push_back((e.pitch_rad - t.pitch_net_rad) * kRadToDeg);
+    }
+  }
+  a.d_net_rel = error_stats(d_rel);
+  a.psi_net_deg = error_stats(psi_deg);
+  a.pitch_net_deg = error_stats(pitch_deg);
+  return a;
+}
+
+std::string describe(const NetPoseAccuracy& a) {
+  char buf[512];
+  std::snprintf(
+      buf, sizeof(buf),
+      "  frames scored %zu, measurable %zu, with an estimate %zu\n"
+      "  d_net     rel. error: median %.2f%%, p95 %.2f%%, max %.2f%%\n"
+      "  psi_net   error:      median %.2f deg, p95 %.2f deg, max %.2f deg\n"
+      "  pitch_net error:      median %.2f deg, p95 %.2f deg, max %.2f deg\n"
+      "  frames reporting a distance > %.0f%% off (of all): %zu (%.1f%%)\n",
+      a.frames, a.measurable, a.measurable_estimated, 100 * a.d_net_rel.median,
+      100 * a.d_net_rel.p95, 100 * a.d_net_rel.max, a.psi_net_deg.median, a.psi_net_deg.p95,
+      a.psi_net_deg.max, a.pitch_net_deg.median, a.pitch_net_deg.p95, a.pitch_net_deg.max,
+      100 * a.gross_rel, a.gross_errors,
+      a.frames ? 100.0 * static_cast<double>(a.gross_errors) / static_cast<double>(a.frames) : 0.0);
+  return buf;
+}
+
+}  // namespace pensight

@@ -1,0 +1,81 @@
+#include "pipeline/global_pose/published_global_pose.h"
+
+#include <cmath>
+#include <utility>
+
+#include "runtime/error.h"
+#include "runtime/log.h"
+
+namespace pensight::global_pose {
+
+PublishedGlobalPose::PublishedGlobalPose(PublishedGlobalPoseConfig config)
+    : cfg_(std::move(config)) {
+  if (!(cfg_.pen_radius_m > 0))
+    throw Error(
+        "global pose: pen_radius_m must be > 0 (scene.yaml pen_radius_m; 100 for a flat net)");
+  cfg_.circle.radius_m = cfg_.pen_radius_m;
+  if (!cfg_.has_dvl)
+    log_warning(
+        "global pose (published): no DVL, rho_g and psi_g cannot be integrated; they are NaN");
+}
+
+void PublishedGlobalPose::add(const DvlSample& s) {
+  if (!cfg_.has_dvl) return;
+  if (!s.valid || !s.v_B_mps.allFinite()) {
+    if (invalid_dvl_++ == 0)
+      log_warning("global pose (published): invalid/NaN DVL velocity skipped");
+    return;
+  }
+  const int64_t prev = std::exchange(last_dvl_ns_, s.t_ns);
+  if (!started_ || !fix_.ok || prev < 0) return;
+  const double dt = 1e-9 * static_cast<double>(s.t_ns - prev);
+  if (dt <= 0) return;
+  if (dt > cfg_.max_dvl_gap_s) {
+    ++dvl_gaps_;
+    return;
+  }
+  const Eigen::Vector3d v_L =
+      cfg_.level_with_attitude
+          ? Eigen::Vector3d(rotation_level_body(roll_rad_, pitch_rad_) * s.v_B_mps)
+          : s.v_B_mps;
+  // Direction of increasing rho in L: the outward radial (bearing -psi_r) turned by +90 deg.
+  const Eigen::Vector2d e_rho(std::sin(fix_.psi_r_rad), std::cos(fix_.psi_r_rad));
+  rho_rad_ += dt * v_L.head<2>().dot(e_rho) / fix_.r_g_m;
+}
+
+void PublishedGlobalPose::add(const DepthSample& s) {
+  if (std::isfinite(s.depth_m)) depth_m_ = s.depth_m;
+}
+
+void PublishedGlobalPose::add(const AttitudeSample& s) {
+  if (std::isfinite(s.roll_rad) && std::isfinite(s.pitch_rad)) {
+    roll_rad_ = s.roll_rad;
+    pitch_rad_ = s.pitch_rad;
+  }
+}
+
+GlobalPose PublishedGlobalPose::add(const NetObservation& obs) {
+  const PenFix fix = pen_fix_from_net_points(
+      obs.points_C, cfg_.T_body_camera, cfg_.level_with_attitude ? roll_rad_ : 0.0,
+      cfg_.level_with_attitude ? pitch_rad_ : 0.0, cfg_.circle, obs.quality);
+  if (fix.ok) {
+    fix_ = fix;
+    if (!started_) {
+      started_ = true;
+      rho_rad_ = cfg_.initial_rho_rad;
+    }
+  }
+  GlobalPose out;
+  out.t_ns = obs.t_ns;
+  out.z_g_m = depth_m_;
+  if (!fix_.ok) return out;
+  out.r_g_m = fix_.r_g_m;
+  out.psi_r_rad = fix_.psi_r_rad;
+  if (cfg_.has_dvl) {
+    out.rho_g_rad = wrap_angle(rho_rad_);
+    out.psi_g_rad = wrap_angle(rho_rad_ + fix_.psi_r_rad);
+  }
+  return out;
+}
+
+}  // namespace pensight::global_pose

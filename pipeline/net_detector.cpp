@@ -1,0 +1,216 @@
+#include "pipeline/net_detector.h"
+
+#include <optional>
+#include <thread>
+
+#include "runtime/cuda_device.h"
+#include "runtime/error.h"
+#include "runtime/timing.h"
+#include "runtime/vk_buffer.h"
+#include "runtime/vk_context.h"
+#include "runtime/vk_stream.h"
+
+namespace pensight {
+
+const char* to_string(Backend backend) {
+  switch (backend) {
+    case Backend::kAuto:
+      return "auto";
+    case Backend::kCpu:
+      return "cpu";
+    case Backend::kVulkan:
+      return "vulkan";
+    case Backend::kCuda:
+      return "cuda";
+  }
+  return "unknown";
+}
+
+Backend parse_backend(const std::string& name) {
+  for (Backend b : {Backend::kAuto, Backend::kCpu, Backend::kVulkan, Backend::kCuda}) {
+    if (name == to_string(b)) return b;
+  }
+  throw Error("unknown backend '" + name + "'; use auto, cpu, vulkan or cuda");
+}
+
+namespace {
+
+// The Vulkan stage with its buffers and the command stream recorded once.
+struct VulkanStage {
+  std::unique_ptr<vk::Context> ctx;
+  std::optional<kernels::FftRoiVk> kernel;
+  std::optional<vk::Buffer> image, rois, samples, spectrum;
+  std::optional<vk::TypedBuffer<kernels::RoiLattice>> lattices;
+  std::unique_ptr<vk::CommandStream> stream;
+
+  VulkanStage(std::unique_ptr<vk::Context> context, const kernels::FftRoiShape& shape,
+              const kernels::PeakParams& peaks, const std::vector<kernels::RoiOrigin>& origins)
+      : ctx(std::move(context)) {
+    kernel.emplace(*ctx, shape, peaks);
+    const auto n = static_cast<uint32_t>(origins.size());
+    image.emplace(*ctx, kernel->image_bytes());
+    rois.emplace(*ctx, origins.size() * sizeof(kernels::RoiOrigin));
+    rois->upload(origins.data(), origins.size() * sizeof(kernels::RoiOrigin));
+    samples.emplace(*ctx, kernel->samples_bytes(n));
+    spectrum.emplace(*ctx, kernel->spectrum_bytes(n));
+    lattices.emplace(*ctx, origins.size(), vk::MemoryUsage::kReadback);
+    stream = std::make_unique<vk::CommandStream>(*ctx);
+    kernel->record(*stream, *image, *rois, *samples, *spectrum, lattices->raw(), n);
+  }
+
+  std::vector<kernels::RoiLattice> run(const ImageU8& frame) {
+    image->upload(frame.pixels.data(), frame.pixels.size());
+    stream->submit_and_wait();
+    return lattices->to_vector();
+  }
+};
+
+bool is_real_gpu(vk::DeviceKind kind) {
+  return kind == vk::DeviceKind::kDiscrete || kind == vk::DeviceKind::kIntegrated;
+}
+
+}  // namespace
+
+struct NetDetector::Impl {
+  PinholeCamera camera;
+  NetDetectorConfig config;
+  kernels::FftRoiShape shape;
+  std::vector<kernels::RoiOrigin> rois;
+  Backend backend = Backend::kCpu;
+  std::string description;
+  std::optional<kernels::FftRoiCpu> cpu;
+  std::optional<VulkanStage> vulkan;
+#if PENSIGHT_HAS_CUDA
+  std::optional<kernels::FftRoiCuda> cuda;
+#endif
+
+  void make_cpu() {
+    const int threads = config.cpu_threads > 0
+                            ? config.cpu_threads
+                            : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+    cpu.emplace(shape, config.peaks, threads);
+    backend = Backend::kCpu;
+    description = "cpu (FFTW, " + std::to_string(threads) + " threads)";
+  }
+
+  void make_vulkan(std::unique_ptr<vk::Context> ctx) {
+    description = "vulkan (" + ctx->info().name + ")";
+    vulkan.emplace(std::move(ctx), shape, config.peaks, rois);
+    backend = Backend::kVulkan;
+  }
+
+  std::unique_ptr<vk::Context> vulkan_context() const {
+    vk::ContextOptions options;
+    options.device = config.vulkan_device;
+    return std::make_unique<vk::Context>(options);
+  }
+
+  void make_cuda() {
+#if PENSIGHT_HAS_CUDA
+    cuda.emplace(shape, config.peaks, static_cast<int>(rois.size()));
+    backend = Backend::kCuda;
+    description = "cuda (cuFFT)";
+#else
+    throw Error(
+        "backend cuda: this build has no CUDA path; rebuild with -DPENSIGHT_CUDA=ON or "
+        "use --backend vulkan or cpu");
+#endif
+  }
+
+  void choose() {
+    switch (config.backend) {
+      case Backend::kCpu:
+        return make_cpu();
+      case Backend::kVulkan:
+        return make_vulkan(vulkan_context());
+      case Backend::kCuda:
+        return make_cuda();
+      case Backend::kAuto:
+        break;
+    }
+    if (PENSIGHT_HAS_CUDA && cuda::available()) return make_cuda();
+    try {
+      auto ctx = vulkan_context();
+      if (is_real_gpu(ctx->info().kind)) return make_vulkan(std::move(ctx));
+    } catch (const Error&) {
+      // No Vulkan loader or device: the CPU path is the answer, not an error.
+    }
+    make_cpu();
+  }
+};
+
+NetDetector::NetDetector(const PinholeCamera& camera, const NetDetectorConfig& config)
+    : impl_(std::make_unique<Impl>()) {
+  Impl& m = *impl_;
+  if (!(config.mesh_m > 0)) {
+    throw Error("NetDetector: net mesh size must be > 0 m, got " + std::to_string(config.mesh_m) +
+                "; set net_mesh_size_m in scene.yaml");
+  }
+  m.camera = camera;
+  m.config = config;
+  m.rois = kernels::roi_grid(camera.width_px, camera.height_px, config.grid);
+  m.shape = {.width = camera.width_px,
+             .height = camera.height_px,
+             .roi_size = config.grid.size_px,
+             .fft_size = config.fft_size,
+             .window = config.window};
+  m.choose();
+}
+
+NetDetector::~NetDetector() = default;
+NetDetector::NetDetector(NetDetector&&) noexcept = default;
+NetDetector& NetDetector::operator=(NetDetector&&) noexcept = default;
+
+Backend NetDetector::backend() const {
+  return impl_->backend;
+}
+std::string NetDetector::description() const {
+  return impl_->description;
+}
+const std::vector<kernels::RoiOrigin>& NetDetector::rois() const {
+  return impl_->rois;
+}
+
+NetDetection NetDetector::detect(const ImageU8& image) {
+  Impl& m = *impl_;
+  if (image.width != m.camera.width_px || image.height != m.camera.height_px) {
+    throw Error("NetDetector: image is " + std::to_string(image.width) + "x" +
+                std::to_string(image.height) + " but the camera (sensor.yaml resolution) is " +
+                std::to_string(m.camera.width_px) + "x" + std::to_string(m.camera.height_px));
+  }
+  NetDetection d;
+  Stopwatch sw;
+  switch (m.backend) {
+    case Backend::kVulkan:
+      d.lattices = m.vulkan->run(image);
+      break;
+#if PENSIGHT_HAS_CUDA
+    case Backend::kCuda:
+      d.lattices = m.cuda->run(image, m.rois);
+      break;
+#endif
+    default:
+      d.lattices = m.cpu->run(image, m.rois);
+      break;
+  }
+  d.fft_ms = sw.elapsed_ms();
+  sw.restart();
+  d.points.reserve(m.rois.size());
+  for (size_t i = 0; i < m.rois.size(); ++i) {
+    d.points.push_back(roi_net_point(d.lattices[i], m.rois[i], m.shape.roi_size, m.camera,
+                                     m.config.mesh_m, m.config.points));
+  }
+  d.pose = relative_pose_fft(d.points, m.config.pose);
+  if (d.pose.valid()) {
+    for (size_t i = 0; i < d.points.size(); ++i) {
+      if (!d.pose.inlier[i]) continue;
+      const RoiNetPoint& p = d.points[i];
+      d.depths.push_back({static_cast<float>(p.centre_px.x()), static_cast<float>(p.centre_px.y()),
+                          static_cast<float>(p.p_C.z()), static_cast<float>(p.quality)});
+    }
+  }
+  d.pose_ms = sw.elapsed_ms();
+  return d;
+}
+
+}  // namespace pensight

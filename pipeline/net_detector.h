@@ -1,0 +1,68 @@
+#pragma once
+// The FFT net detection stage as one object: ROI grid -> per-ROI lattice (CPU/FFTW, Vulkan or
+// CUDA) -> per-ROI net points -> sparse depths and the FFT relative pose, with timings. Built once
+// per camera and configuration (plans, pipelines, buffers and the recorded command stream are
+// made in the constructor); detect() is called per frame.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "kernels/fft_roi/fft_roi.h"
+#include "pipeline/camera.h"
+#include "pipeline/net_geometry.h"
+#include "pipeline/relative_pose_fft.h"
+
+namespace pensight {
+
+enum class Backend { kAuto, kCpu, kVulkan, kCuda };
+const char* to_string(Backend backend);
+// "auto" | "cpu" | "vulkan" | "cuda"; throws pensight::Error listing the choices otherwise.
+Backend parse_backend(const std::string& name);
+
+struct NetDetectorConfig {
+  kernels::RoiGrid grid;  // default 5 x 6 ROIs of 300 px
+  int fft_size = 256;     // resampled ROI side
+  bool window = true;
+  kernels::PeakParams peaks;
+  NetPointParams points;
+  RelativePoseFftParams pose;
+  double mesh_m = 0.030;  // from scene.yaml net_mesh_size_m
+  // kAuto: CUDA when built with it and a device is present, else a real Vulkan GPU, else the CPU
+  // (lavapipe is for tests, never chosen automatically).
+  Backend backend = Backend::kAuto;
+  int cpu_threads = 0;        // 0: all hardware threads
+  std::string vulkan_device;  // as vk::ContextOptions::device ("" = automatic)
+};
+
+struct NetDetection {
+  std::vector<kernels::RoiLattice> lattices;  // per ROI, grid order
+  std::vector<RoiNetPoint> points;            // per ROI, grid order
+  std::vector<SparseDepth> depths;            // ROIs that support the pose (empty when NaN)
+  FftRelativePose pose;
+  double fft_ms = 0;   // lattice stage incl. upload/download (wall clock)
+  double pose_ms = 0;  // net points + relative pose
+};
+
+class NetDetector {
+ public:
+  // Throws pensight::Error when the grid does not fit the camera image, mesh_m <= 0, or an
+  // explicitly requested backend is unavailable.
+  NetDetector(const PinholeCamera& camera, const NetDetectorConfig& config);
+  ~NetDetector();
+  NetDetector(NetDetector&&) noexcept;
+  NetDetector& operator=(NetDetector&&) noexcept;
+
+  Backend backend() const;          // the backend in use (never kAuto)
+  std::string description() const;  // e.g. "cpu (FFTW, 2 threads)" or "vulkan (NVIDIA ...)"
+  const std::vector<kernels::RoiOrigin>& rois() const;
+
+  // Throws pensight::Error when the image size differs from the camera's.
+  NetDetection detect(const ImageU8& image);
+
+  struct Impl;
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace pensight

@@ -1,0 +1,151 @@
+#include "pipeline/relative_pose_fft.h"
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+namespace pensight {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+struct Sample {
+  Eigen::Vector3d p;
+  double w;
+  size_t roi;  // index into the caller's span
+};
+
+FftRelativePose invalid(size_t rois, int valid_rois, std::string reason) {
+  return {kNaN, kNaN, kNaN, valid_rois, 0, kNaN, std::vector<uint8_t>(rois, 0), std::move(reason)};
+}
+
+// Weighted least squares of z on the given regressors of (x, y).
+template <int K>
+Eigen::Matrix<double, K, 1> fit(const std::vector<Sample>& s, const std::vector<int>& idx,
+                                Eigen::Matrix<double, K, 1> (*basis)(const Eigen::Vector3d&)) {
+  Eigen::Matrix<double, K, K> ata = Eigen::Matrix<double, K, K>::Zero();
+  Eigen::Matrix<double, K, 1> atb = Eigen::Matrix<double, K, 1>::Zero();
+  for (int i : idx) {
+    const auto phi = basis(s[i].p);
+    ata += s[i].w * phi * phi.transpose();
+    atb += s[i].w * phi * s[i].p.z();
+  }
+  return ata.ldlt().solve(atb);
+}
+
+Eigen::Vector3d plane_basis(const Eigen::Vector3d& p) {
+  return {1, p.x(), p.y()};
+}
+Eigen::Matrix<double, 6, 1> paraboloid_basis(const Eigen::Vector3d& p) {
+  Eigen::Matrix<double, 6, 1> phi;
+  phi << 1, p.x(), p.y(), p.x() * p.x(), p.x() * p.y(), p.y() * p.y();
+  return phi;
+}
+
+template <int K>
+double residual(const Eigen::Matrix<double, K, 1>& c, const Eigen::Vector3d& p,
+                Eigen::Matrix<double, K, 1> (*basis)(const Eigen::Vector3d&)) {
+  return p.z() - c.dot(basis(p));
+}
+
+template <int K>
+std::vector<int> inliers(const std::vector<Sample>& s, const Eigen::Matrix<double, K, 1>& c,
+                         Eigen::Matrix<double, K, 1> (*basis)(const Eigen::Vector3d&), double rel) {
+  std::vector<int> in;
+  for (int i = 0; i < static_cast<int>(s.size()); ++i) {
+    if (std::abs(residual(c, s[i].p, basis)) <= rel * s[i].p.z()) in.push_back(i);
+  }
+  return in;
+}
+
+// Plane through the largest consistent subset: every triple proposes a plane, the one with the
+// most inliers (then the smallest residual) wins. 30 ROIs give 4060 triples, well under a ms.
+std::vector<int> consensus(const std::vector<Sample>& s, double rel) {
+  const int n = static_cast<int>(s.size());
+  int best_count = 0;
+  double best_cost = std::numeric_limits<double>::infinity();
+  Eigen::Vector3d best_plane = Eigen::Vector3d::Zero();
+  for (int i = 0; i < n; ++i) {
+    for (int j = i + 1; j < n; ++j) {
+      const Eigen::Vector3d u = s[j].p - s[i].p;
+      for (int k = j + 1; k < n; ++k) {
+        const Eigen::Vector3d normal = u.cross(s[k].p - s[i].p);
+        // A plane through the triple that contains the viewing direction has no z = f(x, y).
+        if (!(std::abs(normal.z()) > 1e-9 * normal.norm())) continue;
+        const double a = -normal.x() / normal.z(), b = -normal.y() / normal.z();
+        const double c = s[i].p.z() - a * s[i].p.x() - b * s[i].p.y();
+        int count = 0;
+        double cost = 0;
+        for (const Sample& q : s) {
+          const double r = std::abs(q.p.z() - a * q.p.x() - b * q.p.y() - c);
+          if (r <= rel * q.p.z()) ++count, cost += r / q.p.z();
+        }
+        if (count > best_count || (count == best_count && cost < best_cost)) {
+          best_count = count;
+          best_cost = cost;
+          best_plane = {c, a, b};
+        }
+      }
+    }
+  }
+  if (best_count == 0) return {};
+  return inliers<3>(s, best_plane, plane_basis, rel);
+}
+
+}  // namespace
+
+FftRelativePose relative_pose_fft(std::span<const RoiNetPoint> rois,
+                                  const RelativePoseFftParams& params) {
+  std::vector<Sample> s;
+  for (size_t i = 0; i < rois.size(); ++i) {
+    const RoiNetPoint& r = rois[i];
+    if (r.valid() && r.p_C.z() > 0) s.push_back({r.p_C, std::max(r.quality, 1e-6), i});
+  }
+  const int valid = static_cast<int>(s.size());
+  const int need = std::max(3, params.min_valid_rois);
+  if (valid < need) {
+    return invalid(rois.size(), valid,
+                   "only " + std::to_string(valid) + " of " + std::to_string(rois.size()) +
+                       " ROIs show a net lattice (need " + std::to_string(need) + ")");
+  }
+  std::vector<int> in = consensus(s, params.inlier_rel);
+  if (static_cast<int>(in.size()) < need) {
+    return invalid(rois.size(), valid,
+                   "no plane is consistent with " + std::to_string(need) + " of the " +
+                       std::to_string(valid) + " net points");
+  }
+  Eigen::Vector3d plane = fit<3>(s, in, plane_basis);
+  in = inliers<3>(s, plane, plane_basis, params.inlier_rel);
+  if (static_cast<int>(in.size()) < need) {
+    return invalid(rois.size(), valid,
+                   "the refitted plane keeps fewer than " + std::to_string(need) + " net points");
+  }
+  plane = fit<3>(s, in, plane_basis);
+
+  FftRelativePose pose{plane(0),
+                       std::atan(plane(1)),
+                       std::atan(plane(2)),
+                       valid,
+                       static_cast<int>(in.size()),
+                       0,
+                       std::vector<uint8_t>(rois.size(), 0),
+                       {}};
+  for (int i : in) pose.inlier[s[i].roi] = 1;
+  double sq = 0;
+  if (static_cast<int>(in.size()) >= params.min_paraboloid_rois) {
+    const auto q = fit<6>(s, in, paraboloid_basis);
+    if (std::abs(q(0) - plane(0)) <= params.max_curvature_share * plane(0)) {
+      pose.d_net_m = q(0);
+      for (int i : in) sq += std::pow(residual<6>(q, s[i].p, paraboloid_basis), 2);
+    } else {
+      for (int i : in) sq += std::pow(residual<3>(plane, s[i].p, plane_basis), 2);
+    }
+  } else {
+    for (int i : in) sq += std::pow(residual<3>(plane, s[i].p, plane_basis), 2);
+  }
+  pose.rms_residual_m = std::sqrt(sq / static_cast<double>(in.size()));
+  return pose;
+}
+
+}  // namespace pensight

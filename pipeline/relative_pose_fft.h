@@ -1,0 +1,41 @@
+#pragma once
+// Net-relative pose from the FFT detector's per-ROI net points: a robust weighted least-squares
+// plane z = a x + b y + c through the valid 3D points in C gives psi_net = atan(a) and
+// pitch_net = atan(b) (signs as in ../shared/dataset-format.md); a weighted paraboloid
+// z = c0 + a x + b y + q1 x^2 + q2 x y + q3 y^2 through the same inliers gives d_net = c0, the
+// net's depth on the optical axis (x = y = 0), which follows a curved pen wall.
+// Outlier ROIs (a harmonic taken for the fundamental, a fish, a reflection) are removed by an
+// exhaustive three-point consensus before the fit. Fewer valid ROIs than the minimum, or no
+// consistent plane: NaN and a reason.
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "pipeline/net_geometry.h"
+
+namespace pensight {
+
+struct RelativePoseFftParams {
+  int min_valid_rois = 6;
+  double inlier_rel = 0.05;          // plane residual / depth that still counts as on the net
+  int min_paraboloid_rois = 12;      // fewer inliers: d_net from the plane
+  double max_curvature_share = 0.1;  // paraboloid's d_net more than this off the plane's: use plane
+};
+
+struct FftRelativePose {
+  double d_net_m;
+  double psi_net_rad;
+  double pitch_net_rad;
+  int valid_rois = 0;           // ROIs with a usable lattice
+  int inlier_rois = 0;          // of those, on the fitted surface
+  double rms_residual_m;        // of the inliers about the fitted surface
+  std::vector<uint8_t> inlier;  // per input ROI: 1 when it supports the fitted surface
+  std::string reason;           // why the pose is NaN; empty when valid
+  bool valid() const { return reason.empty(); }
+};
+
+FftRelativePose relative_pose_fft(std::span<const RoiNetPoint> rois,
+                                  const RelativePoseFftParams& params = {});
+
+}  // namespace pensight

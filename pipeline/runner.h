@@ -1,0 +1,35 @@
+#pragma once
+// `pensight run`: the pipeline over every frame of a dataset, writing OUT/estimates.csv.
+#include <cstddef>
+#include <filesystem>
+#include <functional>
+#include <string>
+
+#include "pipeline/dataset/dataset_reader.h"
+#include "pipeline/net_detector.h"
+#include "runtime/timing.h"
+
+namespace pensight {
+
+struct RunOptions {
+  // The camera and the mesh size come from the dataset; everything else from here.
+  NetDetectorConfig detector;
+  // Called after each frame with (frames done, total frames).
+  std::function<void(size_t, size_t)> on_progress;
+};
+
+struct RunSummary {
+  std::string backend;  // e.g. "cpu (FFTW, 2 threads)"
+  size_t frames = 0;
+  size_t frames_skipped = 0;  // unreadable or wrong-size images: NaN rows, with a warning each
+  size_t frames_without_pose = 0;
+  StageTimes times;
+};
+
+// Writes out_dir/estimates.csv whole (temporary name, then rename), creating out_dir if needed.
+// Throws pensight::Error for problems that affect the whole run (unwritable output, a backend
+// that cannot run here, a ROI grid that does not fit the camera).
+RunSummary run_dataset(const Dataset& dataset, const std::filesystem::path& out_dir,
+                       const RunOptions& options);
+
+}  // namespace pensight

@@ -1,0 +1,88 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
+// One workgroup per ROI: bilinear resample of the ROI to FFT_N^2 samples, zero mean / unit
+// variance, separable Hann window. Mirrors FftRoiCpu's prepare step (kernels/fft_roi).
+
+layout(local_size_x = 256) in;
+layout(constant_id = 0) const uint WIDTH = 720;
+layout(constant_id = 1) const uint ROI = 300;
+layout(constant_id = 2) const uint FFT_N = 256;
+layout(constant_id = 3) const uint WINDOW = 1;
+const uint BITS = 8;
+
+layout(std430, binding = 0) readonly buffer ImageWords { uint words[]; };
+layout(std430, binding = 1) readonly buffer Origins { ivec2 origins[]; };
+layout(std430, binding = 2) buffer Samples { float samples[]; };
+layout(push_constant) uniform Push { uint num_rois; };
+
+#include "pixels.glsl"
+#include "reduce.glsl"
+PENSIGHT_DEFINE_WORKGROUP_SUM(256)
+
+const float kFlatVariance = 1e-9;
+const float kPi = 3.14159265358979323846;
+
+// Bilinear tap of resampled index u: first source index and the weight of the next one.
+void tap(uint u, out uint i0, out float w1) {
+  float x = (float(u) + 0.5) * (float(ROI) / float(FFT_N)) - 0.5;
+  float f = floor(x);
+  w1 = x - f;
+  int i = int(f);
+  if (i < 0) {
+    i = 0;
+    w1 = 0.0;
+  }
+  if (i >= int(ROI) - 1) {
+    i = int(ROI) - 2;
+    w1 = 1.0;
+  }
+  i0 = uint(i);
+}
+
+float window(uint u) {
+  if (WINDOW == 0u) return 1.0;
+  float s = sin(kPi * (float(u) + 0.5) / float(FFT_N));
+  return s * s;
+}
+
+float resample(uvec2 o, uint u, uint v) {
+  if (FFT_N == ROI) return load_pixel(o.x + u, o.y + v);
+  uint ix, iy;
+  float wx, wy;
+  tap(u, ix, wx);
+  tap(v, iy, wy);
+  float a0 = load_pixel(o.x + ix, o.y + iy), a1 = load_pixel(o.x + ix + 1u, o.y + iy);
+  float b0 = load_pixel(o.x + ix, o.y + iy + 1u), b1 = load_pixel(o.x + ix + 1u, o.y + iy + 1u);
+  float top = a0 + wx * (a1 - a0);
+  float bottom = b0 + wx * (b1 - b0);
+  return top + wy * (bottom - top);
+}
+
+void main() {
+  uint roi = gl_WorkGroupID.x;
+  if (roi >= num_rois) return;  // uniform across the workgroup
+  uvec2 o = uvec2(origins[roi]);
+  uint n = FFT_N * FFT_N;
+  uint base = roi * n;
+
+  // Each invocation re-reads only what it wrote itself, so no barrier is needed between loops.
+  float s = 0.0;
+  for (uint i = gl_LocalInvocationID.x; i < n; i += 256u) {
+    float v = resample(o, i % FFT_N, i / FFT_N);
+    samples[base + i] = v;
+    s += v;
+  }
+  float mean = workgroup_sum(s) / float(n);
+  float q = 0.0;
+  for (uint i = gl_LocalInvocationID.x; i < n; i += 256u) {
+    float d = samples[base + i] - mean;
+    q += d * d;
+  }
+  float var = workgroup_sum(q) / float(n);
+  float inv_std = var > kFlatVariance ? inversesqrt(var) : 0.0;
+  for (uint i = gl_LocalInvocationID.x; i < n; i += 256u) {
+    float w = window(i % FFT_N) * window(i / FFT_N) * inv_std;
+    samples[base + i] = (samples[base + i] - mean) * w;
+  }
+}

@@ -1,0 +1,180 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
+// One workgroup per ROI: the two base frequency vectors of the net lattice from the ROI's half
+// spectrum. Mirrors analyze_spectrum() in kernels/fft_roi/fft_roi_peaks.cpp step by step: same
+// band, same tie-break (first bin in row-major order), same sub-harmonic and sub-bin rules.
+
+layout(local_size_x = 256) in;
+layout(constant_id = 0) const uint FFT_N = 256;
+layout(constant_id = 1) const uint ROI = 300;
+layout(constant_id = 2) const float R2_MIN = 9.0;        // band, squared radius in bins
+layout(constant_id = 3) const float R2_MAX = 13271.04;
+layout(constant_id = 4) const float COS2_MAX = 0.8214;   // cos^2 of the minimum angle
+layout(constant_id = 5) const float SUBHARMONIC = 0.2;
+layout(constant_id = 6) const uint SUBBIN = 1;
+
+layout(std430, binding = 0) readonly buffer Spectrum { vec2 spectrum[]; };
+layout(std430, binding = 1) writeonly buffer Lattices { float lattices[]; };
+layout(push_constant) uniform Push { uint num_rois; };
+
+#include "reduce.glsl"
+PENSIGHT_DEFINE_WORKGROUP_SUM(256)
+
+const uint W = FFT_N / 2u + 1u;
+shared float best_power[256];
+shared uint best_index[256];
+uint base;
+
+float power(int kx, int ky) {
+  if (kx < 0) {
+    kx = -kx;
+    ky = -ky;
+  }
+  uint row = uint(ky & int(FFT_N - 1u));
+  vec2 c = spectrum[base + row * W + uint(kx)];
+  return c.x * c.x + c.y * c.y;
+}
+
+bool in_band(int kx, int ky) {
+  if (kx == 0 && ky <= 0) return false;
+  float r2 = float(kx * kx + ky * ky);
+  return r2 >= R2_MIN && r2 <= R2_MAX;
+}
+
+ivec2 bin_of(uint index) {
+  uint row = index / W;
+  int ky = row < FFT_N / 2u ? int(row) : int(row) - int(FFT_N);
+  return ivec2(int(index % W), ky);
+}
+
+// Workgroup argmax; ties go to the lower index. Every invocation receives the winner's index
+// (0xffffffff when no invocation had a candidate).
+uint workgroup_argmax(float v, uint index) {
+  uint lid = gl_LocalInvocationID.x;
+  best_power[lid] = v;
+  best_index[lid] = index;
+  barrier();
+  for (uint s = 128u; s > 0u; s >>= 1u) {
+    if (lid < s) {
+      float a = best_power[lid], b = best_power[lid + s];
+      if (b > a || (b == a && best_index[lid + s] < best_index[lid])) {
+        best_power[lid] = b;
+        best_index[lid] = best_index[lid + s];
+      }
+    }
+    barrier();
+  }
+  uint winner = best_power[0] > 0.0 ? best_index[0] : 0xffffffffu;
+  barrier();
+  return winner;
+}
+
+ivec2 fundamental(ivec2 p) {
+  float pp = power(p.x, p.y);
+  int hx = int(floor(float(p.x) * 0.5 + 0.5));
+  int hy = int(floor(float(p.y) * 0.5 + 0.5));
+  if (float(hx * hx + hy * hy) < R2_MIN) return p;
+  ivec2 best = ivec2(0);
+  float best_v = -1.0;
+  for (int dy = -1; dy <= 1; ++dy) {
+    for (int dx = -1; dx <= 1; ++dx) {
+      float v = power(hx + dx, hy + dy);
+      if (v > best_v) {
+        best_v = v;
+        best = ivec2(hx + dx, hy + dy);
+      }
+    }
+  }
+  if (!(best_v >= SUBHARMONIC * pp)) return p;
+  if (best.x < 0 || (best.x == 0 && best.y < 0)) best = -best;
+  return best;
+}
+
+float log_power(float p) { return log(max(p, 1e-30)); }
+
+float vertex(float lm, float l0, float lp) {
+  float denom = lm - 2.0 * l0 + lp;
+  if (!(denom < 0.0)) return 0.0;
+  return clamp(0.5 * (lm - lp) / denom, -0.5, 0.5);
+}
+
+vec2 refine(ivec2 b) {
+  vec2 d = vec2(0.0);
+  if (SUBBIN != 0u) {
+    float l0 = log_power(power(b.x, b.y));
+    d.x = vertex(log_power(power(b.x - 1, b.y)), l0, log_power(power(b.x + 1, b.y)));
+    d.y = vertex(log_power(power(b.x, b.y - 1)), l0, log_power(power(b.x, b.y + 1)));
+  }
+  return (vec2(b) + d) / float(ROI);
+}
+
+float energy3x3(ivec2 b) {
+  float e = 0.0;
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx) e += power(b.x + dx, b.y + dy);
+  return e;
+}
+
+void main() {
+  uint roi = gl_WorkGroupID.x;
+  if (roi >= num_rois) return;  // uniform across the workgroup
+  base = roi * FFT_N * W;
+  uint lid = gl_LocalInvocationID.x;
+  uint total = FFT_N * W;
+
+  float energy = 0.0, count = 0.0, v1 = -1.0;
+  uint i1 = 0u;
+  for (uint i = lid; i < total; i += 256u) {
+    ivec2 k = bin_of(i);
+    if (!in_band(k.x, k.y)) continue;
+    float v = power(k.x, k.y);
+    energy += v;
+    count += 1.0;
+    if (v > v1) {
+      v1 = v;
+      i1 = i;
+    }
+  }
+  energy = workgroup_sum(energy);
+  count = workgroup_sum(count);
+  uint w1 = workgroup_argmax(v1, i1);
+
+  float result[6] = float[6](0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+  if (w1 != 0xffffffffu && count > 0.0) {
+    ivec2 p1 = fundamental(bin_of(w1));
+    float p1_r2 = float(p1.x * p1.x + p1.y * p1.y);
+    float v2 = -1.0;
+    uint i2 = 0u;
+    for (uint i = lid; i < total; i += 256u) {
+      ivec2 k = bin_of(i);
+      if (!in_band(k.x, k.y)) continue;
+      float dot_k = float(k.x * p1.x + k.y * p1.y);
+      if (dot_k * dot_k >= COS2_MAX * float(k.x * k.x + k.y * k.y) * p1_r2) continue;
+      float v = power(k.x, k.y);
+      if (v > v2) {
+        v2 = v;
+        i2 = i;
+      }
+    }
+    uint w2 = workgroup_argmax(v2, i2);
+    if (w2 != 0xffffffffu) {
+      ivec2 p2 = fundamental(bin_of(w2));
+      vec2 f1 = refine(p1), f2 = refine(p2);
+      if (atan(f1.y, f1.x) > atan(f2.y, f2.x)) {
+        vec2 t = f1;
+        f1 = f2;
+        f2 = t;
+      }
+      result[0] = f1.x;
+      result[1] = f1.y;
+      result[2] = f2.x;
+      result[3] = f2.y;
+      result[4] = min(1.0, (energy3x3(p1) + energy3x3(p2)) / energy);
+      result[5] = min(power(p1.x, p1.y), power(p2.x, p2.y)) / (energy / count);
+    }
+  }
+  if (lid == 0u) {
+    for (uint j = 0u; j < 6u; ++j) lattices[roi * 6u + j] = result[j];
+  }
+}

@@ -1,0 +1,43 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// Resize of the last two axes: MODE 0 nearest (asymmetric, floor), 1 linear half_pixel,
+// 2 linear align_corners; linear source coordinates clamped to [0, size - 1].
+layout(local_size_x = 256) in;
+layout(constant_id = 0) const uint MODE = 0;
+layout(std430, binding = 0) readonly buffer X { float x[]; };
+layout(std430, binding = 1) writeonly buffer Y { float y[]; };
+layout(push_constant) uniform Push { uint NC, H, W, OH, OW; };
+#include "nn_index.glsl"
+
+void tap(uint o, uint n_in, uint n_out, out uint i0, out uint i1, out float f) {
+  float s;
+  if (MODE == 2) {
+    s = n_out > 1 ? float(o) * (float(n_in - 1) / float(n_out - 1)) : 0.0;
+  } else {
+    s = (float(o) + 0.5) * (float(n_in) / float(n_out)) - 0.5;
+  }
+  s = clamp(s, 0.0, float(n_in - 1));
+  i0 = uint(floor(s));
+  i1 = min(i0 + 1, n_in - 1);
+  f = s - float(i0);
+}
+
+void main() {
+  uint i = flat_index();
+  if (i >= NC * OH * OW) return;
+  uint ox = i % OW, oy = (i / OW) % OH, p = i / (OW * OH);
+  uint base = p * H * W;
+  if (MODE == 0) {
+    uint sy = min(H - 1, uint(floor(float(oy) * (float(H) / float(OH)))));
+    uint sx = min(W - 1, uint(floor(float(ox) * (float(W) / float(OW)))));
+    y[i] = x[base + sy * W + sx];
+    return;
+  }
+  uint y0, y1, x0, x1;
+  float fy, fx;
+  tap(oy, H, OH, y0, y1, fy);
+  tap(ox, W, OW, x0, x1, fx);
+  float top = x[base + y0 * W + x0] * (1.0 - fx) + x[base + y0 * W + x1] * fx;
+  float bot = x[base + y1 * W + x0] * (1.0 - fx) + x[base + y1 * W + x1] * fx;
+  y[i] = top * (1.0 - fy) + bot * fy;
+}

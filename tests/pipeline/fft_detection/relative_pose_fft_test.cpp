@@ -1,0 +1,106 @@
+#include "pipeline/relative_pose_fft.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "kernels/fft_roi/fft_roi.h"
+#include "tests/support/vulkan_fixture.h"
+
+namespace pensight {
+namespace {
+
+// Valid net points on the centre rays of the default ROI grid, on the surface depth(ray).
+template <class Surface>
+std::vector<RoiNetPoint> grid_points(Surface surface) {
+  const PinholeCamera cam;
+  std::vector<RoiNetPoint> pts;
+  for (const auto& o : kernels::roi_grid(720, 540, {})) {
+    RoiNetPoint p;
+    p.status = RoiStatus::kValid;
+    p.quality = 0.2;
+    p.centre_px = {o.x + 149.5, o.y + 149.5};
+    const Eigen::Vector3d r = cam.ray(p.centre_px);
+    p.p_C = r * surface(r);
+    p.range_m = p.p_C.norm();
+    pts.push_back(p);
+  }
+  return pts;
+}
+
+TEST(RelativePoseFft, RecoversAnExactPlane) {
+  std::mt19937_64 rng(testing::fresh_seed());
+  std::uniform_real_distribution<double> ang(-0.6, 0.6), d(0.4, 3);
+  for (int trial = 0; trial < 10; ++trial) {
+    const double psi = ang(rng), pitch = ang(rng) / 2, c = d(rng);
+    const double a = std::tan(psi), b = std::tan(pitch);
+    const auto pts =
+        grid_points([&](const Eigen::Vector3d& r) { return c / (1 - a * r.x() - b * r.y()); });
+    const FftRelativePose pose = relative_pose_fft(pts);
+    ASSERT_TRUE(pose.valid()) << pose.reason;
+    EXPECT_NEAR(pose.d_net_m, c, 1e-9);
+    EXPECT_NEAR(pose.psi_net_rad, psi, 1e-9);
+    EXPECT_NEAR(pose.pitch_net_rad, pitch, 1e-9);
+    EXPECT_EQ(pose.inlier_rois, 30);
+    EXPECT_LT(pose.rms_residual_m, 1e-9);
+  }
+}
+
+TEST(RelativePoseFft, IgnoresOutlierRois) {
+  std::mt19937_64 rng(testing::fresh_seed());
+  const double a = std::tan(0.3), b = std::tan(-0.1), c = 1.3;
+  auto pts = grid_points([&](const Eigen::Vector3d& r) { return c / (1 - a * r.x() - b * r.y()); });
+  // A third of the ROIs wrong: harmonics (half the range), a fish at 0.5 m, random.
+  std::uniform_real_distribution<double> scale(0.3, 1.8);
+  std::vector<int> bad = {0, 4, 7, 11, 13, 17, 20, 23, 26, 29};
+  for (int i : bad) pts[i].p_C *= i % 2 ? 0.5 : scale(rng) < 1 ? 0.6 : 1.5;
+  const FftRelativePose pose = relative_pose_fft(pts);
+  ASSERT_TRUE(pose.valid()) << pose.reason;
+  EXPECT_NEAR(pose.d_net_m, c, 1e-9);
+  EXPECT_NEAR(pose.psi_net_rad, 0.3, 1e-9);
+  EXPECT_NEAR(pose.pitch_net_rad, -0.1, 1e-9);
+  EXPECT_EQ(pose.inlier_rois, 20);
+  for (int i : bad) EXPECT_EQ(pose.inlier[i], 0) << i;
+}
+
+// A pen wall of radius 12 m seen from inside bends towards the camera at the sides; the
+// paraboloid keeps d_net on the optical axis where a plane would put it too close.
+TEST(RelativePoseFft, ParaboloidFollowsACurvedWall) {
+  const double radius = 12, d = 2.5;
+  const auto pts = grid_points([&](const Eigen::Vector3d& r) {
+    // Ray (t r) meets the vertical cylinder x^2 + (z + R - d)^2 = R^2.
+    const double qa = r.x() * r.x() + 1, qb = 2 * (radius - d),
+                 qc = (radius - d) * (radius - d) - radius * radius;
+    return (-qb + std::sqrt(qb * qb - 4 * qa * qc)) / (2 * qa);
+  });
+  const FftRelativePose pose = relative_pose_fft(pts);
+  ASSERT_TRUE(pose.valid()) << pose.reason;
+  EXPECT_NEAR(pose.d_net_m, d, 0.005 * d);
+  EXPECT_NEAR(pose.psi_net_rad, 0.0, 1e-6);
+}
+
+TEST(RelativePoseFft, TooFewValidRoisGiveNanAndAReason) {
+  auto pts = grid_points([](const Eigen::Vector3d&) { return 1.0; });
+  for (size_t i = 5; i < pts.size(); ++i) pts[i].status = RoiStatus::kNoLattice;
+  const FftRelativePose pose = relative_pose_fft(pts);
+  EXPECT_FALSE(pose.valid());
+  EXPECT_TRUE(std::isnan(pose.d_net_m) && std::isnan(pose.psi_net_rad) &&
+              std::isnan(pose.pitch_net_rad));
+  EXPECT_EQ(pose.valid_rois, 5);
+  EXPECT_NE(pose.reason.find("only 5 of 30"), std::string::npos) << pose.reason;
+  EXPECT_FALSE(relative_pose_fft({}).valid());
+}
+
+// Scattered points with no common plane (e.g. fish, bubbles): no consistent subset.
+TEST(RelativePoseFft, InconsistentPointsGiveNan) {
+  std::mt19937_64 rng(testing::fresh_seed());
+  std::uniform_real_distribution<double> depth(0.3, 6);
+  const auto pts = grid_points([&](const Eigen::Vector3d&) { return depth(rng); });
+  const FftRelativePose pose = relative_pose_fft(pts, {.min_valid_rois = 12});
+  EXPECT_FALSE(pose.valid()) << pose.d_net_m;
+  EXPECT_FALSE(pose.reason.empty());
+}
+
+}  // namespace
+}  // namespace pensight
