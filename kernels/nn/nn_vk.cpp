@@ -54,12 +54,6 @@ uint32_t binary_code(Op op) {
   }
 }
 
-vk::Groups groups1d(int64_t count) {
-  const auto g = static_cast<uint32_t>((count + 255) / 256);
-  const uint32_t gx = std::min<uint32_t>(g, 65535);
-  return {gx, (g + gx - 1) / gx, 1};
-}
-
 struct Copy4 {
   uint32_t shape[4], ss[4], ds[4], src_off, dst_off, count;
 };
@@ -113,6 +107,14 @@ struct VkModel::Impl {
   void record();
   void record_node(const ExecNode& e);
   const vk::Buffer& buf(int v) const { return *buffer_of[static_cast<size_t>(v)]; }
+  // 1-D shaders loop over their elements (grid stride): a CPU driver pays per workgroup, so it
+  // gets a few fat ones; a GPU gets one invocation per element up to 65535 workgroups.
+  vk::Groups groups1d(int64_t count) const {
+    const uint32_t cap = ctx->info().kind == vk::DeviceKind::kCpu ? 64 : 65535;
+    return {
+        std::max<uint32_t>(1, std::min<uint32_t>(cap, static_cast<uint32_t>((count + 255) / 256))),
+        1, 1};
+  }
   const Dims& shape(int v) const { return graph.value(v).shape; }
 };
 

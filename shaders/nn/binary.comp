@@ -13,9 +13,7 @@ layout(push_constant) uniform Push {
   uint count;
 };
 #include "nn_index.glsl"
-void main() {
-  uint i = flat_index();
-  if (i >= count) return;
+void process(uint i) {
   uint d3 = i % shape.w, t = i / shape.w;
   uint d2 = t % shape.z;
   t /= shape.z;
@@ -30,4 +28,8 @@ void main() {
   else if (OP == 3) r = p / q;
   else r = q == 2.0 ? p * p : pow(p, q);
   y[i] = r;
+}
+
+void main() {
+  for (uint i = flat_index(); i < count; i += flat_stride()) process(i);
 }

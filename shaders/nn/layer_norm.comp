@@ -11,9 +11,7 @@ layout(push_constant) uniform Push {
   float eps;
 };
 #include "nn_index.glsl"
-void main() {
-  uint r = flat_index();
-  if (r >= rows) return;
+void process(uint r) {
   uint base = r * inner;
   float mean = 0.0;
   for (uint k = 0; k < inner; ++k) mean += x[base + k];
@@ -22,4 +20,8 @@ void main() {
   for (uint k = 0; k < inner; ++k) var += (x[base + k] - mean) * (x[base + k] - mean);
   float inv = inversesqrt(var / float(inner) + eps);
   for (uint k = 0; k < inner; ++k) y[base + k] = (x[base + k] - mean) * inv * scale[k] + bias[k];
+}
+
+void main() {
+  for (uint r = flat_index(); r < rows; r += flat_stride()) process(r);
 }

@@ -8,9 +8,7 @@ layout(std430, binding = 0) readonly buffer X { float x[]; };
 layout(std430, binding = 1) writeonly buffer Y { float y[]; };
 layout(push_constant) uniform Push { uint NC, H, W, OH, OW, KH, KW, SH, SW, PT, PL; };
 #include "nn_index.glsl"
-void main() {
-  uint i = flat_index();
-  if (i >= NC * OH * OW) return;
+void process(uint i) {
   uint ox = i % OW, oy = (i / OW) % OH, p = i / (OW * OH);
   float acc = IS_MAX == 1 ? -3.402823466e38 : 0.0;
   uint count = 0;
@@ -27,4 +25,8 @@ void main() {
   }
   if (IS_MAX == 0) acc /= float(INCLUDE_PAD == 1 ? KH * KW : count);
   y[i] = acc;
+}
+
+void main() {
+  for (uint i = flat_index(); i < NC * OH * OW; i += flat_stride()) process(i);
 }

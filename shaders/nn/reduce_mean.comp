@@ -11,9 +11,7 @@ layout(push_constant) uniform Push {
   uint count;
 };
 #include "nn_index.glsl"
-void main() {
-  uint i = flat_index();
-  if (i >= count) return;
+void process(uint i) {
   uint k3 = i % keep.w, t = i / keep.w;
   uint k2 = t % keep.z;
   t /= keep.z;
@@ -29,4 +27,8 @@ void main() {
         for (uint d = 0; d < r.w; ++d) acc += x[base + d];
       }
   y[i] = acc / float(r.x * r.y * r.z * r.w);
+}
+
+void main() {
+  for (uint i = flat_index(); i < count; i += flat_stride()) process(i);
 }

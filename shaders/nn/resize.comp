@@ -22,9 +22,7 @@ void tap(uint o, uint n_in, uint n_out, out uint i0, out uint i1, out float f) {
   f = s - float(i0);
 }
 
-void main() {
-  uint i = flat_index();
-  if (i >= NC * OH * OW) return;
+void process(uint i) {
   uint ox = i % OW, oy = (i / OW) % OH, p = i / (OW * OH);
   uint base = p * H * W;
   if (MODE == 0) {
@@ -40,4 +38,8 @@ void main() {
   float top = x[base + y0 * W + x0] * (1.0 - fx) + x[base + y0 * W + x1] * fx;
   float bot = x[base + y1 * W + x0] * (1.0 - fx) + x[base + y1 * W + x1] * fx;
   y[i] = top * (1.0 - fy) + bot * fy;
+}
+
+void main() {
+  for (uint i = flat_index(); i < NC * OH * OW; i += flat_stride()) process(i);
 }

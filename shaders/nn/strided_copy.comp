@@ -14,9 +14,7 @@ layout(push_constant) uniform Push {
   uint count;
 };
 #include "nn_index.glsl"
-void main() {
-  uint i = flat_index();
-  if (i >= count) return;
+void process(uint i) {
   uint d3 = i % shape.w, t = i / shape.w;
   uint d2 = t % shape.z;
   t /= shape.z;
@@ -24,4 +22,8 @@ void main() {
   uvec4 d = uvec4(d0, d1, d2, d3);
   dst[dst_off + d.x * ds.x + d.y * ds.y + d.z * ds.z + d.w * ds.w] =
       src[src_off + d.x * ss.x + d.y * ss.y + d.z * ss.z + d.w * ss.w];
+}
+
+void main() {
+  for (uint i = flat_index(); i < count; i += flat_stride()) process(i);
 }

@@ -11,6 +11,5 @@ layout(push_constant) uniform Push { uint count; };
 #include "nn_act.glsl"
 #include "nn_index.glsl"
 void main() {
-  uint i = flat_index();
-  if (i < count) y[i] = activate(x[i]);
+  for (uint i = flat_index(); i < count; i += flat_stride()) y[i] = activate(x[i]);
 }
