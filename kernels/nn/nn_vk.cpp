@@ -1,5 +1,6 @@
 // Vulkan executor: fuses activations into convolutions, plans activation buffers by liveness,
 // builds one pipeline per (shader, specialization) and records the whole graph once.
+#include <Eigen/Core>
 #include <algorithm>
 #include <bit>
 #include <map>
@@ -72,6 +73,9 @@ struct ExecNode {
 struct VkModel::Impl {
   const vk::Context* ctx;
   Graph graph;
+  bool fp16 = false;
+  size_t elem = sizeof(float);       // bytes per stored element
+  std::vector<vk::Buffer> boundary;  // fp16 mode: fp32 graph inputs, then outputs
   std::vector<ExecNode> exec;
   std::map<std::pair<std::string, std::vector<uint32_t>>, vk::Pipeline> pipelines;
   std::vector<vk::Buffer> constants;   // per constant value, or a zero/dummy buffer
@@ -87,19 +91,33 @@ struct VkModel::Impl {
     auto it = pipelines.find(key);
     if (it == pipelines.end()) {
       it = pipelines
-               .emplace(key, vk::Pipeline(*ctx, {.shader = "nn/" + shader,
-                                                 .num_buffers = buffers,
-                                                 .push_constant_bytes = push,
-                                                 .specialization = std::move(spec)}))
+               .emplace(key,
+                        vk::Pipeline(
+                            *ctx,
+                            {.shader = "nn/" + shader +
+                                       (fp16 && shader != "to_half" && shader != "to_float" ? "_f16"
+                                                                                            : ""),
+                             .num_buffers = buffers,
+                             .push_constant_bytes = push,
+                             .specialization = std::move(spec)}))
                .first;
     }
     return it->second;
   }
 
   vk::Buffer& make_const(std::span<const float> data) {
-    constants.emplace_back(*ctx, std::max<size_t>(data.size_bytes(), 4));
-    if (!data.empty()) constants.back().upload(data.data(), data.size_bytes());
+    constants.emplace_back(*ctx, std::max<size_t>(data.size() * elem, 4));
+    upload(constants.back(), data);
     return constants.back();
+  }
+  void upload(vk::Buffer& b, std::span<const float> data) const {
+    if (data.empty()) return;
+    if (!fp16) {
+      b.upload(data.data(), data.size_bytes());
+      return;
+    }
+    std::vector<Eigen::half> h(data.begin(), data.end());
+    b.upload(h.data(), h.size() * sizeof(Eigen::half));
   }
 
   void fuse(const VkModelOptions& options);
@@ -162,7 +180,7 @@ void VkModel::Impl::plan() {
   }
   std::vector<size_t> sizes;
   std::vector<bool> busy;
-  auto bytes = [&](int v) { return static_cast<size_t>(num_elements(shape(v))) * sizeof(float); };
+  auto bytes = [&](int v) { return static_cast<size_t>(num_elements(shape(v))) * elem; };
   auto allocate = [&](int v) {
     const size_t need = bytes(v);
     unplanned_bytes += need;
@@ -321,7 +339,7 @@ void VkModel::Impl::record_node(const ExecNode& e) {
     }
     case Op::kReshape:
     case Op::kFlatten:
-      if (&buf(x) != &y) s.copy(buf(x), y, static_cast<size_t>(count) * sizeof(float));
+      if (&buf(x) != &y) s.copy(buf(x), y, static_cast<size_t>(count) * elem);
       return;
     case Op::kResize: {
       const uint32_t mode = a.resize == ResizeMode::kNearest           ? 0
@@ -418,7 +436,24 @@ void VkModel::Impl::record_node(const ExecNode& e) {
 
 void VkModel::Impl::record() {
   stream = std::make_unique<vk::CommandStream>(*ctx);
+  if (fp16) {
+    boundary.reserve(graph.inputs().size() + graph.outputs().size());
+    for (int v : graph.inputs()) {
+      const auto n = num_elements(shape(v));
+      boundary.emplace_back(*ctx, static_cast<size_t>(n) * sizeof(float));
+      stream->dispatch(pipeline("to_half", 2, 4, {}), {vk::in(boundary.back()), vk::out(buf(v))},
+                       groups1d(n), u32(n), "input_to_half");
+    }
+  }
   for (const ExecNode& e : exec) record_node(e);
+  if (fp16) {
+    for (int v : graph.outputs()) {
+      const auto n = num_elements(shape(v));
+      boundary.emplace_back(*ctx, static_cast<size_t>(n) * sizeof(float));
+      stream->dispatch(pipeline("to_float", 2, 4, {}), {vk::in(buf(v)), vk::out(boundary.back())},
+                       groups1d(n), u32(n), "output_to_float");
+    }
+  }
 }
 
 VkModel::VkModel(const vk::Context& ctx, const Graph& graph, VkModelOptions options)
@@ -426,6 +461,14 @@ VkModel::VkModel(const vk::Context& ctx, const Graph& graph, VkModelOptions opti
   Impl& m = *impl_;
   m.ctx = &ctx;
   m.graph = graph;
+  if (options.fp16_storage) {
+    if (!ctx.info().fp16_storage) {
+      throw Error("nn::VkModel: fp16 storage requested but '" + ctx.info().name +
+                  "' lacks storageBuffer16BitAccess; build the model with fp16_storage = false");
+    }
+    m.fp16 = true;
+    m.elem = 2;
+  }
   for (const Value& v : graph.values()) {
     if (num_elements(v.shape) >= (int64_t{1} << 31)) {
       throw Error("nn::VkModel: tensor '" + v.name + "' " + to_string(v.shape) +
@@ -442,15 +485,21 @@ VkModel::VkModel(VkModel&&) noexcept = default;
 VkModel& VkModel::operator=(VkModel&&) noexcept = default;
 
 vk::Buffer& VkModel::input_buffer(size_t i) {
-  return *impl_->buffer_of[static_cast<size_t>(impl_->graph.inputs().at(i))];
+  Impl& m = *impl_;
+  if (m.fp16) return m.boundary.at(i);
+  return *m.buffer_of[static_cast<size_t>(m.graph.inputs().at(i))];
 }
 vk::Buffer& VkModel::output_buffer(size_t i) {
-  return *impl_->buffer_of[static_cast<size_t>(impl_->graph.outputs().at(i))];
+  Impl& m = *impl_;
+  if (m.fp16) return m.boundary.at(m.graph.inputs().size() + i);
+  return *m.buffer_of[static_cast<size_t>(m.graph.outputs().at(i))];
 }
 void VkModel::fill_activations(float value) {
-  for (vk::Buffer& b : impl_->pool) {
-    b.upload(std::vector<float>(b.size_bytes() / sizeof(float), value).data(),
-             b.size_bytes() / sizeof(float) * sizeof(float));
+  Impl& m = *impl_;
+  for (vk::Buffer& b : m.pool) m.upload(b, std::vector<float>(b.size_bytes() / m.elem, value));
+  for (vk::Buffer& b : m.boundary) {
+    const std::vector<float> v(b.size_bytes() / sizeof(float), value);
+    b.upload(v.data(), v.size() * sizeof(float));
   }
 }
 

@@ -140,6 +140,13 @@ void check_model(const vk::Context& ctx, const Graph& g, uint64_t seed) {
     EXPECT_LT(relative_l2(again[i], want[i]), 1e-6);
     EXPECT_LT(relative_l2(vk_out[i], want[i]), 1e-5);
   }
+  if (ctx.info().fp16_storage) {
+    VkModel half(ctx, back, {.fp16_storage = true});
+    half.fill_activations(pensight::testing::kPoison);
+    const double e = relative_l2(half.run(inputs)[0], want[0]);
+    std::printf("Vulkan fp16 storage vs fp32 reference: relative L2 %.2e\n", e);
+    EXPECT_LT(e, 2e-2);
+  }
   // OpenCV 4.6 (Debian 12) has no LayerNormalization layer: those graphs are checked by ONNX
   // Runtime only.
   const bool has_layer_norm = std::any_of(g.nodes().begin(), g.nodes().end(),

@@ -34,6 +34,15 @@ class NnOps : public VulkanTest {
     const auto got = model.run(inputs_);
     ASSERT_EQ(got.size(), want.size());
     for (size_t i = 0; i < got.size(); ++i) testutil::expect_close(got[i], want[i], tol);
+    // fp16 storage: the same graph with half-precision activations and weights.
+    if (!ctx().info().fp16_storage) return;
+    options.fp16_storage = true;
+    VkModel half(ctx(), g_, options);
+    half.fill_activations(pensight::testing::kPoison);
+    const auto got16 = half.run(inputs_);
+    for (size_t i = 0; i < got16.size(); ++i) {
+      EXPECT_LT(testutil::relative_l2(got16[i], want[i]), 1e-2) << "fp16 storage, output " << i;
+    }
   }
 
   std::mt19937_64 rng_;
@@ -239,6 +248,14 @@ TEST_F(NnOps, PlanningReusesBuffers) {
   EXPECT_EQ(fused.num_dispatches(), 6u);
   EXPECT_EQ(unfused.num_dispatches(), 12u);
   EXPECT_LE(unfused.activation_bytes() * 3, unfused.unplanned_activation_bytes());
+  if (ctx().info().fp16_storage) {
+    VkModel half(ctx(), g_, {.fp16_storage = true});
+    EXPECT_EQ(half.activation_bytes() * 2, fused.activation_bytes());
+    half.fill_activations(pensight::testing::kPoison);
+    const double e = testutil::relative_l2(half.run(inputs_)[0], want[0]);
+    EXPECT_GT(e, 1e-6);  // really rounded to half precision
+    EXPECT_LT(e, 1e-2);
+  }
   for (VkModel* m : {&fused, &unfused}) {
     m->fill_activations(pensight::testing::kPoison);
     testutil::expect_close(m->run(inputs_)[0], want[0]);
