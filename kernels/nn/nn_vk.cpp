@@ -252,10 +252,12 @@ void VkModel::Impl::record_node(const ExecNode& e) {
       const bool conv = n.op == Op::kConv;
       const uint32_t act = e.fused ? *act_code(e.act) : 0;
       const int64_t cog = ys[1] / a.group;
+      // Register block of conv2d.glsl: output channels (within one group) x adjacent pixels.
       const uint32_t ocb = conv && cog % 4 == 0 ? 4 : 1;
-      const vk::Pipeline& p =
-          pipeline(conv ? "conv2d" : "conv_transpose", 4, 15 * 4,
-                   {ocb, act, fbits(e.act_attrs.alpha), fbits(e.act_attrs.beta)});
+      const uint32_t pxb = conv ? 4 : 1;
+      std::vector<uint32_t> spec = {ocb, act, fbits(e.act_attrs.alpha), fbits(e.act_attrs.beta)};
+      if (conv) spec.push_back(pxb);
+      const vk::Pipeline& p = pipeline(conv ? "conv2d" : "conv_transpose", 4, 15 * 4, spec);
       const vk::Buffer& bias =
           n.inputs.size() > 2 ? buf(n.inputs[2])
                               : make_const(std::vector<float>(static_cast<size_t>(ys[1]), 0.f));
@@ -265,8 +267,9 @@ void VkModel::Impl::record_node(const ExecNode& e) {
                                  u32(a.stride[1]), u32(a.dilation[0]), u32(a.dilation[1]),
                                  u32(a.pads[0]),   u32(a.pads[1]),     u32(a.group)};
       s.dispatch(p, {vk::in(buf(x)), vk::in(buf(n.inputs[1])), vk::in(bias), vk::out(y)},
-                 {u32((ys[2] * ys[3] + 63) / 64), u32((ys[1] + ocb - 1) / ocb), u32(ys[0])}, push,
-                 sizeof(push), n.name);
+                 {u32((ys[2] * ((ys[3] + pxb - 1) / pxb) + 63) / 64), u32((ys[1] + ocb - 1) / ocb),
+                  u32(ys[0])},
+                 push, sizeof(push), n.name);
       return;
     }
     case Op::kRelu:
