@@ -112,7 +112,7 @@ Graph compact_depth_net(ModelSize size, uint64_t seed) {
   return std::move(b.g);
 }
 
-Graph trudepth_net(ModelSize size, float wm, uint64_t seed) {
+Graph trudepth_net(ModelSize size, float wm, uint64_t seed, bool adabins_head) {
   Builder b(seed);
   const int64_t H = size.height, W = size.width;
   const int image = b.g.add_input("image", {1, 3, H, W});
@@ -141,6 +141,12 @@ Graph trudepth_net(ModelSize size, float wm, uint64_t seed) {
     const Dims& s = b.shape(*it);
     d = b.resize(d, s[2], s[3]);
     d = b.conv(b.concat({d, *it, b.resize(prior, s[2], s[3])}), ch(48, wm), 3);
+  }
+  if (!adabins_head) {
+    const int out = b.resize(b.g.add(Op::kSoftplus, {b.linear_conv(d, 1, 3)}), H, W);
+    b.g.mark_output(out);
+    b.g.values()[static_cast<size_t>(out)].name = std::string("depth");
+    return std::move(b.g);
   }
   // d: stride 2, E channels. AdaBins head: patch embedding (8x8 patches), one encoder layer.
   const int64_t E = b.shape(d)[1], nbins = 32;

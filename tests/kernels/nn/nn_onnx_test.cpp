@@ -192,6 +192,13 @@ TEST_F(VulkanTest, OnnxTrudepthNet) {
   check_model(ctx(), trudepth_net({128, 96}, 0.5f, seed), seed);
 }
 
+// The TRUDepth encoder-decoder (MobileNetV2, ReLU6, residuals, prior at every scale) without
+// the transformer head, so that OpenCV DNN checks it too.
+TEST_F(VulkanTest, OnnxTrudepthEncoderDecoder) {
+  const uint64_t seed = pensight::testing::fresh_seed();
+  check_model(ctx(), trudepth_net({128, 96}, 0.5f, seed, false), seed);
+}
+
 TEST(Onnx, Fp16WeightsExportPassesTheCheckerAndStaysClose) {
   const uint64_t seed = pensight::testing::fresh_seed();
   const Graph g = compact_depth_net({32, 24}, seed);
