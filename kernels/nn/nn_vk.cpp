@@ -169,8 +169,9 @@ void VkModel::Impl::plan() {
   std::vector<int> root(nv);
   for (size_t v = 0; v < nv; ++v) root[v] = static_cast<int>(v);
   for (const ExecNode& e : exec) {
+    const int in_root = root[static_cast<size_t>(e.node->inputs[0])];
     if ((e.node->op == Op::kReshape || e.node->op == Op::kFlatten) &&
-        !pinned[static_cast<size_t>(e.output)]) {
+        !pinned[static_cast<size_t>(e.output)] && !graph.value(in_root).is_constant) {
       root[static_cast<size_t>(e.output)] = root[static_cast<size_t>(e.node->inputs[0])];
     }
   }

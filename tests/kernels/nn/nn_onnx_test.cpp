@@ -317,6 +317,18 @@ TEST(Onnx, RefusesUnsupportedOpsAndDynamicShapesWithNames) {
   EXPECT_THROW(import_onnx("/nonexistent/model.onnx"), Error);
 }
 
+TEST(Onnx, ExportMakesTensorNamesUnique) {
+  Graph g;
+  const int x = g.add_input("x", {1, 2, 3, 4});
+  const int a = g.add(Op::kRelu, {x}, {}, "same");
+  g.mark_output(g.add(Op::kSigmoid, {a}, {}, "same"));
+  const std::string bytes = export_onnx_bytes(g);
+  ASSERT_NO_THROW(check_onnx_bytes(bytes));
+  const std::vector<Tensor> in = {
+      random_tensor({1, 2, 3, 4}, *std::make_unique<std::mt19937_64>(5))};
+  testutil::expect_close(run_cpu(import_onnx_bytes(bytes), in)[0], run_cpu(g, in)[0], 0);
+}
+
 TEST(Onnx, ExportWritesAtomically) {
   const fs::path dir =
       fs::temp_directory_path() / ("pensight_export_" + std::to_string(::getpid()));

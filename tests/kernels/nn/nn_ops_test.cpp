@@ -208,6 +208,11 @@ TEST_F(NnOps, TransposeReshapeFlatten) {
   f.axis = 1;
   check(g_.add(Op::kFlatten, {z}, f));  // graph output: copied, not aliased
 }
+TEST_F(NnOps, ReshapeOfAConstant) {
+  Attrs r;
+  r.ints = {1, 6, 1, 1};
+  check(g_.add(Op::kAdd, {input({1, 6, 5, 4}), g_.add(Op::kReshape, {constant({6})}, r)}));
+}
 TEST_F(NnOps, Slice) {
   Attrs a;
   a.starts = {1, -4, 0};
