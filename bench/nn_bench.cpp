@@ -40,11 +40,17 @@ void counters(benchmark::State& state, const nn::Graph& g) {
   state.SetLabel(state.range(0) == 0 ? "compact" : "trudepth-0.5");
 }
 
+// range(1) = 1: fp16 storage (skipped where the device lacks it).
 void BM_Nn_Vulkan(benchmark::State& state) {
   const nn::Graph g = model(static_cast<int>(state.range(0)));
   const auto in = inputs(g);
   const vk::Context ctx;
-  nn::VkModel m(ctx, g);
+  const bool fp16 = state.range(1) == 1;
+  if (fp16 && !ctx.info().fp16_storage) {
+    state.SkipWithError("no 16-bit storage on this device");
+    return;
+  }
+  nn::VkModel m(ctx, g, {.fp16_storage = fp16});
   for (size_t i = 0; i < in.size(); ++i)
     m.input_buffer(i).upload(in[i].data.data(), in[i].data.size() * 4);
   for (auto _ : state) m.submit();
@@ -53,7 +59,11 @@ void BM_Nn_Vulkan(benchmark::State& state) {
   state.counters["act_MB"] = static_cast<double>(m.activation_bytes()) / 1e6;
   state.counters["unplanned_MB"] = static_cast<double>(m.unplanned_activation_bytes()) / 1e6;
 }
-BENCHMARK(BM_Nn_Vulkan)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_Nn_Vulkan)
+    ->ArgsProduct({{0, 1}, {0, 1}})
+    ->ArgNames({"model", "fp16"})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 void BM_Nn_CpuReference(benchmark::State& state) {
   const nn::Graph g = model(static_cast<int>(state.range(0)));
