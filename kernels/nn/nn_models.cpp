@@ -101,7 +101,7 @@ Graph compact_depth_net(ModelSize size, uint64_t seed) {
   const int e3 = b.conv(b.conv(e2, 96, 3, 2), 96, 3);
   int d = e3;
   for (int skip : {e2, e1, e0}) {
-    const Dims& s = b.shape(skip);
+    const Dims s = b.shape(skip);
     d = b.resize(d, s[2], s[3]);
     const int p = s[2] == H ? prior : b.resize(prior, s[2], s[3]);
     d = b.conv(b.concat({d, skip, p}), static_cast<int>(s[1]), 3);
@@ -138,7 +138,7 @@ Graph trudepth_net(ModelSize size, float wm, uint64_t seed, bool adabins_head) {
   // x: stride 16. Decoder: bilinear up, concat skip + prior at that scale, conv.
   int d = b.conv(x, ch(96, wm), 1);
   for (auto it = skips.rbegin(); it != skips.rend(); ++it) {
-    const Dims& s = b.shape(*it);
+    const Dims s = b.shape(*it);
     d = b.resize(d, s[2], s[3]);
     d = b.conv(b.concat({d, *it, b.resize(prior, s[2], s[3])}), ch(48, wm), 3);
   }
@@ -208,7 +208,7 @@ Graph trudepth_net(ModelSize size, float wm, uint64_t seed, bool adabins_head) {
   sq.ends = {1 + Q};
   sq.axes = {1};
   const int queries = b.g.add(Op::kSlice, {enc}, sq);  // [1,Q,E]
-  const Dims& ds = b.shape(d);
+  const Dims ds = b.shape(d);
   Attrs rf;
   rf.ints = {1, E, ds[2] * ds[3]};
   const int feat =

@@ -3,7 +3,10 @@
 #include <gtest/gtest.h>
 
 #include "kernels/nn/nn.h"
+#include "kernels/nn/nn_models.h"
+#include "kernels/sparse_prior/sparse_prior.h"
 #include "runtime/error.h"
+#include "runtime/vk_buffer.h"
 #include "tests/kernels/nn/nn_test_util.h"
 #include "tests/support/vulkan_fixture.h"
 
@@ -281,6 +284,41 @@ TEST(NnGraph, RejectsMismatchedShapesNamingTheNode) {
   EXPECT_THROW(g.add(Op::kAdd, {x, g.add_input("y", {1, 2, 8, 8})}), Error);
   EXPECT_THROW(g.add_input("dyn", {-1, 3, 8, 8}), Error);
   EXPECT_THROW(run_cpu(g, {}), Error);
+}
+
+}  // namespace
+}  // namespace pensight::nn
+
+namespace pensight::nn {
+namespace {
+
+// S1/S2 written by the sparse_prior kernel straight into the model's "prior" input buffer, then
+// the compact net, all on the device; against the CPU prior + CPU reference executor.
+TEST_F(VulkanTest, SparsePriorFeedsTheModelInputOnDevice) {
+  std::mt19937_64 rng(pensight::testing::fresh_seed());
+  const Graph g = compact_depth_net({48, 32}, rng());
+  const kernels::SparsePriorShape shape{48, 32, 10};
+  std::uniform_real_distribution<float> ux(0, 47), uy(0, 31), ud(1, 4);
+  std::vector<kernels::SparsePoint> pts(20);
+  for (auto& p : pts) p = {ux(rng), uy(rng), ud(rng)};
+  std::vector<Tensor> inputs = {random_tensor({1, 1, 32, 48}, rng, 0, 1),
+                                {{1, 2, 32, 48}, std::vector<float>(2 * 32 * 48)}};
+  kernels::sparse_prior_cpu(shape, pts, inputs[1].data);
+  const auto want = run_cpu(g, inputs);
+
+  VkModel model(ctx(), g);
+  model.fill_activations(pensight::testing::kPoison);
+  model.input_buffer(0).upload(inputs[0].data.data(), inputs[0].data.size() * sizeof(float));
+  const kernels::SparsePriorVk prior(ctx(), shape);
+  vk::Buffer point_buf(ctx(), pts.size() * sizeof(kernels::SparsePoint));
+  point_buf.upload(pts.data(), pts.size() * sizeof(kernels::SparsePoint));
+  vk::CommandStream stream(ctx());
+  prior.record(stream, point_buf, static_cast<uint32_t>(pts.size()), model.input_buffer(1));
+  stream.submit_and_wait();
+  model.submit();
+  Tensor got{want[0].shape, std::vector<float>(want[0].data.size())};
+  model.output_buffer(0).download(got.data.data(), got.data.size() * sizeof(float));
+  testutil::expect_close(got, want[0], 1e-4f);
 }
 
 }  // namespace
