@@ -1,6 +1,7 @@
 // The nn engine on the compact depth-completion net and the TRUDepth-architecture graph (width
 // 0.5) at 320x240: Vulkan executor, CPU reference executor, OpenCV DNN (compact only: OpenCV 4.6
-// cannot import LayerNormalization). ONNX Runtime CPU: bench/ort_bench.js on the exported files.
+// cannot import LayerNormalization). ONNX Runtime CPU: bench/ort_bench.js on the exported files
+// (pensight export-onnx builtin:compact / builtin:trudepth).
 // Counters: GFLOP per inference (conv/matmul multiply-adds x 2) and achieved GFLOP/s.
 #include <benchmark/benchmark.h>
 
