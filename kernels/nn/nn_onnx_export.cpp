@@ -248,6 +248,32 @@ void export_onnx(const Graph& graph, const std::filesystem::path& file,
   std::filesystem::rename(tmp, file);
 }
 
+std::string opencv_dnn_compatible(const std::string& onnx_bytes) {
+  onnx::ModelProto m;
+  if (!m.ParseFromString(onnx_bytes))
+    throw Error("opencv_dnn_compatible: the bytes are not an ONNX model");
+  std::map<std::string, float> scalars;
+  for (const auto& t : m.graph().initializer()) {
+    if (t.float_data_size() == 1) scalars[t.name()] = t.float_data(0);
+  }
+  for (auto& n : *m.mutable_graph()->mutable_node()) {
+    if (n.op_type() != "Clip" || n.input_size() != 3) continue;
+    for (int i : {1, 2}) {
+      auto it = scalars.find(n.input(i));
+      if (it == scalars.end())
+        throw Error("opencv_dnn_compatible: Clip '" + n.name() + "' has a non-constant bound");
+      auto* a = n.add_attribute();
+      a->set_name(i == 1 ? "min" : "max");
+      a->set_type(onnx::AttributeProto::FLOAT);
+      a->set_f(it->second);
+    }
+    n.mutable_input()->DeleteSubrange(1, 2);
+  }
+  std::string out;
+  m.SerializeToString(&out);
+  return out;
+}
+
 void check_onnx_bytes(const std::string& bytes) {
   onnx::ModelProto model;
   if (!model.ParseFromString(bytes))

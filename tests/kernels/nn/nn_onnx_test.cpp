@@ -31,33 +31,9 @@ std::vector<Tensor> random_inputs(const Graph& g, std::mt19937_64& rng) {
   return in;
 }
 
-// OpenCV 4.6's importer reads Clip only in its opset-6 form (min/max attributes, not inputs):
-// rewrite those nodes, same function, before handing the model over.
-std::string opencv_compatible(const std::string& bytes) {
-  onnx::ModelProto m;
-  EXPECT_TRUE(m.ParseFromString(bytes));
-  std::map<std::string, float> scalars;
-  for (const auto& t : m.graph().initializer()) {
-    if (t.float_data_size() == 1) scalars[t.name()] = t.float_data(0);
-  }
-  for (auto& n : *m.mutable_graph()->mutable_node()) {
-    if (n.op_type() != "Clip" || n.input_size() != 3) continue;
-    for (int i : {1, 2}) {
-      auto* a = n.add_attribute();
-      a->set_name(i == 1 ? "min" : "max");
-      a->set_type(onnx::AttributeProto::FLOAT);
-      a->set_f(scalars.at(n.input(i)));
-    }
-    n.mutable_input()->DeleteSubrange(1, 2);
-  }
-  std::string out;
-  m.SerializeToString(&out);
-  return out;
-}
-
 std::vector<Tensor> run_opencv(const std::string& onnx_bytes, const Graph& g,
                                const std::vector<Tensor>& inputs) {
-  const std::string bytes = opencv_compatible(onnx_bytes);
+  const std::string bytes = opencv_dnn_compatible(onnx_bytes);
   cv::dnn::Net net = cv::dnn::readNetFromONNX(bytes.data(), bytes.size());
   for (size_t i = 0; i < inputs.size(); ++i) {
     std::vector<int> dims(inputs[i].shape.begin(), inputs[i].shape.end());
