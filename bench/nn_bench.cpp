@@ -67,7 +67,7 @@ void BM_Nn_Vulkan(benchmark::State& state) {
   state.counters["unplanned_MB"] = static_cast<double>(m.unplanned_activation_bytes()) / 1e6;
 }
 BENCHMARK(BM_Nn_Vulkan)
-    ->ArgsProduct({{0, 1}, {0, 1}})
+    ->ArgsProduct({{0, 1, 2}, {0, 1}})
     ->ArgNames({"model", "fp16"})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
