@@ -122,6 +122,10 @@ std::vector<Tensor> run_cpu(const Graph& graph, std::span<const Tensor> inputs);
 struct VkModelOptions {
   // Fuse an activation (Relu, Clip, LeakyRelu, Sigmoid) into the Conv that feeds it only.
   bool fuse_activations = true;
+  // Activations and weights stored as float16 (arithmetic stays fp32), halving memory traffic.
+  // Needs storageBuffer16BitAccess (vk::DeviceInfo::fp16_storage). Graph inputs and outputs stay
+  // fp32: they are converted on the device at the start and end of the recorded stream.
+  bool fp16_storage = false;
 };
 
 // Vulkan executor. The constructor builds every pipeline, uploads the constants and assigns each

@@ -101,7 +101,7 @@ Graph compact_depth_net(ModelSize size, uint64_t seed) {
   const int e3 = b.conv(b.conv(e2, 96, 3, 2), 96, 3);
   int d = e3;
   for (int skip : {e2, e1, e0}) {
-    const Dims& s = b.shape(skip);
+    const Dims s = b.shape(skip);
     d = b.resize(d, s[2], s[3]);
     const int p = s[2] == H ? prior : b.resize(prior, s[2], s[3]);
     d = b.conv(b.concat({d, skip, p}), static_cast<int>(s[1]), 3);
@@ -112,7 +112,7 @@ Graph compact_depth_net(ModelSize size, uint64_t seed) {
   return std::move(b.g);
 }
 
-Graph trudepth_net(ModelSize size, float wm, uint64_t seed) {
+Graph trudepth_net(ModelSize size, float wm, uint64_t seed, bool adabins_head) {
   Builder b(seed);
   const int64_t H = size.height, W = size.width;
   const int image = b.g.add_input("image", {1, 3, H, W});
@@ -138,9 +138,15 @@ Graph trudepth_net(ModelSize size, float wm, uint64_t seed) {
   // x: stride 16. Decoder: bilinear up, concat skip + prior at that scale, conv.
   int d = b.conv(x, ch(96, wm), 1);
   for (auto it = skips.rbegin(); it != skips.rend(); ++it) {
-    const Dims& s = b.shape(*it);
+    const Dims s = b.shape(*it);
     d = b.resize(d, s[2], s[3]);
     d = b.conv(b.concat({d, *it, b.resize(prior, s[2], s[3])}), ch(48, wm), 3);
+  }
+  if (!adabins_head) {
+    const int out = b.resize(b.g.add(Op::kSoftplus, {b.linear_conv(d, 1, 3)}), H, W);
+    b.g.mark_output(out);
+    b.g.values()[static_cast<size_t>(out)].name = std::string("depth");
+    return std::move(b.g);
   }
   // d: stride 2, E channels. AdaBins head: patch embedding (8x8 patches), one encoder layer.
   const int64_t E = b.shape(d)[1], nbins = 32;
@@ -202,7 +208,7 @@ Graph trudepth_net(ModelSize size, float wm, uint64_t seed) {
   sq.ends = {1 + Q};
   sq.axes = {1};
   const int queries = b.g.add(Op::kSlice, {enc}, sq);  // [1,Q,E]
-  const Dims& ds = b.shape(d);
+  const Dims ds = b.shape(d);
   Attrs rf;
   rf.ints = {1, E, ds[2] * ds[3]};
   const int feat =

@@ -25,6 +25,11 @@ std::string export_onnx_bytes(const Graph& graph, const OnnxExportOptions& optio
 void export_onnx(const Graph& graph, const std::filesystem::path& file,
                  const OnnxExportOptions& options = {});
 
+// The same model for OpenCV 4.6's ONNX importer, which reads Clip only in its opset-6 form: Clip
+// nodes get min/max attributes instead of inputs (same function; not a valid opset-17 file, so
+// use it only to hand a model to cv::dnn::readNetFromONNX).
+std::string opencv_dnn_compatible(const std::string& onnx_bytes);
+
 // Runs the ONNX checker (libonnx C++) on serialized model bytes; throws pensight::Error with the
 // checker's message when the model is invalid.
 void check_onnx_bytes(const std::string& bytes);

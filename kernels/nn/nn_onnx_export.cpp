@@ -3,6 +3,8 @@
 
 #include <Eigen/Core>
 #include <fstream>
+#include <map>
+#include <set>
 
 #include "kernels/nn/nn_onnx.h"
 #include "runtime/error.h"
@@ -34,13 +36,25 @@ class Writer {
   }
 
  private:
+  // ONNX tensor name of a value: its own name, made unique (ONNX graphs are SSA; imported node
+  // names need not be unique).
+  const std::string& tensor_name(int v) {
+    auto it = names_.find(v);
+    if (it != names_.end()) return it->second;
+    std::string nm = g_.value(v).name;
+    for (int k = 1; used_.count(nm); ++k) nm = g_.value(v).name + "_" + std::to_string(k);
+    used_.insert(nm);
+    return names_[v] = nm;
+  }
+
   std::string name(int v) {
     const Value& val = g_.value(v);
+    const std::string vname = tensor_name(v);
     if (val.is_constant && !emitted_[v]) {
       emitted_[v] = true;
       if (opt_.fp16_weights && val.data.size() > 1) {
         auto* t = graph_->add_initializer();
-        t->set_name(val.name + "_fp16");
+        t->set_name(vname + "_fp16");
         for (int64_t d : val.shape) t->add_dims(d);
         t->set_data_type(onnx::TensorProto::FLOAT16);
         std::string raw(val.data.size() * 2, '\0');
@@ -51,20 +65,20 @@ class Writer {
         t->set_raw_data(raw);
         auto* cast = graph_->add_node();
         cast->set_op_type("Cast");
-        cast->set_name(val.name + "_cast");
-        cast->add_input(val.name + "_fp16");
-        cast->add_output(val.name);
+        cast->set_name(vname + "_cast");
+        cast->add_input(vname + "_fp16");
+        cast->add_output(vname);
         attr_int(cast, "to", onnx::TensorProto::FLOAT);
       } else {
         auto* t = graph_->add_initializer();
-        t->set_name(val.name);
+        t->set_name(vname);
         for (int64_t d : val.shape) t->add_dims(d);
         t->set_data_type(onnx::TensorProto::FLOAT);
         t->set_raw_data(
             std::string(reinterpret_cast<const char*>(val.data.data()), val.data.size() * 4));
       }
     }
-    return val.name;
+    return vname;
   }
   std::string ints_init(const std::string& nm, const std::vector<int64_t>& v) {
     auto* t = graph_->add_initializer();
@@ -82,7 +96,7 @@ class Writer {
     return nm;
   }
   void value_info(onnx::ValueInfoProto* vi, int v) {
-    vi->set_name(g_.value(v).name);
+    vi->set_name(tensor_name(v));
     auto* tt = vi->mutable_type()->mutable_tensor_type();
     tt->set_elem_type(onnx::TensorProto::FLOAT);
     for (int64_t d : g_.value(v).shape) tt->mutable_shape()->add_dim()->set_dim_value(d);
@@ -120,7 +134,7 @@ class Writer {
     p->set_name(n.name);
     p->set_op_type(to_string(n.op));
     for (const std::string& in : inputs) p->add_input(in);
-    p->add_output(g_.value(n.output).name);
+    p->add_output(tensor_name(n.output));
     const Attrs& a = n.attrs;
     switch (n.op) {
       case Op::kConv:
@@ -209,6 +223,8 @@ class Writer {
   const OnnxExportOptions& opt_;
   onnx::GraphProto* graph_ = nullptr;
   std::map<int, bool> emitted_;
+  std::map<int, std::string> names_;
+  std::set<std::string> used_;
 };
 
 }  // namespace
@@ -230,6 +246,32 @@ void export_onnx(const Graph& graph, const std::filesystem::path& file,
     }
   }
   std::filesystem::rename(tmp, file);
+}
+
+std::string opencv_dnn_compatible(const std::string& onnx_bytes) {
+  onnx::ModelProto m;
+  if (!m.ParseFromString(onnx_bytes))
+    throw Error("opencv_dnn_compatible: the bytes are not an ONNX model");
+  std::map<std::string, float> scalars;
+  for (const auto& t : m.graph().initializer()) {
+    if (t.float_data_size() == 1) scalars[t.name()] = t.float_data(0);
+  }
+  for (auto& n : *m.mutable_graph()->mutable_node()) {
+    if (n.op_type() != "Clip" || n.input_size() != 3) continue;
+    for (int i : {1, 2}) {
+      auto it = scalars.find(n.input(i));
+      if (it == scalars.end())
+        throw Error("opencv_dnn_compatible: Clip '" + n.name() + "' has a non-constant bound");
+      auto* a = n.add_attribute();
+      a->set_name(i == 1 ? "min" : "max");
+      a->set_type(onnx::AttributeProto::FLOAT);
+      a->set_f(it->second);
+    }
+    n.mutable_input()->DeleteSubrange(1, 2);
+  }
+  std::string out;
+  m.SerializeToString(&out);
+  return out;
 }
 
 void check_onnx_bytes(const std::string& bytes) {

@@ -55,7 +55,7 @@ std::vector<double> tensor_values(const onnx::TensorProto& t) {
         h.x = bits;
         v.push_back(static_cast<double>(static_cast<float>(h)));
       };
-      for (size_t i = 0; i + 1 < raw.size() + 1 && 2 * i + 1 < raw.size(); ++i) {
+      for (size_t i = 0; 2 * i + 1 < raw.size(); ++i) {
         uint16_t bits;
         std::memcpy(&bits, raw.data() + 2 * i, 2);
         half(bits);

@@ -1,5 +1,6 @@
 // Vulkan executor: fuses activations into convolutions, plans activation buffers by liveness,
 // builds one pipeline per (shader, specialization) and records the whole graph once.
+#include <Eigen/Core>
 #include <algorithm>
 #include <bit>
 #include <map>
@@ -54,12 +55,6 @@ uint32_t binary_code(Op op) {
   }
 }
 
-vk::Groups groups1d(int64_t count) {
-  const auto g = static_cast<uint32_t>((count + 255) / 256);
-  const uint32_t gx = std::min<uint32_t>(g, 65535);
-  return {gx, (g + gx - 1) / gx, 1};
-}
-
 struct Copy4 {
   uint32_t shape[4], ss[4], ds[4], src_off, dst_off, count;
 };
@@ -78,6 +73,9 @@ struct ExecNode {
 struct VkModel::Impl {
   const vk::Context* ctx;
   Graph graph;
+  bool fp16 = false;
+  size_t elem = sizeof(float);       // bytes per stored element
+  std::vector<vk::Buffer> boundary;  // fp16 mode: fp32 graph inputs, then outputs
   std::vector<ExecNode> exec;
   std::map<std::pair<std::string, std::vector<uint32_t>>, vk::Pipeline> pipelines;
   std::vector<vk::Buffer> constants;   // per constant value, or a zero/dummy buffer
@@ -93,19 +91,33 @@ struct VkModel::Impl {
     auto it = pipelines.find(key);
     if (it == pipelines.end()) {
       it = pipelines
-               .emplace(key, vk::Pipeline(*ctx, {.shader = "nn/" + shader,
-                                                 .num_buffers = buffers,
-                                                 .push_constant_bytes = push,
-                                                 .specialization = std::move(spec)}))
+               .emplace(key,
+                        vk::Pipeline(
+                            *ctx,
+                            {.shader = "nn/" + shader +
+                                       (fp16 && shader != "to_half" && shader != "to_float" ? "_f16"
+                                                                                            : ""),
+                             .num_buffers = buffers,
+                             .push_constant_bytes = push,
+                             .specialization = std::move(spec)}))
                .first;
     }
     return it->second;
   }
 
   vk::Buffer& make_const(std::span<const float> data) {
-    constants.emplace_back(*ctx, std::max<size_t>(data.size_bytes(), 4));
-    if (!data.empty()) constants.back().upload(data.data(), data.size_bytes());
+    constants.emplace_back(*ctx, std::max<size_t>(data.size() * elem, 4));
+    upload(constants.back(), data);
     return constants.back();
+  }
+  void upload(vk::Buffer& b, std::span<const float> data) const {
+    if (data.empty()) return;
+    if (!fp16) {
+      b.upload(data.data(), data.size_bytes());
+      return;
+    }
+    std::vector<Eigen::half> h(data.begin(), data.end());
+    b.upload(h.data(), h.size() * sizeof(Eigen::half));
   }
 
   void fuse(const VkModelOptions& options);
@@ -113,6 +125,14 @@ struct VkModel::Impl {
   void record();
   void record_node(const ExecNode& e);
   const vk::Buffer& buf(int v) const { return *buffer_of[static_cast<size_t>(v)]; }
+  // 1-D shaders loop over their elements (grid stride): a CPU driver pays per workgroup, so it
+  // gets a few fat ones; a GPU gets one invocation per element up to 65535 workgroups.
+  vk::Groups groups1d(int64_t count) const {
+    const uint32_t cap = ctx->info().kind == vk::DeviceKind::kCpu ? 64 : 65535;
+    return {
+        std::max<uint32_t>(1, std::min<uint32_t>(cap, static_cast<uint32_t>((count + 255) / 256))),
+        1, 1};
+  }
   const Dims& shape(int v) const { return graph.value(v).shape; }
 };
 
@@ -149,8 +169,9 @@ void VkModel::Impl::plan() {
   std::vector<int> root(nv);
   for (size_t v = 0; v < nv; ++v) root[v] = static_cast<int>(v);
   for (const ExecNode& e : exec) {
+    const int in_root = root[static_cast<size_t>(e.node->inputs[0])];
     if ((e.node->op == Op::kReshape || e.node->op == Op::kFlatten) &&
-        !pinned[static_cast<size_t>(e.output)]) {
+        !pinned[static_cast<size_t>(e.output)] && !graph.value(in_root).is_constant) {
       root[static_cast<size_t>(e.output)] = root[static_cast<size_t>(e.node->inputs[0])];
     }
   }
@@ -160,7 +181,7 @@ void VkModel::Impl::plan() {
   }
   std::vector<size_t> sizes;
   std::vector<bool> busy;
-  auto bytes = [&](int v) { return static_cast<size_t>(num_elements(shape(v))) * sizeof(float); };
+  auto bytes = [&](int v) { return static_cast<size_t>(num_elements(shape(v))) * elem; };
   auto allocate = [&](int v) {
     const size_t need = bytes(v);
     unplanned_bytes += need;
@@ -232,10 +253,12 @@ void VkModel::Impl::record_node(const ExecNode& e) {
       const bool conv = n.op == Op::kConv;
       const uint32_t act = e.fused ? *act_code(e.act) : 0;
       const int64_t cog = ys[1] / a.group;
+      // Register block of conv2d.glsl: output channels (within one group) x adjacent pixels.
       const uint32_t ocb = conv && cog % 4 == 0 ? 4 : 1;
-      const vk::Pipeline& p =
-          pipeline(conv ? "conv2d" : "conv_transpose", 4, 15 * 4,
-                   {ocb, act, fbits(e.act_attrs.alpha), fbits(e.act_attrs.beta)});
+      const uint32_t pxb = conv ? 4 : 1;
+      std::vector<uint32_t> spec = {ocb, act, fbits(e.act_attrs.alpha), fbits(e.act_attrs.beta)};
+      if (conv) spec.push_back(pxb);
+      const vk::Pipeline& p = pipeline(conv ? "conv2d" : "conv_transpose", 4, 15 * 4, spec);
       const vk::Buffer& bias =
           n.inputs.size() > 2 ? buf(n.inputs[2])
                               : make_const(std::vector<float>(static_cast<size_t>(ys[1]), 0.f));
@@ -245,8 +268,9 @@ void VkModel::Impl::record_node(const ExecNode& e) {
                                  u32(a.stride[1]), u32(a.dilation[0]), u32(a.dilation[1]),
                                  u32(a.pads[0]),   u32(a.pads[1]),     u32(a.group)};
       s.dispatch(p, {vk::in(buf(x)), vk::in(buf(n.inputs[1])), vk::in(bias), vk::out(y)},
-                 {u32((ys[2] * ys[3] + 63) / 64), u32((ys[1] + ocb - 1) / ocb), u32(ys[0])}, push,
-                 sizeof(push), n.name);
+                 {u32((ys[2] * ((ys[3] + pxb - 1) / pxb) + 63) / 64), u32((ys[1] + ocb - 1) / ocb),
+                  u32(ys[0])},
+                 push, sizeof(push), n.name);
       return;
     }
     case Op::kRelu:
@@ -319,7 +343,7 @@ void VkModel::Impl::record_node(const ExecNode& e) {
     }
     case Op::kReshape:
     case Op::kFlatten:
-      if (&buf(x) != &y) s.copy(buf(x), y, static_cast<size_t>(count) * sizeof(float));
+      if (&buf(x) != &y) s.copy(buf(x), y, static_cast<size_t>(count) * elem);
       return;
     case Op::kResize: {
       const uint32_t mode = a.resize == ResizeMode::kNearest           ? 0
@@ -416,7 +440,24 @@ void VkModel::Impl::record_node(const ExecNode& e) {
 
 void VkModel::Impl::record() {
   stream = std::make_unique<vk::CommandStream>(*ctx);
+  if (fp16) {
+    boundary.reserve(graph.inputs().size() + graph.outputs().size());
+    for (int v : graph.inputs()) {
+      const auto n = num_elements(shape(v));
+      boundary.emplace_back(*ctx, static_cast<size_t>(n) * sizeof(float));
+      stream->dispatch(pipeline("to_half", 2, 4, {}), {vk::in(boundary.back()), vk::out(buf(v))},
+                       groups1d(n), u32(n), "input_to_half");
+    }
+  }
   for (const ExecNode& e : exec) record_node(e);
+  if (fp16) {
+    for (int v : graph.outputs()) {
+      const auto n = num_elements(shape(v));
+      boundary.emplace_back(*ctx, static_cast<size_t>(n) * sizeof(float));
+      stream->dispatch(pipeline("to_float", 2, 4, {}), {vk::in(buf(v)), vk::out(boundary.back())},
+                       groups1d(n), u32(n), "output_to_float");
+    }
+  }
 }
 
 VkModel::VkModel(const vk::Context& ctx, const Graph& graph, VkModelOptions options)
@@ -424,6 +465,14 @@ VkModel::VkModel(const vk::Context& ctx, const Graph& graph, VkModelOptions opti
   Impl& m = *impl_;
   m.ctx = &ctx;
   m.graph = graph;
+  if (options.fp16_storage) {
+    if (!ctx.info().fp16_storage) {
+      throw Error("nn::VkModel: fp16 storage requested but '" + ctx.info().name +
+                  "' lacks storageBuffer16BitAccess; build the model with fp16_storage = false");
+    }
+    m.fp16 = true;
+    m.elem = 2;
+  }
   for (const Value& v : graph.values()) {
     if (num_elements(v.shape) >= (int64_t{1} << 31)) {
       throw Error("nn::VkModel: tensor '" + v.name + "' " + to_string(v.shape) +
@@ -440,15 +489,21 @@ VkModel::VkModel(VkModel&&) noexcept = default;
 VkModel& VkModel::operator=(VkModel&&) noexcept = default;
 
 vk::Buffer& VkModel::input_buffer(size_t i) {
-  return *impl_->buffer_of[static_cast<size_t>(impl_->graph.inputs().at(i))];
+  Impl& m = *impl_;
+  if (m.fp16) return m.boundary.at(i);
+  return *m.buffer_of[static_cast<size_t>(m.graph.inputs().at(i))];
 }
 vk::Buffer& VkModel::output_buffer(size_t i) {
-  return *impl_->buffer_of[static_cast<size_t>(impl_->graph.outputs().at(i))];
+  Impl& m = *impl_;
+  if (m.fp16) return m.boundary.at(m.graph.inputs().size() + i);
+  return *m.buffer_of[static_cast<size_t>(m.graph.outputs().at(i))];
 }
 void VkModel::fill_activations(float value) {
-  for (vk::Buffer& b : impl_->pool) {
-    b.upload(std::vector<float>(b.size_bytes() / sizeof(float), value).data(),
-             b.size_bytes() / sizeof(float) * sizeof(float));
+  Impl& m = *impl_;
+  for (vk::Buffer& b : m.pool) m.upload(b, std::vector<float>(b.size_bytes() / m.elem, value));
+  for (vk::Buffer& b : m.boundary) {
+    const std::vector<float> v(b.size_bytes() / sizeof(float), value);
+    b.upload(v.data(), v.size() * sizeof(float));
   }
 }
 

@@ -1,32 +1,3 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// Mean over the axes where keep[i] == 1 and in[i] > 1 (4-D), one invocation per output element.
-// Also GlobalAveragePool (keep = [N, C, 1, 1]).
-layout(local_size_x = 256) in;
-layout(std430, binding = 0) readonly buffer X { float x[]; };
-layout(std430, binding = 1) writeonly buffer Y { float y[]; };
-layout(push_constant) uniform Push {
-  uvec4 keep;
-  uvec4 shape;
-  uint count;
-};
-#include "nn_index.glsl"
-void main() {
-  uint i = flat_index();
-  if (i >= count) return;
-  uint k3 = i % keep.w, t = i / keep.w;
-  uint k2 = t % keep.z;
-  t /= keep.z;
-  uint k1 = t % keep.y, k0 = t / keep.y;
-  uvec4 r = uvec4(keep.x == 1 ? shape.x : 1, keep.y == 1 ? shape.y : 1,
-                  keep.z == 1 ? shape.z : 1, keep.w == 1 ? shape.w : 1);
-  uvec4 st = uvec4(shape.y * shape.z * shape.w, shape.z * shape.w, shape.w, 1);
-  float acc = 0.0;
-  for (uint a = 0; a < r.x; ++a)
-    for (uint b = 0; b < r.y; ++b)
-      for (uint c = 0; c < r.z; ++c) {
-        uint base = (k0 + a) * st.x + (k1 + b) * st.y + (k2 + c) * st.z + k3;
-        for (uint d = 0; d < r.w; ++d) acc += x[base + d];
-      }
-  y[i] = acc / float(r.x * r.y * r.z * r.w);
-}
+#include "nn/reduce_mean.glsl"

@@ -1,27 +1,3 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// dst[dst_off + d . dst_stride] = src[src_off + d . src_stride] over a 4-D index space: Concat
-// (one dispatch per input), Transpose and Slice.
-layout(local_size_x = 256) in;
-layout(std430, binding = 0) readonly buffer S { float src[]; };
-layout(std430, binding = 1) buffer D { float dst[]; };
-layout(push_constant) uniform Push {
-  uvec4 shape;
-  uvec4 ss;
-  uvec4 ds;
-  uint src_off;
-  uint dst_off;
-  uint count;
-};
-#include "nn_index.glsl"
-void main() {
-  uint i = flat_index();
-  if (i >= count) return;
-  uint d3 = i % shape.w, t = i / shape.w;
-  uint d2 = t % shape.z;
-  t /= shape.z;
-  uint d1 = t % shape.y, d0 = t / shape.y;
-  uvec4 d = uvec4(d0, d1, d2, d3);
-  dst[dst_off + d.x * ds.x + d.y * ds.y + d.z * ds.z + d.w * ds.w] =
-      src[src_off + d.x * ss.x + d.y * ss.y + d.z * ss.z + d.w * ss.w];
-}
+#include "nn/strided_copy.glsl"

@@ -1,16 +1,3 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// Elementwise activation (ACT as in nn_act.glsl).
-layout(local_size_x = 256) in;
-layout(constant_id = 0) const uint ACT = 1;
-layout(constant_id = 1) const float ALPHA = 0.0;
-layout(constant_id = 2) const float BETA = 0.0;
-layout(std430, binding = 0) readonly buffer X { float x[]; };
-layout(std430, binding = 1) writeonly buffer Y { float y[]; };
-layout(push_constant) uniform Push { uint count; };
-#include "nn_act.glsl"
-#include "nn_index.glsl"
-void main() {
-  uint i = flat_index();
-  if (i < count) y[i] = activate(x[i]);
-}
+#include "nn/unary.glsl"

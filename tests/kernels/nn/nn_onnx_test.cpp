@@ -31,33 +31,9 @@ std::vector<Tensor> random_inputs(const Graph& g, std::mt19937_64& rng) {
   return in;
 }
 
-// OpenCV 4.6's importer reads Clip only in its opset-6 form (min/max attributes, not inputs):
-// rewrite those nodes, same function, before handing the model over.
-std::string opencv_compatible(const std::string& bytes) {
-  onnx::ModelProto m;
-  EXPECT_TRUE(m.ParseFromString(bytes));
-  std::map<std::string, float> scalars;
-  for (const auto& t : m.graph().initializer()) {
-    if (t.float_data_size() == 1) scalars[t.name()] = t.float_data(0);
-  }
-  for (auto& n : *m.mutable_graph()->mutable_node()) {
-    if (n.op_type() != "Clip" || n.input_size() != 3) continue;
-    for (int i : {1, 2}) {
-      auto* a = n.add_attribute();
-      a->set_name(i == 1 ? "min" : "max");
-      a->set_type(onnx::AttributeProto::FLOAT);
-      a->set_f(scalars.at(n.input(i)));
-    }
-    n.mutable_input()->DeleteSubrange(1, 2);
-  }
-  std::string out;
-  m.SerializeToString(&out);
-  return out;
-}
-
 std::vector<Tensor> run_opencv(const std::string& onnx_bytes, const Graph& g,
                                const std::vector<Tensor>& inputs) {
-  const std::string bytes = opencv_compatible(onnx_bytes);
+  const std::string bytes = opencv_dnn_compatible(onnx_bytes);
   cv::dnn::Net net = cv::dnn::readNetFromONNX(bytes.data(), bytes.size());
   for (size_t i = 0; i < inputs.size(); ++i) {
     std::vector<int> dims(inputs[i].shape.begin(), inputs[i].shape.end());
@@ -140,6 +116,13 @@ void check_model(const vk::Context& ctx, const Graph& g, uint64_t seed) {
     EXPECT_LT(relative_l2(again[i], want[i]), 1e-6);
     EXPECT_LT(relative_l2(vk_out[i], want[i]), 1e-5);
   }
+  if (ctx.info().fp16_storage) {
+    VkModel half(ctx, back, {.fp16_storage = true});
+    half.fill_activations(pensight::testing::kPoison);
+    const double e = relative_l2(half.run(inputs)[0], want[0]);
+    std::printf("Vulkan fp16 storage vs fp32 reference: relative L2 %.2e\n", e);
+    EXPECT_LT(e, 2e-2);
+  }
   // OpenCV 4.6 (Debian 12) has no LayerNormalization layer: those graphs are checked by ONNX
   // Runtime only.
   const bool has_layer_norm = std::any_of(g.nodes().begin(), g.nodes().end(),
@@ -183,6 +166,13 @@ TEST_F(VulkanTest, OnnxCompactDepthNet) {
 TEST_F(VulkanTest, OnnxTrudepthNet) {
   const uint64_t seed = pensight::testing::fresh_seed();
   check_model(ctx(), trudepth_net({128, 96}, 0.5f, seed), seed);
+}
+
+// The TRUDepth encoder-decoder (MobileNetV2, ReLU6, residuals, prior at every scale) without
+// the transformer head, so that OpenCV DNN checks it too.
+TEST_F(VulkanTest, OnnxTrudepthEncoderDecoder) {
+  const uint64_t seed = pensight::testing::fresh_seed();
+  check_model(ctx(), trudepth_net({128, 96}, 0.5f, seed, false), seed);
 }
 
 TEST(Onnx, Fp16WeightsExportPassesTheCheckerAndStaysClose) {
@@ -301,6 +291,18 @@ TEST(Onnx, RefusesUnsupportedOpsAndDynamicShapesWithNames) {
 
   EXPECT_NE(import_error("not a model").find("not an ONNX model"), std::string::npos);
   EXPECT_THROW(import_onnx("/nonexistent/model.onnx"), Error);
+}
+
+TEST(Onnx, ExportMakesTensorNamesUnique) {
+  Graph g;
+  const int x = g.add_input("x", {1, 2, 3, 4});
+  const int a = g.add(Op::kRelu, {x}, {}, "same");
+  g.mark_output(g.add(Op::kSigmoid, {a}, {}, "same"));
+  const std::string bytes = export_onnx_bytes(g);
+  ASSERT_NO_THROW(check_onnx_bytes(bytes));
+  const std::vector<Tensor> in = {
+      random_tensor({1, 2, 3, 4}, *std::make_unique<std::mt19937_64>(5))};
+  testutil::expect_close(run_cpu(import_onnx_bytes(bytes), in)[0], run_cpu(g, in)[0], 0);
 }
 
 TEST(Onnx, ExportWritesAtomically) {

@@ -3,7 +3,10 @@
 #include <gtest/gtest.h>
 
 #include "kernels/nn/nn.h"
+#include "kernels/nn/nn_models.h"
+#include "kernels/sparse_prior/sparse_prior.h"
 #include "runtime/error.h"
+#include "runtime/vk_buffer.h"
 #include "tests/kernels/nn/nn_test_util.h"
 #include "tests/support/vulkan_fixture.h"
 
@@ -34,6 +37,15 @@ class NnOps : public VulkanTest {
     const auto got = model.run(inputs_);
     ASSERT_EQ(got.size(), want.size());
     for (size_t i = 0; i < got.size(); ++i) testutil::expect_close(got[i], want[i], tol);
+    // fp16 storage: the same graph with half-precision activations and weights.
+    if (!ctx().info().fp16_storage) return;
+    options.fp16_storage = true;
+    VkModel half(ctx(), g_, options);
+    half.fill_activations(pensight::testing::kPoison);
+    const auto got16 = half.run(inputs_);
+    for (size_t i = 0; i < got16.size(); ++i) {
+      EXPECT_LT(testutil::relative_l2(got16[i], want[i]), 1e-2) << "fp16 storage, output " << i;
+    }
   }
 
   std::mt19937_64 rng_;
@@ -199,6 +211,11 @@ TEST_F(NnOps, TransposeReshapeFlatten) {
   f.axis = 1;
   check(g_.add(Op::kFlatten, {z}, f));  // graph output: copied, not aliased
 }
+TEST_F(NnOps, ReshapeOfAConstant) {
+  Attrs r;
+  r.ints = {1, 6, 1, 1};
+  check(g_.add(Op::kAdd, {input({1, 6, 5, 4}), g_.add(Op::kReshape, {constant({6})}, r)}));
+}
 TEST_F(NnOps, Slice) {
   Attrs a;
   a.starts = {1, -4, 0};
@@ -239,6 +256,14 @@ TEST_F(NnOps, PlanningReusesBuffers) {
   EXPECT_EQ(fused.num_dispatches(), 6u);
   EXPECT_EQ(unfused.num_dispatches(), 12u);
   EXPECT_LE(unfused.activation_bytes() * 3, unfused.unplanned_activation_bytes());
+  if (ctx().info().fp16_storage) {
+    VkModel half(ctx(), g_, {.fp16_storage = true});
+    EXPECT_EQ(half.activation_bytes() * 2, fused.activation_bytes());
+    half.fill_activations(pensight::testing::kPoison);
+    const double e = testutil::relative_l2(half.run(inputs_)[0], want[0]);
+    EXPECT_GT(e, 1e-6);  // really rounded to half precision
+    EXPECT_LT(e, 1e-2);
+  }
   for (VkModel* m : {&fused, &unfused}) {
     m->fill_activations(pensight::testing::kPoison);
     testutil::expect_close(m->run(inputs_)[0], want[0]);
@@ -259,6 +284,41 @@ TEST(NnGraph, RejectsMismatchedShapesNamingTheNode) {
   EXPECT_THROW(g.add(Op::kAdd, {x, g.add_input("y", {1, 2, 8, 8})}), Error);
   EXPECT_THROW(g.add_input("dyn", {-1, 3, 8, 8}), Error);
   EXPECT_THROW(run_cpu(g, {}), Error);
+}
+
+}  // namespace
+}  // namespace pensight::nn
+
+namespace pensight::nn {
+namespace {
+
+// S1/S2 written by the sparse_prior kernel straight into the model's "prior" input buffer, then
+// the compact net, all on the device; against the CPU prior + CPU reference executor.
+TEST_F(VulkanTest, SparsePriorFeedsTheModelInputOnDevice) {
+  std::mt19937_64 rng(pensight::testing::fresh_seed());
+  const Graph g = compact_depth_net({48, 32}, rng());
+  const kernels::SparsePriorShape shape{48, 32, 10};
+  std::uniform_real_distribution<float> ux(0, 47), uy(0, 31), ud(1, 4);
+  std::vector<kernels::SparsePoint> pts(20);
+  for (auto& p : pts) p = {ux(rng), uy(rng), ud(rng)};
+  std::vector<Tensor> inputs = {random_tensor({1, 1, 32, 48}, rng, 0, 1),
+                                {{1, 2, 32, 48}, std::vector<float>(2 * 32 * 48)}};
+  kernels::sparse_prior_cpu(shape, pts, inputs[1].data);
+  const auto want = run_cpu(g, inputs);
+
+  VkModel model(ctx(), g);
+  model.fill_activations(pensight::testing::kPoison);
+  model.input_buffer(0).upload(inputs[0].data.data(), inputs[0].data.size() * sizeof(float));
+  const kernels::SparsePriorVk prior(ctx(), shape);
+  vk::Buffer point_buf(ctx(), pts.size() * sizeof(kernels::SparsePoint));
+  point_buf.upload(pts.data(), pts.size() * sizeof(kernels::SparsePoint));
+  vk::CommandStream stream(ctx());
+  prior.record(stream, point_buf, static_cast<uint32_t>(pts.size()), model.input_buffer(1));
+  stream.submit_and_wait();
+  model.submit();
+  Tensor got{want[0].shape, std::vector<float>(want[0].data.size())};
+  model.output_buffer(0).download(got.data.data(), got.data.size() * sizeof(float));
+  testutil::expect_close(got, want[0], 1e-4f);
 }
 
 }  // namespace
