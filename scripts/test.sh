@@ -17,6 +17,13 @@ else
   scripts/setup.sh
 fi
 
+# ONNX Runtime (Node.js package, from the npm registry) is the independent runtime that exported
+# models are checked against; without npm those checks are skipped and say so.
+if command -v npm >/dev/null && [ ! -d .cache/ort/node_modules/onnxruntime-node ]; then
+  npm install --prefix .cache/ort onnxruntime-node@1 --ignore-scripts --no-audit --no-fund \
+    --loglevel=error >/dev/null || echo "test: onnxruntime-node not installed; its checks skip"
+fi
+
 # Vulkan tests run on lavapipe unless the caller picks another device.
 export PENSIGHT_VK_DEVICE="${PENSIGHT_VK_DEVICE:-llvmpipe}"
 cd "$PENSIGHT_BUILD_DIR"
