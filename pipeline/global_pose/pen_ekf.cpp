@@ -1,0 +1,47 @@
+#include "pipeline/global_pose/pen_ekf.h"
+
+#include <algorithm>
+
+namespace pensight::global_pose {
+
+StateVector PenEkf::propagate(const StateVector& s, double dt) {
+  StateVector n = s;
+  const double c = std::cos(s(kPsi)), si = std::sin(s(kPsi));
+  n(kX) += dt * (c * s(kU) - si * s(kV));
+  n(kY) += dt * (si * s(kU) + c * s(kV));
+  n(kZ) += dt * s(kW);
+  n(kPsi) = wrap_angle(s(kPsi) + dt * s(kPsiRate));
+  n(kU) += dt * s(kPsiRate) * s(kV);
+  n(kV) -= dt * s(kPsiRate) * s(kU);
+  return n;
+}
+
+void PenEkf::predict_to(int64_t t_new_ns, const ProcessNoise& q) {
+  double remaining = 1e-9 * static_cast<double>(t_new_ns - t_ns);
+  t_ns = t_new_ns;
+  while (remaining != 0.0) {
+    const double dt = std::clamp(remaining, -0.05, 0.05);
+    remaining = std::abs(remaining) <= 0.05 ? 0.0 : remaining - dt;
+    StateMatrix F;
+    for (int j = 0; j < kStateDim; ++j) {
+      const double step = 1e-6 * std::max(1.0, std::abs(x(j)));
+      StateVector xp = x, xm = x;
+      xp(j) += step;
+      xm(j) -= step;
+      StateVector diff = propagate(xp, dt) - propagate(xm, dt);
+      diff(kPsi) = wrap_angle(diff(kPsi));
+      F.col(j) = diff / (2 * step);
+    }
+    x = propagate(x, dt);
+    const double a = std::abs(dt);
+    StateMatrix Q = StateMatrix::Zero();
+    Q(kU, kU) = Q(kV, kV) = q.horizontal_accel * q.horizontal_accel * a;
+    Q(kW, kW) = q.vertical_accel * q.vertical_accel * a;
+    Q(kPsiRate, kPsiRate) = q.yaw_accel * q.yaw_accel * a;
+    Q(kYawBias, kYawBias) = q.yaw_bias_walk * q.yaw_bias_walk * a;
+    Q(kDvlBiasU, kDvlBiasU) = Q(kDvlBiasV, kDvlBiasV) = q.dvl_bias_walk * q.dvl_bias_walk * a;
+    P = F * P * F.transpose() + Q;
+  }
+}
+
+}  // namespace pensight::global_pose
