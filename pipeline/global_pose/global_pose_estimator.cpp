@@ -30,6 +30,12 @@ const char* sensor_name(int s) {
   return names[s];
 }
 
+// The states each measurement model reads (a vertical cylinder does not depend on depth).
+constexpr int kPoseStates[] = {kX, kY, kPsi};
+constexpr int kVelocityStates[] = {kU, kV, kW, kDvlBiasU, kDvlBiasV};
+constexpr int kDepthStates[] = {kZ};
+constexpr int kYawStates[] = {kPsi, kYawBias};
+
 template <int M>
 Eigen::Matrix<double, M, M> diag(const Eigen::Matrix<double, M, 1>& sigma) {
   return sigma.cwiseAbs2().asDiagonal();
@@ -235,11 +241,12 @@ template <int M, class H>
 void GlobalPoseEstimator::gated_update(int sensor, SensorCounters& c,
                                        const Eigen::Matrix<double, M, 1>& z, H&& h,
                                        const Eigen::Matrix<double, M, M>& R,
-                                       std::array<bool, M> angles) {
+                                       std::array<bool, M> angles,
+                                       std::span<const int> depends_on) {
   int& streak = state_.consecutive_rejections[static_cast<size_t>(sensor)];
   const bool relock = streak >= cfg_.relock_after_rejections;
   const double gate = relock ? 0.0 : cfg_.gate_scale * kGateChi2[M];
-  switch (state_.ekf.update<M>(z, std::forward<H>(h), R, angles, gate)) {
+  switch (state_.ekf.update<M>(z, std::forward<H>(h), R, angles, depends_on, gate)) {
     case UpdateOutcome::kAccepted:
       ++c.accepted;
       if (sensor == kDvlVelocity || sensor == kAttitudeYaw)
@@ -283,11 +290,12 @@ void GlobalPoseEstimator::apply_attitude(const AttitudeSample& s) {
     ++c.accepted;
     return;
   }
-  gated_update<1>(kAttitudeYaw, c, Eigen::Matrix<double, 1, 1>(s.yaw_rad),
-                  [](const StateVector& x) {
-                    return Eigen::Matrix<double, 1, 1>(wrap_angle(x(kPsi) + x(kYawBias)));
-                  },
-                  Eigen::Matrix<double, 1, 1>(var), {true});
+  gated_update<1>(
+      kAttitudeYaw, c, Eigen::Matrix<double, 1, 1>(s.yaw_rad),
+      [](const StateVector& x) {
+        return Eigen::Matrix<double, 1, 1>(wrap_angle(x(kPsi) + x(kYawBias)));
+      },
+      Eigen::Matrix<double, 1, 1>(var), {true}, kYawStates);
 }
 
 void GlobalPoseEstimator::apply_depth(const DepthSample& s) {
@@ -303,9 +311,10 @@ void GlobalPoseEstimator::apply_depth(const DepthSample& s) {
     return;
   }
   const double sd = cfg_.noise.depth_m;
-  gated_update<1>(kDepthSensor, c, Eigen::Matrix<double, 1, 1>(s.depth_m),
-                  [](const StateVector& x) { return Eigen::Matrix<double, 1, 1>(x(kZ)); },
-                  Eigen::Matrix<double, 1, 1>(sd * sd), {false});
+  gated_update<1>(
+      kDepthSensor, c, Eigen::Matrix<double, 1, 1>(s.depth_m),
+      [](const StateVector& x) { return Eigen::Matrix<double, 1, 1>(x(kZ)); },
+      Eigen::Matrix<double, 1, 1>(sd * sd), {false}, kDepthStates);
 }
 
 void GlobalPoseEstimator::apply_dvl(const DvlSample& s) {
@@ -320,12 +329,13 @@ void GlobalPoseEstimator::apply_dvl(const DvlSample& s) {
     if (!state_.initialised) {
       ++cv.accepted;
     } else {
-      gated_update<3>(kDvlVelocity, cv, v_L,
-                      [](const StateVector& x) {
-                        return Eigen::Vector3d(x(kU) + x(kDvlBiasU), x(kV) + x(kDvlBiasV), x(kW));
-                      },
-                      diag<3>(Eigen::Vector3d::Constant(cfg_.noise.dvl_velocity_mps)),
-                      {false, false, false});
+      gated_update<3>(
+          kDvlVelocity, cv, v_L,
+          [](const StateVector& x) {
+            return Eigen::Vector3d(x(kU) + x(kDvlBiasU), x(kV) + x(kDvlBiasV), x(kW));
+          },
+          diag<3>(Eigen::Vector3d::Constant(cfg_.noise.dvl_velocity_mps)), {false, false, false},
+          kVelocityStates);
     }
   }
   if (!cfg_.use_dvl_plane || !cfg_.dvl_beams || !state_.initialised) return;
@@ -349,7 +359,7 @@ void GlobalPoseEstimator::apply_dvl(const DvlSample& s) {
   gated_update<2>(
       kDvlPlane, cp, Eigen::Vector2d(measured.distance_m, measured.heading_rad), model,
       diag<2>(Eigen::Vector2d(cfg_.noise.dvl_plane_distance_m, cfg_.noise.dvl_plane_heading_rad)),
-      {false, true});
+      {false, true}, kPoseStates);
 }
 
 void GlobalPoseEstimator::apply_camera(const NetObservation& obs) {
@@ -369,12 +379,13 @@ void GlobalPoseEstimator::apply_camera(const NetObservation& obs) {
     Eigen::Matrix2d R = n.fix_inflation * n.fix_inflation * fix.covariance;
     R(0, 0) += n.fix_r_floor_m * n.fix_r_floor_m;
     R(1, 1) += n.fix_psi_r_floor_rad * n.fix_psi_r_floor_rad;
-    gated_update<2>(kVisionFix, cf, Eigen::Vector2d(fix.r_g_m, fix.psi_r_rad),
-                    [](const StateVector& x) {
-                      return Eigen::Vector2d(std::hypot(x(kX), x(kY)),
-                                             wrap_angle(x(kPsi) - std::atan2(x(kY), x(kX))));
-                    },
-                    R, {false, true});
+    gated_update<2>(
+        kVisionFix, cf, Eigen::Vector2d(fix.r_g_m, fix.psi_r_rad),
+        [](const StateVector& x) {
+          return Eigen::Vector2d(std::hypot(x(kX), x(kY)),
+                                 wrap_angle(x(kPsi) - std::atan2(x(kY), x(kX))));
+        },
+        R, {false, true}, kPoseStates);
   }
   if (!cfg_.use_vision_relative || !state_.initialised) return;
   if (!std::isfinite(obs.d_net_m) && !std::isfinite(obs.psi_net_rad)) return;
@@ -391,7 +402,7 @@ void GlobalPoseEstimator::apply_camera(const NetObservation& obs) {
   gated_update<2>(
       kVisionRel, cr, Eigen::Vector2d(obs.d_net_m, obs.psi_net_rad), model,
       diag<2>(Eigen::Vector2d(cfg_.noise.d_net_frac * obs.d_net_m, cfg_.noise.psi_net_rad)),
-      {false, true});
+      {false, true}, kPoseStates);
 }
 
 void GlobalPoseEstimator::initialise(const PenFix& fix, int64_t t_ns) {

@@ -141,7 +141,8 @@ class GlobalPoseEstimator {
   std::pair<double, double> level_at(int64_t t_ns);
   template <int M, class H>
   void gated_update(int sensor, SensorCounters& c, const Eigen::Matrix<double, M, 1>& z, H&& h,
-                    const Eigen::Matrix<double, M, M>& R, std::array<bool, M> angles);
+                    const Eigen::Matrix<double, M, M>& R, std::array<bool, M> angles,
+                    std::span<const int> depends_on);
   Eigen::Isometry3d T_pen_body(const StateVector& x, double roll, double pitch) const;
   void warn_once(int id, const std::string& message);
 

@@ -22,16 +22,20 @@ void PenEkf::predict_to(int64_t t_new_ns, const ProcessNoise& q) {
   while (remaining != 0.0) {
     const double dt = std::clamp(remaining, -0.05, 0.05);
     remaining = std::abs(remaining) <= 0.05 ? 0.0 : remaining - dt;
-    StateMatrix F;
-    for (int j = 0; j < kStateDim; ++j) {
-      const double step = 1e-6 * std::max(1.0, std::abs(x(j)));
-      StateVector xp = x, xm = x;
-      xp(j) += step;
-      xm(j) -= step;
-      StateVector diff = propagate(xp, dt) - propagate(xm, dt);
-      diff(kPsi) = wrap_angle(diff(kPsi));
-      F.col(j) = diff / (2 * step);
-    }
+    const double c = std::cos(x(kPsi)), si = std::sin(x(kPsi));
+    StateMatrix F = StateMatrix::Identity();
+    F(kX, kPsi) = dt * (-si * x(kU) - c * x(kV));
+    F(kX, kU) = dt * c;
+    F(kX, kV) = -dt * si;
+    F(kY, kPsi) = dt * (c * x(kU) - si * x(kV));
+    F(kY, kU) = dt * si;
+    F(kY, kV) = dt * c;
+    F(kZ, kW) = dt;
+    F(kPsi, kPsiRate) = dt;
+    F(kU, kV) = dt * x(kPsiRate);
+    F(kU, kPsiRate) = dt * x(kV);
+    F(kV, kU) = -dt * x(kPsiRate);
+    F(kV, kPsiRate) = -dt * x(kU);
     x = propagate(x, dt);
     const double a = std::abs(dt);
     StateMatrix Q = StateMatrix::Zero();

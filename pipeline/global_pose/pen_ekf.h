@@ -16,6 +16,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <cmath>
+#include <span>
 
 #include "pipeline/global_pose/pen_geometry.h"
 
@@ -61,24 +62,25 @@ struct PenEkf {
   // with the process noise of its length.
   void predict_to(int64_t t_new_ns, const ProcessNoise& q);
 
-  // z ~ h(x) + N(0, R). `angles` marks rows whose innovation wraps at +-pi. The update is rejected
-  // when the innovation's squared Mahalanobis distance exceeds gate_chi2 (<= 0: no gate); `d2`
-  // receives it.
+  // z ~ h(x) + N(0, R). `angles` marks rows whose innovation wraps at +-pi; h depends only on the
+  // states listed in `depends_on` (the others' Jacobian columns are zero and not evaluated). The
+  // update is rejected when the innovation's squared Mahalanobis distance exceeds gate_chi2
+  // (<= 0: no gate); `d2` receives it.
   template <int M, class H>
   UpdateOutcome update(const Eigen::Matrix<double, M, 1>& z, H&& h,
                        const Eigen::Matrix<double, M, M>& R, std::array<bool, M> angles,
-                       double gate_chi2, double* d2 = nullptr);
+                       std::span<const int> depends_on, double gate_chi2, double* d2 = nullptr);
 };
 
 template <int M, class H>
 UpdateOutcome PenEkf::update(const Eigen::Matrix<double, M, 1>& z, H&& h,
                              const Eigen::Matrix<double, M, M>& R, std::array<bool, M> angles,
-                             double gate_chi2, double* d2) {
+                             std::span<const int> depends_on, double gate_chi2, double* d2) {
   using Vec = Eigen::Matrix<double, M, 1>;
   const Vec hx = h(x);
   if (!hx.allFinite() || !z.allFinite()) return UpdateOutcome::kSkipped;
-  Eigen::Matrix<double, M, kStateDim> H_;
-  for (int j = 0; j < kStateDim; ++j) {
+  Eigen::Matrix<double, M, kStateDim> H_ = Eigen::Matrix<double, M, kStateDim>::Zero();
+  for (const int j : depends_on) {
     const double step = 1e-6 * std::max(1.0, std::abs(x(j)));
     StateVector xp = x, xm = x;
     xp(j) += step;
