@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <utility>
 
 #include "runtime/error.h"
@@ -42,6 +43,24 @@ Eigen::Matrix<double, M, M> diag(const Eigen::Matrix<double, M, 1>& sigma) {
 }
 
 }  // namespace
+
+std::string describe(const GlobalPoseCounters& c) {
+  std::string out;
+  const std::pair<const char*, const SensorCounters*> rows[] = {
+      {"DVL velocity", &c.dvl_velocity}, {"DVL plane", &c.dvl_plane},
+      {"pressure depth", &c.depth},      {"attitude", &c.attitude},
+      {"vision fix", &c.vision_fix},     {"vision d_net/psi_net", &c.vision_relative}};
+  for (const auto& [name, s] : rows) {
+    char line[256];
+    std::snprintf(line, sizeof(line),
+                  "%-21s received %d, accepted %d, gated out %d, re-locked %d, invalid %d, "
+                  "duplicates %d, out of order %d, too late %d\n",
+                  name, s->received, s->accepted, s->rejected, s->relocked, s->invalid,
+                  s->duplicates, s->out_of_order, s->too_late);
+    out += line;
+  }
+  return out;
+}
 
 GlobalPoseEstimator::GlobalPoseEstimator(GlobalPoseEstimatorConfig config)
     : cfg_(std::move(config)) {
@@ -223,7 +242,11 @@ void GlobalPoseEstimator::apply(const Event& e) {
 std::pair<double, double> GlobalPoseEstimator::level_at(int64_t t_ns) {
   const auto a = attitude_.at(t_ns, cfg_.max_attitude_gap_s);
   if (a) return {a->roll_rad, a->pitch_rad};
-  if (cfg_.has_attitude)
+  // At start-up the first attitude sample may simply not have arrived yet.
+  const bool starting = attitude_.empty() && (state_.init_ns == kNever ||
+                                              1e-9 * static_cast<double>(t_ns - state_.init_ns) <=
+                                                  cfg_.max_attitude_gap_s);
+  if (cfg_.has_attitude && !starting)
     warn_once(kWarnNoAttitudeAt,
               "no attitude sample near a measurement; assuming roll = pitch = 0");
   return {0.0, 0.0};
@@ -432,6 +455,7 @@ void GlobalPoseEstimator::initialise(const PenFix& fix, int64_t t_ns) {
   state_.initialised = true;
   state_.yaw_bias_set = false;
   state_.last_rho_aid_ns = t_ns;  // rho_g is rho0 here by definition
+  state_.init_ns = t_ns;
 }
 
 }  // namespace pensight::global_pose

@@ -88,6 +88,9 @@ struct GlobalPoseCounters {
   SensorCounters dvl_velocity, dvl_plane, depth, attitude, vision_fix, vision_relative;
 };
 
+// One line per sensor, e.g. for the end-of-run report.
+std::string describe(const GlobalPoseCounters& c);
+
 class GlobalPoseEstimator {
  public:
   explicit GlobalPoseEstimator(GlobalPoseEstimatorConfig config);
@@ -120,6 +123,7 @@ class GlobalPoseEstimator {
     bool yaw_bias_set = false;
     int64_t last_time_ns = kNever;
     int64_t last_rho_aid_ns = kNever;  // last accepted DVL velocity or attitude yaw
+    int64_t init_ns = kNever;
     double last_depth_m = kNaN;
     Eigen::Vector3d last_velocity_L = Eigen::Vector3d::Constant(kNaN);
     GlobalPoseCounters counts;  // applied-sample counters

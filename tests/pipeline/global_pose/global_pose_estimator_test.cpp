@@ -309,6 +309,23 @@ TEST(GlobalPoseEstimator, WithoutDvlAndAttitudeRhoIsNaN) {
   EXPECT_NEAR(g.psi_r_rad, truth.psi_r_rad(), 2 * kDeg);
 }
 
+TEST(GlobalPoseEstimator, WithoutPressureDepthIsNaN) {
+  std::mt19937_64 rng(testing::fresh_seed());
+  sim::Trajectory traj;
+  traj.duration_s = 20;
+  sim::Sequence seq = sim::make_sequence(traj, {}, rng());
+  seq.depth.clear();
+  LogCapture log;
+  auto cfg = estimator_config(12.0);
+  cfg.has_pressure = false;
+  GlobalPoseEstimator est(cfg);
+  const Errors e = run_estimator(seq, est);
+  EXPECT_NE(log.text().find("no pressure"), std::string::npos) << log.text();
+  EXPECT_TRUE(e.z_m.empty());  // every z_g was NaN
+  EXPECT_EQ(e.nan_rows, 0);    // the other values were all produced
+  EXPECT_LE(sim::median(e.r_m), 0.03);
+}
+
 // Samples arriving up to 0.3 s late and out of order, plus duplicates, give the same estimates
 // as the ordered stream; they are counted, and a sample older than the window is dropped.
 TEST(GlobalPoseEstimator, OutOfOrderAndDuplicateSamples) {
@@ -377,6 +394,7 @@ TEST(GlobalPoseEstimator, OutOfOrderAndDuplicateSamples) {
             100);
   EXPECT_EQ(
       c.dvl_velocity.too_late + c.depth.too_late + c.attitude.too_late + c.vision_fix.too_late, 0);
+  EXPECT_NE(describe(c).find("out of order"), std::string::npos);
   // Far older than the 2 s window: dropped and counted, not fatal.
   shuffled.add(DepthSample{t_end - 10'000'000'000, 3.0});
   EXPECT_EQ(shuffled.counters().depth.too_late, 1);
