@@ -25,7 +25,7 @@ struct CircleFitOptions {
   // Points farther than this from the circle are outliers: excluded from the final fit.
   double outlier_threshold_m = 0.15;
   int max_iterations = 15;
-  int max_hypotheses = 64;  // 2-point MSAC hypotheses (deterministic sample)
+  int max_hypotheses = 64;  // most 2-point MSAC hypotheses (deterministic, adaptive count)
   int min_inliers = 3;
 };
 

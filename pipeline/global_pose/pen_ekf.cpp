@@ -44,7 +44,9 @@ void PenEkf::predict_to(int64_t t_new_ns, const ProcessNoise& q) {
     Q(kPsiRate, kPsiRate) = q.yaw_accel * q.yaw_accel * a;
     Q(kYawBias, kYawBias) = q.yaw_bias_walk * q.yaw_bias_walk * a;
     Q(kDvlBiasU, kDvlBiasU) = Q(kDvlBiasV, kDvlBiasV) = q.dvl_bias_walk * q.dvl_bias_walk * a;
-    P = F * P * F.transpose() + Q;
+    // Coefficient-based products: for 11x11 Eigen's blocked GEMM path costs several times more.
+    const StateMatrix FP = F.lazyProduct(P);
+    P = FP.lazyProduct(F.transpose()) + Q;
   }
 }
 
