@@ -1,9 +1,12 @@
 #include "pipeline/global_pose/circle_fit.h"
 
+#include "runtime/error.h"
+
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <vector>
 
 namespace pensight::global_pose {
@@ -65,6 +68,9 @@ CircleFit fit_circle_known_radius(std::span<const Eigen::Vector2d> points,
   CircleFit fit;
   const double radius = o.radius_m;
   if (!(radius > 0)) return fit;
+  if (!weights.empty() && weights.size() != points.size())
+    throw Error("circle fit: " + std::to_string(weights.size()) + " weights for " +
+                std::to_string(points.size()) + " points; give one quality per net point, or none");
   std::vector<Weighted> pts;
   pts.reserve(points.size());
   for (size_t i = 0; i < points.size(); ++i) {

@@ -39,7 +39,8 @@ struct CircleFit {
 };
 
 // Points with a non-finite coordinate or a weight <= 0 are ignored. `weights` (optional, one per
-// point) scale each point's influence, e.g. the FFT quality of its ROI.
+// point, else pensight::Error) scale each point's influence, e.g. the FFT quality of its ROI.
+// Fewer than 3 usable points or a degenerate set give ok = false and NaN, not an error.
 CircleFit fit_circle_known_radius(std::span<const Eigen::Vector2d> points,
                                   const CircleFitOptions& options,
                                   std::span<const double> weights = {});

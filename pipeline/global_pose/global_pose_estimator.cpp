@@ -97,6 +97,11 @@ void GlobalPoseEstimator::add(const DepthSample& s) {
   enqueue({s.t_ns, kDepth, s}, arrival_.depth);
 }
 void GlobalPoseEstimator::add(const NetObservation& obs) {
+  if (!obs.quality.empty() && obs.quality.size() != obs.points_C.size())
+    throw Error("global pose: camera frame " + std::to_string(obs.t_ns) + " has " +
+                std::to_string(obs.quality.size()) + " qualities for " +
+                std::to_string(obs.points_C.size()) +
+                " net points; give one quality per point, or none");
   enqueue({obs.t_ns, kCamera, obs}, arrival_.vision_fix);
 }
 void GlobalPoseEstimator::add(const AttitudeSample& s) {

@@ -98,6 +98,7 @@ class GlobalPoseEstimator {
   void add(const DvlSample& s);
   void add(const DepthSample& s);
   void add(const AttitudeSample& s);
+  // Throws pensight::Error when obs.quality is neither empty nor one per point.
   void add(const NetObservation& obs);
 
   // Applies every buffered sample up to t_ns and returns the estimate at t_ns (one

@@ -65,17 +65,17 @@ struct PenEkf {
   // z ~ h(x) + N(0, R). `angles` marks rows whose innovation wraps at +-pi; h depends only on the
   // states listed in `depends_on` (the others' Jacobian columns are zero and not evaluated). The
   // update is rejected when the innovation's squared Mahalanobis distance exceeds gate_chi2
-  // (<= 0: no gate); `d2` receives it.
+  // (<= 0: no gate).
   template <int M, class H>
   UpdateOutcome update(const Eigen::Matrix<double, M, 1>& z, H&& h,
                        const Eigen::Matrix<double, M, M>& R, std::array<bool, M> angles,
-                       std::span<const int> depends_on, double gate_chi2, double* d2 = nullptr);
+                       std::span<const int> depends_on, double gate_chi2);
 };
 
 template <int M, class H>
 UpdateOutcome PenEkf::update(const Eigen::Matrix<double, M, 1>& z, H&& h,
                              const Eigen::Matrix<double, M, M>& R, std::array<bool, M> angles,
-                             std::span<const int> depends_on, double gate_chi2, double* d2) {
+                             std::span<const int> depends_on, double gate_chi2) {
   using Vec = Eigen::Matrix<double, M, 1>;
   const Vec hx = h(x);
   if (!hx.allFinite() || !z.allFinite()) return UpdateOutcome::kSkipped;
@@ -99,7 +99,6 @@ UpdateOutcome PenEkf::update(const Eigen::Matrix<double, M, 1>& z, H&& h,
   const Eigen::LDLT<Eigen::Matrix<double, M, M>> ldlt(S);
   if (ldlt.info() != Eigen::Success) return UpdateOutcome::kSkipped;
   const double m2 = nu.dot(ldlt.solve(nu));
-  if (d2) *d2 = m2;
   if (gate_chi2 > 0 && !(m2 <= gate_chi2)) return UpdateOutcome::kRejected;
   const Eigen::Matrix<double, kStateDim, M> K = ldlt.solve(HP).transpose();
   x += K * nu;

@@ -402,10 +402,24 @@ TEST(GlobalPoseEstimator, OutOfOrderAndDuplicateSamples) {
   (void)e_ordered;
 }
 
-TEST(GlobalPoseEstimator, BadConfigurationIsAnError) {
+TEST(GlobalPoseEstimator, BadConfigurationAndInputAreErrors) {
   GlobalPoseEstimatorConfig cfg;
   cfg.pen_radius_m = 0;
   EXPECT_THROW(GlobalPoseEstimator{cfg}, pensight::Error);
+  cfg.pen_radius_m = kNaN;
+  EXPECT_THROW(GlobalPoseEstimator{cfg}, pensight::Error);
+  GlobalPoseEstimator est(estimator_config(12.0));
+  NetObservation obs;
+  obs.points_C.assign(30, Eigen::Vector3d(0, 0, 1));
+  obs.quality.assign(29, 1.0);
+  EXPECT_THROW(est.add(obs), pensight::Error);
+  // A frame without usable points is not an error: no fix, NaN, counted.
+  obs.quality.clear();
+  obs.points_C.assign(30, Eigen::Vector3d::Constant(kNaN));
+  est.add(obs);
+  const GlobalPose g = est.estimate(obs.t_ns);
+  EXPECT_TRUE(std::isnan(g.r_g_m));
+  EXPECT_EQ(est.counters().vision_fix.invalid, 1);
 }
 
 }  // namespace
