@@ -1,9 +1,12 @@
 #include "pipeline/global_pose/circle_fit.h"
 
+#include "runtime/error.h"
+
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <vector>
 
 namespace pensight::global_pose {
@@ -14,12 +17,14 @@ struct Weighted {
   double w;
 };
 
+// Truncated squared residuals; stops once past `bound` (that hypothesis has already lost).
 double msac_cost(const std::vector<Weighted>& pts, const Eigen::Vector2d& c, double radius,
-                 double threshold) {
+                 double threshold, double bound) {
   double cost = 0;
   for (const auto& q : pts) {
     const double r = (q.p - c).norm() - radius;
     cost += q.w * std::min(r * r, threshold * threshold);
+    if (cost > bound) break;
   }
   return cost;
 }
@@ -63,6 +68,9 @@ CircleFit fit_circle_known_radius(std::span<const Eigen::Vector2d> points,
   CircleFit fit;
   const double radius = o.radius_m;
   if (!(radius > 0)) return fit;
+  if (!weights.empty() && weights.size() != points.size())
+    throw Error("circle fit: " + std::to_string(weights.size()) + " weights for " +
+                std::to_string(points.size()) + " points; give one quality per net point, or none");
   std::vector<Weighted> pts;
   pts.reserve(points.size());
   for (size_t i = 0; i < points.size(); ++i) {
@@ -73,16 +81,23 @@ CircleFit fit_circle_known_radius(std::span<const Eigen::Vector2d> points,
   if (n < std::max(3, o.min_inliers)) return fit;
 
   // Hypotheses: the algebraic line fit plus 2-point circles from a fixed pseudo-random sample of
-  // well-separated pairs (deterministic, so a frame always gives the same answer).
+  // well-separated pairs (deterministic, so a frame always gives the same answer). Sampling stops
+  // once a hypothesis with both points inliers has been drawn with probability 1 - 1e-6 at the
+  // best hypothesis' inlier ratio (at least 8 samples).
   Eigen::Vector2d best{kNaN, kNaN};
   double best_cost = std::numeric_limits<double>::infinity();
+  int needed = o.max_hypotheses;
   auto consider = [&](const std::optional<Eigen::Vector2d>& c) {
     if (!c) return;
-    const double cost = msac_cost(pts, *c, radius, o.outlier_threshold_m);
-    if (cost < best_cost) {
-      best_cost = cost;
-      best = *c;
-    }
+    const double cost = msac_cost(pts, *c, radius, o.outlier_threshold_m, best_cost);
+    if (cost >= best_cost) return;
+    best_cost = cost;
+    best = *c;
+    int inliers = 0;
+    for (const auto& q : pts)
+      inliers += std::abs((q.p - best).norm() - radius) < o.outlier_threshold_m ? 1 : 0;
+    const double w = static_cast<double>(inliers) / n;
+    needed = w >= 1.0 ? 0 : static_cast<int>(std::ceil(std::log(1e-6) / std::log(1 - w * w)));
   };
   consider(line_centre(pts, radius));
   uint32_t state = 0x9e3779b9u;
@@ -90,7 +105,9 @@ CircleFit fit_circle_known_radius(std::span<const Eigen::Vector2d> points,
     state = state * 1664525u + 1013904223u;
     return static_cast<int>((state >> 8) % static_cast<uint32_t>(n));
   };
-  for (int k = 0, tries = 0; k < o.max_hypotheses && tries < 4 * o.max_hypotheses; ++tries) {
+  for (int k = 0, tries = 0;
+       k < std::min(o.max_hypotheses, std::max(needed, 8)) && tries < 4 * o.max_hypotheses;
+       ++tries) {
     const int i = next(), j = next();
     if (i == j || (pts[i].p - pts[j].p).norm() < 0.25) continue;
     consider(two_point_centre(pts[i].p, pts[j].p, radius));

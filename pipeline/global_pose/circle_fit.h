@@ -25,7 +25,7 @@ struct CircleFitOptions {
   // Points farther than this from the circle are outliers: excluded from the final fit.
   double outlier_threshold_m = 0.15;
   int max_iterations = 15;
-  int max_hypotheses = 64;  // 2-point MSAC hypotheses (deterministic sample)
+  int max_hypotheses = 64;  // most 2-point MSAC hypotheses (deterministic, adaptive count)
   int min_inliers = 3;
 };
 
@@ -39,7 +39,8 @@ struct CircleFit {
 };
 
 // Points with a non-finite coordinate or a weight <= 0 are ignored. `weights` (optional, one per
-// point) scale each point's influence, e.g. the FFT quality of its ROI.
+// point, else pensight::Error) scale each point's influence, e.g. the FFT quality of its ROI.
+// Fewer than 3 usable points or a degenerate set give ok = false and NaN, not an error.
 CircleFit fit_circle_known_radius(std::span<const Eigen::Vector2d> points,
                                   const CircleFitOptions& options,
                                   std::span<const double> weights = {});

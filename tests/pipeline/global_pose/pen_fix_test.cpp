@@ -7,6 +7,7 @@
 #include <random>
 
 #include "pipeline/global_pose/published_global_pose.h"
+#include "runtime/error.h"
 #include "tests/pipeline/global_pose/pen_sim.h"
 #include "tests/support/vulkan_fixture.h"
 
@@ -65,6 +66,8 @@ TEST(CircleFit, TooFewPointsGiveNaN) {
   const std::vector<Eigen::Vector2d> two = {{11, 0}, {11, 0.5}};
   const CircleFit fit = fit_circle_known_radius(two, o);
   EXPECT_FALSE(fit.ok);
+  const std::vector<double> one_weight = {1.0};
+  EXPECT_THROW(fit_circle_known_radius(two, o, one_weight), pensight::Error);
   const PenFix fix = pen_fix_from_circle(fit);
   EXPECT_FALSE(fix.ok);
   EXPECT_TRUE(std::isnan(fix.r_g_m));

@@ -61,8 +61,8 @@ NetObservation net_observation(const Pose& pose, double radius_m,
     }
   }
   const auto rel = net_relative_pose(T_pen_camera, radius_m);
-  obs.d_net_m = rel.d_net_m;
-  obs.psi_net_rad = rel.psi_net_rad;
+  obs.d_net_m = rel.d_net_m * (1.0 + noise.d_net_sigma_frac * unit(rng));
+  obs.psi_net_rad = rel.psi_net_rad + noise.psi_net_sigma_rad * unit(rng);
   return obs;
 }
 

@@ -35,6 +35,8 @@ struct PointNoise {
   double outlier_fraction = 0.1;
   double outlier_sigma_m = 0.5;
   double max_range_m = 6.0;  // farther ROIs find no net (NaN point)
+  double d_net_sigma_frac = 0.02;
+  double psi_net_sigma_rad = 0.02;
 };
 
 // One camera frame: ROI-centre net points in C.
@@ -65,8 +67,8 @@ struct SensorNoise {
   double depth_sigma_m = 0.02;
   double attitude_sigma_rad = 0.003;
   double yaw_sigma_rad = 0.01;
-  double yaw_offset_rad = 0.7;      // AHRS yaw origin differs from the pen frame
-  double yaw_drift_radps = 3.5e-5;  // about 0.002 deg/s
+  double yaw_offset_rad = 0.7;       // AHRS yaw origin differs from the pen frame
+  double yaw_drift_radps = 4.85e-6;  // 1 deg/h
   PointNoise points;
 };
 

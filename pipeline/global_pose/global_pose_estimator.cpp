@@ -1,0 +1,466 @@
+#include "pipeline/global_pose/global_pose_estimator.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <utility>
+
+#include "runtime/error.h"
+#include "runtime/log.h"
+
+namespace pensight::global_pose {
+namespace {
+
+enum Sensor : int { kDvlVelocity, kDvlPlane, kDepthSensor, kAttitudeYaw, kVisionFix, kVisionRel };
+
+enum Warning : int {
+  kWarnNoAttitudeAt,
+  kWarnInvalidDvl,
+  kWarnInvalidDepth,
+  kWarnFixFailed,
+  kWarnRejected,
+  kWarnRelock,
+  kWarnOutOfOrder,
+  kWarnDuplicate,
+  kWarnTooLate,
+};
+
+const char* sensor_name(int s) {
+  static const char* names[] = {"DVL velocity", "DVL plane",        "pressure depth",
+                                "attitude yaw", "vision r_g/psi_r", "vision d_net/psi_net"};
+  return names[s];
+}
+
+// The states each measurement model reads (a vertical cylinder does not depend on depth).
+constexpr int kPoseStates[] = {kX, kY, kPsi};
+constexpr int kVelocityStates[] = {kU, kV, kW, kDvlBiasU, kDvlBiasV};
+constexpr int kDepthStates[] = {kZ};
+constexpr int kYawStates[] = {kPsi, kYawBias};
+
+template <int M>
+Eigen::Matrix<double, M, M> diag(const Eigen::Matrix<double, M, 1>& sigma) {
+  return sigma.cwiseAbs2().asDiagonal();
+}
+
+}  // namespace
+
+std::string describe(const GlobalPoseCounters& c) {
+  std::string out;
+  const std::pair<const char*, const SensorCounters*> rows[] = {
+      {"DVL velocity", &c.dvl_velocity}, {"DVL plane", &c.dvl_plane},
+      {"pressure depth", &c.depth},      {"attitude", &c.attitude},
+      {"vision fix", &c.vision_fix},     {"vision d_net/psi_net", &c.vision_relative}};
+  for (const auto& [name, s] : rows) {
+    char line[256];
+    std::snprintf(line, sizeof(line),
+                  "%-21s received %d, accepted %d, gated out %d, re-locked %d, invalid %d, "
+                  "duplicates %d, out of order %d, too late %d\n",
+                  name, s->received, s->accepted, s->rejected, s->relocked, s->invalid,
+                  s->duplicates, s->out_of_order, s->too_late);
+    out += line;
+  }
+  return out;
+}
+
+GlobalPoseEstimator::GlobalPoseEstimator(GlobalPoseEstimatorConfig config)
+    : cfg_(std::move(config)) {
+  if (!(cfg_.pen_radius_m > 0))
+    throw Error(
+        "global pose: pen_radius_m must be > 0 (scene.yaml pen_radius_m; 100 for a flat net)");
+  if (!(cfg_.history_s >= 0))
+    throw Error("global pose: history_s must be >= 0 (seconds of late samples to re-apply)");
+  cfg_.circle.radius_m = cfg_.pen_radius_m;
+  if (!cfg_.has_dvl)
+    log_warning(
+        "global pose: no DVL (dvl0/ missing): running without velocity aiding; rho_g follows the "
+        "attitude yaw and the vision fixes only, and is NaN where neither constrains it");
+  if (!cfg_.has_attitude)
+    log_warning(
+        "global pose: no attitude (imu0/attitude.csv missing): roll = pitch = 0 is assumed for "
+        "levelling and the heading is not aided, so rho_g drifts with the DVL");
+  if (!cfg_.has_pressure)
+    log_warning("global pose: no pressure sensor (pressure0/ missing): z_g is NaN");
+  if (cfg_.use_dvl_plane && cfg_.has_dvl && !cfg_.dvl_beams)
+    log_info("global pose: no DVL beam geometry given; DVL net-plane updates are off");
+}
+
+void GlobalPoseEstimator::warn_once(int id, const std::string& message) {
+  if (warned_[static_cast<size_t>(id)]) return;
+  warned_[static_cast<size_t>(id)] = true;
+  log_warning("global pose: " + message + " (counted; further ones are not logged)");
+}
+
+void GlobalPoseEstimator::add(const DvlSample& s) {
+  enqueue({s.t_ns, kDvl, s}, arrival_.dvl_velocity);
+}
+void GlobalPoseEstimator::add(const DepthSample& s) {
+  enqueue({s.t_ns, kDepth, s}, arrival_.depth);
+}
+void GlobalPoseEstimator::add(const NetObservation& obs) {
+  if (!obs.quality.empty() && obs.quality.size() != obs.points_C.size())
+    throw Error("global pose: camera frame " + std::to_string(obs.t_ns) + " has " +
+                std::to_string(obs.quality.size()) + " qualities for " +
+                std::to_string(obs.points_C.size()) +
+                " net points; give one quality per point, or none");
+  enqueue({obs.t_ns, kCamera, obs}, arrival_.vision_fix);
+}
+void GlobalPoseEstimator::add(const AttitudeSample& s) {
+  if (attitude_.insert(s)) {
+    enqueue({s.t_ns, kAttitude, s}, arrival_.attitude);
+    return;
+  }
+  ++arrival_.attitude.received;
+  if (std::isfinite(s.roll_rad) && std::isfinite(s.pitch_rad)) {
+    ++arrival_.attitude.duplicates;
+    warn_once(kWarnDuplicate, "duplicate timestamp dropped");
+  } else {
+    ++arrival_.attitude.invalid;
+  }
+}
+
+void GlobalPoseEstimator::enqueue(Event e, SensorCounters& arrival) {
+  ++arrival.received;
+  const auto key_less = [](const Event& a, const Event& b) {
+    return a.t_ns != b.t_ns ? a.t_ns < b.t_ns : a.kind < b.kind;
+  };
+  const auto range = std::equal_range(pending_.begin(), pending_.end(), e, key_less);
+  bool duplicate = range.first != range.second;
+  for (const auto& h : history_)
+    duplicate = duplicate || (h.event.t_ns == e.t_ns && h.event.kind == e.kind);
+  if (duplicate) {
+    ++arrival.duplicates;
+    warn_once(kWarnDuplicate, "duplicate timestamp dropped");
+    return;
+  }
+  if (e.t_ns < state_.last_time_ns) {
+    const int64_t window_start = state_.last_time_ns - static_cast<int64_t>(cfg_.history_s * 1e9);
+    // Before the oldest kept sample only while nothing has been trimmed (then the oldest
+    // sample's snapshot is the initial state).
+    const bool covered =
+        e.t_ns >= window_start &&
+        (!history_trimmed_ || (!history_.empty() && e.t_ns >= history_.front().event.t_ns));
+    if (!covered) {
+      ++arrival.too_late;
+      warn_once(kWarnTooLate, "sample older than the re-apply window dropped");
+      return;
+    }
+    ++arrival.out_of_order;
+    warn_once(kWarnOutOfOrder, "out-of-order sample re-applied in timestamp order");
+    // Roll back to just before the late sample; what followed it is applied again.
+    while (!history_.empty() && key_less(e, history_.back().event)) {
+      state_ = history_.back().before;
+      pending_.insert(pending_.begin(), std::move(history_.back().event));
+      history_.pop_back();
+    }
+  }
+  pending_.insert(std::upper_bound(pending_.begin(), pending_.end(), e, key_less), std::move(e));
+}
+
+GlobalPose GlobalPoseEstimator::estimate(int64_t t_ns) {
+  size_t n = 0;
+  while (n < pending_.size() && pending_[n].t_ns <= t_ns) {
+    history_.push_back({std::move(pending_[n]), state_});
+    apply(history_.back().event);
+    ++n;
+  }
+  pending_.erase(pending_.begin(), pending_.begin() + static_cast<std::ptrdiff_t>(n));
+  if (n > 0) {
+    const int64_t window_start = state_.last_time_ns - static_cast<int64_t>(cfg_.history_s * 1e9);
+    while (!history_.empty() && history_.front().event.t_ns < window_start) {
+      history_.pop_front();
+      history_trimmed_ = true;
+    }
+    attitude_.trim_before(window_start - static_cast<int64_t>(cfg_.max_attitude_gap_s * 1e9));
+  }
+
+  GlobalPose out;
+  out.t_ns = t_ns;
+  if (!state_.initialised) {
+    out.z_g_m = cfg_.has_pressure ? state_.last_depth_m : kNaN;
+    return out;
+  }
+  PenEkf ekf = state_.ekf;
+  ekf.predict_to(t_ns, cfg_.noise.process);
+  const StateVector& x = ekf.x;
+  const double r = std::hypot(x(kX), x(kY));
+  const double rho = std::atan2(x(kY), x(kX));
+  // (r, rho, z, psi) from (x, y, z, psi).
+  Eigen::Matrix<double, 4, kStateDim> J = Eigen::Matrix<double, 4, kStateDim>::Zero();
+  J(0, kX) = x(kX) / r;
+  J(0, kY) = x(kY) / r;
+  J(1, kX) = -x(kY) / (r * r);
+  J(1, kY) = x(kX) / (r * r);
+  J(2, kZ) = 1;
+  J(3, kPsi) = 1;
+  out.covariance = J * ekf.P * J.transpose();
+  out.r_g_m = r;
+  // Rotating the vehicle and its heading together about the pen axis changes no vision
+  // measurement, so rho_g needs the DVL or the attitude yaw; without them the EKF's linearisation
+  // would report a falsely small covariance.
+  const bool rho_aided =
+      state_.last_rho_aid_ns != kNever &&
+      1e-9 * static_cast<double>(t_ns - state_.last_rho_aid_ns) <= cfg_.max_unaided_s;
+  const bool rho_known = rho_aided && std::sqrt(out.covariance(1, 1)) <= cfg_.max_rho_sigma_rad;
+  out.rho_g_rad = rho_known ? wrap_angle(rho) : kNaN;
+  out.psi_g_rad = rho_known ? wrap_angle(x(kPsi)) : kNaN;
+  out.psi_r_rad = wrap_angle(x(kPsi) - rho);
+  out.z_g_m = std::sqrt(out.covariance(2, 2)) <= cfg_.max_z_sigma_m ? x(kZ) : kNaN;
+  return out;
+}
+
+GlobalPoseCounters GlobalPoseEstimator::counters() const {
+  GlobalPoseCounters c = state_.counts;
+  auto merge = [](SensorCounters& dst, const SensorCounters& arrival) {
+    dst.received = arrival.received;
+    dst.duplicates = arrival.duplicates;
+    dst.out_of_order = arrival.out_of_order;
+    dst.too_late = arrival.too_late;
+    dst.invalid += arrival.invalid;
+  };
+  merge(c.dvl_velocity, arrival_.dvl_velocity);
+  merge(c.depth, arrival_.depth);
+  merge(c.attitude, arrival_.attitude);
+  merge(c.vision_fix, arrival_.vision_fix);
+  return c;
+}
+
+void GlobalPoseEstimator::apply(const Event& e) {
+  if (state_.initialised)
+    state_.ekf.predict_to(std::max(e.t_ns, state_.ekf.t_ns), cfg_.noise.process);
+  state_.last_time_ns = std::max(state_.last_time_ns, e.t_ns);
+  switch (e.kind) {
+    case kAttitude:
+      apply_attitude(std::get<AttitudeSample>(e.sample));
+      break;
+    case kDepth:
+      apply_depth(std::get<DepthSample>(e.sample));
+      break;
+    case kDvl:
+      apply_dvl(std::get<DvlSample>(e.sample));
+      break;
+    case kCamera:
+      apply_camera(std::get<NetObservation>(e.sample));
+      break;
+  }
+}
+
+std::pair<double, double> GlobalPoseEstimator::level_at(int64_t t_ns) {
+  const auto a = attitude_.at(t_ns, cfg_.max_attitude_gap_s);
+  if (a) return {a->roll_rad, a->pitch_rad};
+  // At start-up the first attitude sample may simply not have arrived yet.
+  const bool starting = attitude_.empty() && (state_.init_ns == kNever ||
+                                              1e-9 * static_cast<double>(t_ns - state_.init_ns) <=
+                                                  cfg_.max_attitude_gap_s);
+  if (cfg_.has_attitude && !starting)
+    warn_once(kWarnNoAttitudeAt,
+              "no attitude sample near a measurement; assuming roll = pitch = 0");
+  return {0.0, 0.0};
+}
+
+Eigen::Isometry3d GlobalPoseEstimator::T_pen_body(const StateVector& x, double roll,
+                                                  double pitch) const {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = rotation_pen_body(roll, pitch, x(kPsi));
+  T.translation() = x.head<3>();
+  return T;
+}
+
+template <int M, class H>
+void GlobalPoseEstimator::gated_update(int sensor, SensorCounters& c,
+                                       const Eigen::Matrix<double, M, 1>& z, H&& h,
+                                       const Eigen::Matrix<double, M, M>& R,
+                                       std::array<bool, M> angles,
+                                       std::span<const int> depends_on) {
+  int& streak = state_.consecutive_rejections[static_cast<size_t>(sensor)];
+  const bool relock = streak >= cfg_.relock_after_rejections;
+  const double gate = relock ? 0.0 : cfg_.gate_scale * kGateChi2[M];
+  switch (state_.ekf.update<M>(z, std::forward<H>(h), R, angles, depends_on, gate)) {
+    case UpdateOutcome::kAccepted:
+      ++c.accepted;
+      if (sensor == kDvlVelocity || sensor == kAttitudeYaw)
+        state_.last_rho_aid_ns = state_.ekf.t_ns;
+      if (relock) {
+        ++c.relocked;
+        warn_once(kWarnRelock, std::string(sensor_name(sensor)) +
+                                   " rejected repeatedly; applied without the gate to re-lock");
+      }
+      streak = 0;
+      break;
+    case UpdateOutcome::kRejected:
+      ++c.rejected;
+      ++streak;
+      warn_once(kWarnRejected,
+                std::string(sensor_name(sensor)) + " sample rejected by the innovation gate");
+      break;
+    case UpdateOutcome::kSkipped:
+      ++c.invalid;
+      break;
+  }
+}
+
+void GlobalPoseEstimator::apply_attitude(const AttitudeSample& s) {
+  SensorCounters& c = state_.counts.attitude;
+  if (!cfg_.use_attitude_yaw || !state_.initialised) return;
+  if (!std::isfinite(s.yaw_rad)) {
+    ++c.invalid;
+    return;
+  }
+  const double var = cfg_.noise.attitude_yaw_rad * cfg_.noise.attitude_yaw_rad;
+  if (!state_.yaw_bias_set) {
+    // yaw_bias = yaw - psi: its covariance follows psi's.
+    StateVector& x = state_.ekf.x;
+    StateMatrix& P = state_.ekf.P;
+    x(kYawBias) = wrap_angle(s.yaw_rad - x(kPsi));
+    P.row(kYawBias) = -P.row(kPsi);
+    P.col(kYawBias) = -P.col(kPsi);
+    P(kYawBias, kYawBias) = P(kPsi, kPsi) + var;
+    state_.yaw_bias_set = true;
+    ++c.accepted;
+    return;
+  }
+  gated_update<1>(
+      kAttitudeYaw, c, Eigen::Matrix<double, 1, 1>(s.yaw_rad),
+      [](const StateVector& x) {
+        return Eigen::Matrix<double, 1, 1>(wrap_angle(x(kPsi) + x(kYawBias)));
+      },
+      Eigen::Matrix<double, 1, 1>(var), {true}, kYawStates);
+}
+
+void GlobalPoseEstimator::apply_depth(const DepthSample& s) {
+  SensorCounters& c = state_.counts.depth;
+  if (!std::isfinite(s.depth_m)) {
+    ++c.invalid;
+    warn_once(kWarnInvalidDepth, "NaN pressure depth skipped");
+    return;
+  }
+  state_.last_depth_m = s.depth_m;
+  if (!state_.initialised) {
+    ++c.accepted;
+    return;
+  }
+  const double sd = cfg_.noise.depth_m;
+  gated_update<1>(
+      kDepthSensor, c, Eigen::Matrix<double, 1, 1>(s.depth_m),
+      [](const StateVector& x) { return Eigen::Matrix<double, 1, 1>(x(kZ)); },
+      Eigen::Matrix<double, 1, 1>(sd * sd), {false}, kDepthStates);
+}
+
+void GlobalPoseEstimator::apply_dvl(const DvlSample& s) {
+  const auto [roll, pitch] = level_at(s.t_ns);
+  SensorCounters& cv = state_.counts.dvl_velocity;
+  if (!s.valid || !s.v_B_mps.allFinite()) {
+    ++cv.invalid;
+    warn_once(kWarnInvalidDvl, "invalid or NaN DVL velocity skipped");
+  } else {
+    const Eigen::Vector3d v_L = rotation_level_body(roll, pitch) * s.v_B_mps;
+    state_.last_velocity_L = v_L;
+    if (!state_.initialised) {
+      ++cv.accepted;
+    } else {
+      gated_update<3>(
+          kDvlVelocity, cv, v_L,
+          [](const StateVector& x) {
+            return Eigen::Vector3d(x(kU) + x(kDvlBiasU), x(kV) + x(kDvlBiasV), x(kW));
+          },
+          diag<3>(Eigen::Vector3d::Constant(cfg_.noise.dvl_velocity_mps)), {false, false, false},
+          kVelocityStates);
+    }
+  }
+  if (!cfg_.use_dvl_plane || !cfg_.dvl_beams || !state_.initialised) return;
+  const DvlPlane measured = dvl_net_plane(*cfg_.dvl_beams, s.range_m, roll, pitch);
+  if (measured.beams == 0) return;  // no ranges in this sample
+  SensorCounters& cp = state_.counts.dvl_plane;
+  if (!measured.ok) {
+    ++cp.invalid;
+    return;
+  }
+  // Predicted with the same beams and the same plane fit, so the chord-vs-curve difference of a
+  // plane through a curved wall is in the model, not in the innovation.
+  const auto model = [&, roll = roll, pitch = pitch](const StateVector& x) {
+    auto ranges =
+        dvl_ranges_to_cylinder(*cfg_.dvl_beams, T_pen_body(x, roll, pitch), cfg_.pen_radius_m);
+    for (size_t i = 0; i < 4; ++i)
+      if (!std::isfinite(s.range_m[i])) ranges[i] = kNaN;
+    const DvlPlane p = dvl_net_plane(*cfg_.dvl_beams, ranges, roll, pitch);
+    return Eigen::Vector2d(p.distance_m, p.heading_rad);
+  };
+  gated_update<2>(
+      kDvlPlane, cp, Eigen::Vector2d(measured.distance_m, measured.heading_rad), model,
+      diag<2>(Eigen::Vector2d(cfg_.noise.dvl_plane_distance_m, cfg_.noise.dvl_plane_heading_rad)),
+      {false, true}, kPoseStates);
+}
+
+void GlobalPoseEstimator::apply_camera(const NetObservation& obs) {
+  const auto [roll, pitch] = level_at(obs.t_ns);
+  SensorCounters& cf = state_.counts.vision_fix;
+  const PenFix fix = pen_fix_from_net_points(obs.points_C, cfg_.T_body_camera, roll, pitch,
+                                             cfg_.circle, obs.quality);
+  if (!fix.ok) {
+    ++cf.invalid;
+    warn_once(kWarnFixFailed, "no circle fit on a camera frame (too few net points)");
+  } else if (!state_.initialised) {
+    initialise(fix, obs.t_ns);
+    ++cf.accepted;
+    return;
+  } else {
+    const MeasurementNoise& n = cfg_.noise;
+    Eigen::Matrix2d R = n.fix_inflation * n.fix_inflation * fix.covariance;
+    R(0, 0) += n.fix_r_floor_m * n.fix_r_floor_m;
+    R(1, 1) += n.fix_psi_r_floor_rad * n.fix_psi_r_floor_rad;
+    gated_update<2>(
+        kVisionFix, cf, Eigen::Vector2d(fix.r_g_m, fix.psi_r_rad),
+        [](const StateVector& x) {
+          return Eigen::Vector2d(std::hypot(x(kX), x(kY)),
+                                 wrap_angle(x(kPsi) - std::atan2(x(kY), x(kX))));
+        },
+        R, {false, true}, kPoseStates);
+  }
+  if (!cfg_.use_vision_relative || !state_.initialised) return;
+  if (!std::isfinite(obs.d_net_m) && !std::isfinite(obs.psi_net_rad)) return;
+  SensorCounters& cr = state_.counts.vision_relative;
+  if (!(obs.d_net_m > 0) || !std::isfinite(obs.psi_net_rad)) {
+    ++cr.invalid;
+    return;
+  }
+  const auto model = [&, roll = roll, pitch = pitch](const StateVector& x) {
+    const NetRelativePose p =
+        net_relative_pose(T_pen_body(x, roll, pitch) * cfg_.T_body_camera, cfg_.pen_radius_m);
+    return Eigen::Vector2d(p.d_net_m, p.psi_net_rad);
+  };
+  gated_update<2>(
+      kVisionRel, cr, Eigen::Vector2d(obs.d_net_m, obs.psi_net_rad), model,
+      diag<2>(Eigen::Vector2d(cfg_.noise.d_net_frac * obs.d_net_m, cfg_.noise.psi_net_rad)),
+      {false, true}, kPoseStates);
+}
+
+void GlobalPoseEstimator::initialise(const PenFix& fix, int64_t t_ns) {
+  const double rho0 = cfg_.initial_rho_rad;
+  PenEkf& ekf = state_.ekf;
+  ekf.t_ns = t_ns;
+  ekf.x.setZero();
+  ekf.P.setZero();
+  const Eigen::Vector2d radial(std::cos(rho0), std::sin(rho0));
+  ekf.x.head<2>() = fix.r_g_m * radial;
+  // rho_g is defined as rho0 here: only the radial distance is uncertain.
+  ekf.P.topLeftCorner<2, 2>() =
+      fix.covariance(0, 0) * radial * radial.transpose() + 1e-8 * Eigen::Matrix2d::Identity();
+  const bool depth = std::isfinite(state_.last_depth_m);
+  ekf.x(kZ) = depth ? state_.last_depth_m : 0.0;
+  ekf.P(kZ, kZ) = depth ? std::pow(cfg_.noise.depth_m, 2) : 1e4;
+  ekf.x(kPsi) = wrap_angle(rho0 + fix.psi_r_rad);
+  ekf.P(kPsi, kPsi) = fix.covariance(1, 1) + std::pow(cfg_.noise.fix_psi_r_floor_rad, 2);
+  const bool velocity = state_.last_velocity_L.allFinite();
+  ekf.x.segment<3>(kU) = velocity ? state_.last_velocity_L : Eigen::Vector3d::Zero();
+  ekf.P.block<3, 3>(kU, kU) =
+      (velocity ? std::pow(cfg_.noise.dvl_velocity_mps, 2) : 0.25) * Eigen::Matrix3d::Identity();
+  ekf.P(kPsiRate, kPsiRate) = 0.1 * 0.1;
+  ekf.P(kYawBias, kYawBias) = 10.0;  // set from the first attitude sample
+  ekf.P(kDvlBiasU, kDvlBiasU) = ekf.P(kDvlBiasV, kDvlBiasV) =
+      std::pow(cfg_.noise.dvl_bias_prior_mps, 2);
+  state_.initialised = true;
+  state_.yaw_bias_set = false;
+  state_.last_rho_aid_ns = t_ns;  // rho_g is rho0 here by definition
+  state_.init_ns = t_ns;
+}
+
+}  // namespace pensight::global_pose

@@ -1,0 +1,164 @@
+#pragma once
+// Fused global pose in the pen: an EKF (pen_ekf.h) over DVL velocity, attitude (roll and pitch
+// level the sensors, yaw aids the heading through an estimated offset), pressure depth, the vision
+// fixes (r_g, psi_r from the circle fit; d_net, psi_net from the FFT stage) and the DVL net plane.
+// Every update is gated on its Mahalanobis distance, so a DVL spike or a bad vision frame is
+// rejected and counted instead of moving the estimate.
+//
+// Multi-rate input: samples may be added in any order. They wait in a time-ordered buffer and are
+// applied in timestamp order when estimate(t) is asked for; other sensors' attitude is
+// interpolated at each sample's timestamp. A sample older than what has been applied (late
+// arrival) rolls the filter back to a snapshot before it and re-applies what followed, within
+// `history_s`; older ones are dropped. Duplicates are dropped. All are counted, none is fatal.
+//
+// rho_g is 0 (or initial_rho_rad) at the first camera frame with a valid circle fit, which also
+// initialises the filter; before it r_g, rho_g and psi_g are NaN. A value whose standard deviation
+// exceeds its limit (e.g. rho_g with neither DVL nor attitude yaw) is reported as NaN.
+#include <Eigen/Geometry>
+#include <deque>
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "pipeline/global_pose/attitude_series.h"
+#include "pipeline/global_pose/dvl_plane.h"
+#include "pipeline/global_pose/measurements.h"
+#include "pipeline/global_pose/pen_ekf.h"
+#include "pipeline/global_pose/pen_fix.h"
+
+namespace pensight::global_pose {
+
+struct MeasurementNoise {
+  double dvl_velocity_mps = 0.02;
+  double dvl_bias_prior_mps = 0.01;  // prior on the DVL's horizontal velocity error
+  double depth_m = 0.02;
+  double attitude_yaw_rad = 0.015;
+  // Vision fix: the circle fit's covariance, floored and inflated (the ROI points' errors are
+  // correlated through the FFT stage, which the fit's covariance does not know).
+  double fix_r_floor_m = 0.01;
+  double fix_psi_r_floor_rad = 0.005;
+  double fix_inflation = 2.0;
+  double d_net_frac = 0.03;  // relative to d_net
+  double psi_net_rad = 0.035;
+  double dvl_plane_distance_m = 0.03;
+  double dvl_plane_heading_rad = 0.06;
+  ProcessNoise process;
+};
+
+struct GlobalPoseEstimatorConfig {
+  double pen_radius_m = 12.0;  // scene.yaml; a flat net is a large radius (100 m)
+  double initial_rho_rad = 0.0;
+  Eigen::Isometry3d T_body_camera = Eigen::Isometry3d::Identity();
+  std::optional<DvlConfig> dvl_beams;  // dvl0/sensor.yaml; no DVL plane updates without it
+  // Which sensor folders the dataset has; an absent one is announced once, not an error.
+  bool has_dvl = true;
+  bool has_attitude = true;
+  bool has_pressure = true;
+  bool use_attitude_yaw = true;     // aid the heading with the attitude sensor's yaw
+  bool use_vision_relative = true;  // fuse d_net / psi_net when given
+  bool use_dvl_plane = true;
+  CircleFitOptions circle;  // radius_m is overwritten with pen_radius_m
+  MeasurementNoise noise;
+  double gate_scale = 1.0;  // multiplies the chi-square gates (p = 0.999)
+  // After this many rejections in a row a sensor's next sample is applied without the gate, so
+  // the filter re-locks after a real jump instead of refusing it forever.
+  int relock_after_rejections = 12;
+  double history_s = 2.0;
+  double max_attitude_gap_s = 0.5;
+  // Beyond these standard deviations a value is reported as NaN (not observable).
+  double max_rho_sigma_rad = 0.2;
+  // rho_g and psi_g are NaN when neither DVL velocity nor attitude yaw was applied this long.
+  double max_unaided_s = 5.0;
+  double max_z_sigma_m = 1.0;
+};
+
+struct SensorCounters {
+  int received = 0;
+  int accepted = 0;
+  int rejected = 0;      // failed the innovation gate
+  int relocked = 0;      // applied without the gate after relock_after_rejections
+  int invalid = 0;       // NaN, invalid flag, failed fit
+  int duplicates = 0;    // same sensor, same timestamp: dropped
+  int out_of_order = 0;  // arrived after later samples were applied: re-applied in order
+  int too_late = 0;      // older than history_s behind the filter: dropped
+};
+
+struct GlobalPoseCounters {
+  SensorCounters dvl_velocity, dvl_plane, depth, attitude, vision_fix, vision_relative;
+};
+
+// One line per sensor, e.g. for the end-of-run report.
+std::string describe(const GlobalPoseCounters& c);
+
+class GlobalPoseEstimator {
+ public:
+  explicit GlobalPoseEstimator(GlobalPoseEstimatorConfig config);
+
+  void add(const DvlSample& s);
+  void add(const DepthSample& s);
+  void add(const AttitudeSample& s);
+  // Throws pensight::Error when obs.quality is neither empty nor one per point.
+  void add(const NetObservation& obs);
+
+  // Applies every buffered sample up to t_ns and returns the estimate at t_ns (one
+  // estimates.csv row's r_g, rho_g, z_g, psi_g, with psi_r and the covariance).
+  GlobalPose estimate(int64_t t_ns);
+
+  GlobalPoseCounters counters() const;
+  bool initialised() const { return state_.initialised; }
+  const GlobalPoseEstimatorConfig& config() const { return cfg_; }
+
+ private:
+  enum Kind : int { kAttitude, kDepth, kDvl, kCamera };
+  static constexpr int64_t kNever = std::numeric_limits<int64_t>::min();
+  struct Event {
+    int64_t t_ns;
+    Kind kind;
+    std::variant<AttitudeSample, DepthSample, DvlSample, NetObservation> sample;
+  };
+  // Everything applying a sample changes, so a late sample can roll it back.
+  struct FilterState {
+    PenEkf ekf;
+    bool initialised = false;
+    bool yaw_bias_set = false;
+    int64_t last_time_ns = kNever;
+    int64_t last_rho_aid_ns = kNever;  // last accepted DVL velocity or attitude yaw
+    int64_t init_ns = kNever;
+    double last_depth_m = kNaN;
+    Eigen::Vector3d last_velocity_L = Eigen::Vector3d::Constant(kNaN);
+    GlobalPoseCounters counts;  // applied-sample counters
+    std::array<int, 6> consecutive_rejections = {};
+  };
+  struct Applied {
+    Event event;
+    FilterState before;
+  };
+
+  void enqueue(Event e, SensorCounters& arrival);
+  void apply(const Event& e);
+  void apply_attitude(const AttitudeSample& s);
+  void apply_depth(const DepthSample& s);
+  void apply_dvl(const DvlSample& s);
+  void apply_camera(const NetObservation& obs);
+  void initialise(const PenFix& fix, int64_t t_ns);
+  // Roll and pitch at t (0 with a one-time warning when there is no attitude near t).
+  std::pair<double, double> level_at(int64_t t_ns);
+  template <int M, class H>
+  void gated_update(int sensor, SensorCounters& c, const Eigen::Matrix<double, M, 1>& z, H&& h,
+                    const Eigen::Matrix<double, M, M>& R, std::array<bool, M> angles,
+                    std::span<const int> depends_on);
+  Eigen::Isometry3d T_pen_body(const StateVector& x, double roll, double pitch) const;
+  void warn_once(int id, const std::string& message);
+
+  GlobalPoseEstimatorConfig cfg_;
+  FilterState state_;
+  std::vector<Event> pending_;   // sorted by (t, kind)
+  std::deque<Applied> history_;  // applied samples within history_s, oldest first
+  bool history_trimmed_ = false;
+  AttitudeSeries attitude_;
+  GlobalPoseCounters arrival_;  // duplicates, out_of_order, too_late, received
+  std::array<bool, 16> warned_ = {};
+};
+
+}  // namespace pensight::global_pose
