@@ -45,6 +45,7 @@ int cmd_run(const Args& args) {
   std::printf("backend: %s\n", s.backend.c_str());
   std::printf("frames: %zu (%zu unreadable, %zu without a net pose)\nstage times:\n%s", s.frames,
               s.frames_skipped, s.frames_without_pose, s.times.summary().c_str());
+  std::printf("global pose sensors:\n%s", s.global_pose_counters.c_str());
   std::printf("wrote %s/estimates.csv\n", out_dir.c_str());
   return 0;
 }

@@ -24,6 +24,7 @@ struct RunSummary {
   size_t frames_skipped = 0;  // unreadable or wrong-size images: NaN rows, with a warning each
   size_t frames_without_pose = 0;
   StageTimes times;
+  std::string global_pose_counters;  // per-sensor accepted / rejected / late counts
 };
 
 // Writes out_dir/estimates.csv whole (temporary name, then rename), creating out_dir if needed.
