@@ -321,11 +321,13 @@ float radiance(vec3 o, vec3 Dc, vec3 dDx, vec3 dDy, out float depth_m) {
 }
 
 float snow(uint x, uint y) {
-  int cx = int(x) / kSnowCellPx, cy = int(y) / kSnowCellPx;
+  // The 2x2 cells nearest to the pixel (sim/render_cpu.cpp).
+  int cx = (int(x) + kSnowCellPx / 2) / kSnowCellPx - 1;
+  int cy = (int(y) + kSnowCellPx / 2) / kSnowCellPx - 1;
   float density = uintBitsToFloat(p.counts.z);
   float s = 0.0;
-  for (int dy = -1; dy <= 1; ++dy) {
-    for (int dx = -1; dx <= 1; ++dx) {
+  for (int dy = 0; dy <= 1; ++dy) {
+    for (int dx = 0; dx <= 1; ++dx) {
       uint cell = uint(cx + dx) + (uint(cy + dy) << 16);
       uint h = hash3(cell, p.counts.x, p.counts.y ^ kStreamSnow);
       if (unit_float(h) >= density) continue;
