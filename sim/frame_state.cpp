@@ -5,11 +5,16 @@
 namespace pensight::sim {
 
 FrameState frame_state(const Scenario& s, int frame) {
+  const double t_s = frame / s.camera.calibration.rate_hz;
+  return frame_state_at(s, body_state(s, t_s), frame, t_s);
+}
+
+FrameState frame_state_at(const Scenario& s, const BodyState& body, int frame, double t_s) {
   FrameState f;
   f.frame = frame;
-  f.t_s = frame / s.camera.calibration.rate_hz;
-  f.timestamp_ns = s.frame_time_ns(frame);
-  f.body = body_state(s, f.t_s);
+  f.t_s = t_s;
+  f.timestamp_ns = s.start_time_ns + static_cast<int64_t>(std::llround(t_s * 1e9));
+  f.body = body;
   f.T_world_camera = f.body.T_world_body * s.camera.calibration.T_BS;
   for (const Lamp& l : s.light.lamps) {
     LampPose p;

@@ -30,6 +30,10 @@ struct FrameState {
   std::vector<FishPose> fish;
 };
 
+// Frame `frame` of the scenario's own trajectory.
 FrameState frame_state(const Scenario& s, int frame);
+// The same for a pose from elsewhere (a closed loop driving the vehicle): `frame` seeds the
+// per-frame noise and marine snow, `t_s` (since the start) moves the fish and the timestamp.
+FrameState frame_state_at(const Scenario& s, const BodyState& body, int frame, double t_s);
 
 }  // namespace pensight::sim

@@ -94,7 +94,8 @@ class Tracer {
       if (ca <= 0) continue;
       const double cosi = n_in.dot(vh);
       const double shade = twine ? 0.5 + 0.5 * std::abs(cosi) : std::max(cosi, 0.0);
-      e += l.intensity * std::pow(ca, l.exponent) * shade * std::exp(-c_ * r) / std::max(r2, 0.01);
+      // cos^m fall-off and attenuation in one exp.
+      e += l.intensity * shade * std::exp(l.exponent * std::log(ca) - c_ * r) / std::max(r2, 0.01);
     }
     return e;
   }
@@ -118,6 +119,7 @@ class Tracer {
 
   struct Opaque {
     double t = kInf;
+    double T = 0;  // transmittance exp(-c t)
     double radiance = 0;
   };
 
@@ -164,15 +166,16 @@ class Tracer {
         J = s_.pen.wall_albedo * irradiance(p, Eigen::Vector3d::UnitX(), false);
         break;
     }
-    const double T = std::exp(-c_ * best.t);
-    best.radiance = J * T + background_ * (1 - T);
+    best.T = std::exp(-c_ * best.t);
+    best.radiance = J * best.T + background_ * (1 - best.T);
     return best;
   }
 
-  double lamp_backscatter(const Eigen::Vector3d& d, double t_end) const {
+  // Veiling light of the lamps along a ray whose transmittance to its end is T_end.
+  double lamp_backscatter(const Eigen::Vector3d& d, double T_end) const {
     double sum = 0;
     for (const LampPose& l : f_.lamps) sum += l.intensity * 0.5 * (1 + d.dot(l.direction));
-    return s_.water.lamp_backscatter * sum * (1 - std::exp(-c_ * std::min(t_end, 50.0)));
+    return s_.water.lamp_backscatter * sum * (1 - T_end);
   }
 
   // Radiance along the camera ray D_c (camera frame, z = 1); also its net z-depth (0: none).
@@ -182,7 +185,7 @@ class Tracer {
     const Opaque opaque = first_opaque(d);
     const auto hit = net_.intersect(o_, d);
     depth = 0;
-    if (!hit || hit->t >= opaque.t) return opaque.radiance + lamp_backscatter(d, opaque.t);
+    if (!hit || hit->t >= opaque.t) return opaque.radiance + lamp_backscatter(d, opaque.T);
     if (hit->t <= range_) depth = hit->t / len * D_c.z();
     const double cover = net_coverage(*hit, D_w, hit->t / len);
     double albedo = s_.net.albedo;
@@ -193,16 +196,19 @@ class Tracer {
     const double T = std::exp(-c_ * hit->t);
     const double twine =
         albedo * irradiance(hit->point, hit->normal, true) * T + background_ * (1 - T);
-    return cover * twine + (1 - cover) * opaque.radiance + lamp_backscatter(d, hit->t);
+    return cover * twine + (1 - cover) * opaque.radiance + lamp_backscatter(d, T);
   }
 
   double snow(int x, int y) const {
-    const int cx = x / kSnowCellPx, cy = y / kSnowCellPx;
+    // The 2x2 cells nearest to the pixel: particles in the others are >= 12 px away, where a
+    // spot of radius <= 3.2 px has faded below 0.1 %.
+    const int cx = (x + kSnowCellPx / 2) / kSnowCellPx - 1;
+    const int cy = (y + kSnowCellPx / 2) / kSnowCellPx - 1;
     double light = 0.5 * ambient(o_.z());
     for (const LampPose& l : f_.lamps) light += l.intensity;
     double sum = 0;
-    for (int dy = -1; dy <= 1; ++dy) {
-      for (int dx = -1; dx <= 1; ++dx) {
+    for (int dy = 0; dy <= 1; ++dy) {
+      for (int dx = 0; dx <= 1; ++dx) {
         const auto cell = static_cast<uint32_t>(cx + dx) + (static_cast<uint32_t>(cy + dy) << 16);
         uint32_t h = hash3(cell, static_cast<uint32_t>(f_.frame), seed_ ^ kStreamSnow);
         if (unit_float(h) >= s_.water.marine_snow) continue;

@@ -358,7 +358,7 @@ Scenario parse_scenario(const std::string& text, const std::string& file_name) {
     y.fail("seed", "must be a non-negative integer");
   }
   s.seed = static_cast<uint64_t>(seed);
-  s.start_time_ns = static_cast<int64_t>(y.number("start_time_ns", 1.6e18));
+  s.start_time_ns = y.integer64("start_time_ns", s.start_time_ns);
   if (const auto m = y.optional_map("camera")) s.camera = parse_camera(*m);
   s.camera.calibration.T_BS =
       forward_mount(s.camera.position_B_m, s.camera.pan_rad, s.camera.tilt_rad);

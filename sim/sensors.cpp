@@ -37,38 +37,41 @@ DvlCalibration dvl_calibration(const DvlConfig& dvl) {
   return c;
 }
 
-std::vector<DvlSample> simulate_dvl(const Scenario& s, const NetGeometry& net) {
-  const DvlConfig& cfg = s.dvl;
+DvlSample measure_dvl(const DvlConfig& cfg, const NetGeometry& net, const BodyState& b,
+                      int64_t timestamp_ns, std::mt19937_64& rng) {
   const DvlCalibration calib = dvl_calibration(cfg);
-  auto rng = stream(s, 1);
   std::normal_distribution<double> gauss(0, 1);
   std::uniform_real_distribution<double> uniform(0, 1);
+  const Eigen::Isometry3d T_world_dvl = b.T_world_body * calib.T_BS;
+  DvlSample d;
+  d.timestamp_ns = timestamp_ns;
+  int returns = 0;
+  for (size_t k = 0; k < 4; ++k) {
+    const Eigen::Vector3d dir = T_world_dvl.linear() * calib.beam_directions_S[k];
+    const auto hit = net.intersect(T_world_dvl.translation(), dir);
+    const double noise = gauss(rng);
+    if (hit && hit->t <= cfg.max_range_m && hit->point.z() > 0) {
+      d.beam_range_m[k] = hit->t + cfg.range_noise_m * noise;
+      ++returns;
+    }
+  }
+  Eigen::Vector3d v = b.T_world_body.linear().transpose() * b.velocity_world_mps;
+  for (int i = 0; i < 3; ++i) v[i] += cfg.velocity_noise_mps * gauss(rng);
+  if (uniform(rng) < cfg.spike_probability) {
+    v[static_cast<int>(rng() % 3)] += (uniform(rng) < 0.5 ? -1 : 1) * cfg.spike_mps;
+  }
+  const bool dropout = uniform(rng) < cfg.dropout_probability;
+  d.valid = returns >= 3 && !dropout;
+  d.velocity_B_mps = d.valid ? v : Eigen::Vector3d::Constant(kNaN);
+  if (dropout) d.beam_range_m.fill(kNaN);
+  return d;
+}
+
+std::vector<DvlSample> simulate_dvl(const Scenario& s, const NetGeometry& net) {
+  auto rng = stream(s, 1);
   std::vector<DvlSample> out;
-  for_each_sample(s, cfg.rate_hz, [&](double t, int64_t ns) {
-    const BodyState b = body_state(s, t);
-    const Eigen::Isometry3d T_world_dvl = b.T_world_body * calib.T_BS;
-    DvlSample d;
-    d.timestamp_ns = ns;
-    int returns = 0;
-    for (size_t k = 0; k < 4; ++k) {
-      const Eigen::Vector3d dir = T_world_dvl.linear() * calib.beam_directions_S[k];
-      const auto hit = net.intersect(T_world_dvl.translation(), dir);
-      const double noise = gauss(rng);
-      if (hit && hit->t <= cfg.max_range_m && hit->point.z() > 0) {
-        d.beam_range_m[k] = hit->t + cfg.range_noise_m * noise;
-        ++returns;
-      }
-    }
-    Eigen::Vector3d v = b.T_world_body.linear().transpose() * b.velocity_world_mps;
-    for (int i = 0; i < 3; ++i) v[i] += cfg.velocity_noise_mps * gauss(rng);
-    if (uniform(rng) < cfg.spike_probability) {
-      v[static_cast<int>(rng() % 3)] += (uniform(rng) < 0.5 ? -1 : 1) * cfg.spike_mps;
-    }
-    const bool dropout = uniform(rng) < cfg.dropout_probability;
-    d.valid = returns >= 3 && !dropout;
-    d.velocity_B_mps = d.valid ? v : Eigen::Vector3d::Constant(kNaN);
-    if (dropout) d.beam_range_m.fill(kNaN);
-    out.push_back(d);
+  for_each_sample(s, s.dvl.rate_hz, [&](double t, int64_t ns) {
+    out.push_back(measure_dvl(s.dvl, net, body_state(s, t), ns, rng));
   });
   return out;
 }

@@ -81,6 +81,19 @@ int YamlMap::integer(const std::string& key, int fallback) const {
   return has(key) ? integer(key) : (used_->insert(key), fallback);
 }
 
+int64_t YamlMap::integer64(const std::string& key, int64_t fallback) const {
+  if (!has(key)) {
+    used_->insert(key);
+    return fallback;
+  }
+  const YAML::Node n = required(key);
+  long long v = 0;
+  if (!n.IsScalar() || !YAML::convert<long long>::decode(n, v)) {
+    fail(key, "expected a whole number, got '" + (n.IsScalar() ? n.Scalar() : std::string()) + "'");
+  }
+  return static_cast<int64_t>(v);
+}
+
 bool YamlMap::boolean(const std::string& key) const {
   const YAML::Node n = required(key);
   bool v = false;

@@ -4,6 +4,7 @@
 // the file and the full key path, so a typo never silently falls back to a default.
 #include <yaml-cpp/yaml.h>
 
+#include <cstdint>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -30,6 +31,8 @@ class YamlMap {
   std::optional<double> optional_number(const std::string& key) const;
   int integer(const std::string& key) const;
   int integer(const std::string& key, int fallback) const;
+  // Whole 64-bit integers (e.g. nanosecond timestamps), read without going through double.
+  int64_t integer64(const std::string& key, int64_t fallback) const;
   bool boolean(const std::string& key) const;
   bool boolean(const std::string& key, bool fallback) const;
   std::string string(const std::string& key) const;

@@ -232,7 +232,7 @@ float irradiance(vec3 q, vec3 n_in, bool twine) {
     if (ca <= 0.0) continue;
     float cosi = dot(n_in, vh);
     float shade = twine ? 0.5 + 0.5 * abs(cosi) : max(cosi, 0.0);
-    e += p.lamp_pos[i].w * pow(ca, p.lamp_dir[i].w) * shade * exp(-p.water.x * r) / max(r2, 0.01);
+    e += p.lamp_pos[i].w * shade * exp(p.lamp_dir[i].w * log(ca) - p.water.x * r) / max(r2, 0.01);
   }
   return e;
 }
@@ -254,8 +254,8 @@ float net_coverage(Hit h, vec3 Dw, float s, vec3 dDx, vec3 dDy) {
   return max(1.0 - (1.0 - cu) * (1.0 - cv), knot);
 }
 
-// First opaque surface (water surface, fish, basin wall): distance and radiance.
-vec2 first_opaque(vec3 o, vec3 d) {
+// First opaque surface (water surface, fish, basin wall): distance, radiance, transmittance.
+vec3 first_opaque(vec3 o, vec3 d) {
   float best = kInf;
   int kind = 0;  // 0 none, 1 surface, 2 fish, 3 wall
   uint fish = 0u;
@@ -277,7 +277,7 @@ vec2 first_opaque(vec3 o, vec3 d) {
     kind = 3;
   }
   float B = p.water.z;
-  if (kind == 0) return vec2(kInf, B);
+  if (kind == 0) return vec3(kInf, B, 0.0);
   vec3 q = o + best * d;
   float J;
   if (kind == 1) {
@@ -293,22 +293,22 @@ vec2 first_opaque(vec3 o, vec3 d) {
     J = p.light.z * irradiance(q, vec3(1.0, 0.0, 0.0), false);
   }
   float T = exp(-p.water.x * best);
-  return vec2(best, J * T + B * (1.0 - T));
+  return vec3(best, J * T + B * (1.0 - T), T);
 }
 
-float lamp_backscatter(vec3 d, float t_end) {
+float lamp_backscatter(vec3 d, float T_end) {
   float s = 0.0;
   for (uint i = 0u; i < NUM_LAMPS; ++i) s += p.lamp_pos[i].w * 0.5 * (1.0 + dot(d, p.lamp_dir[i].xyz));
-  return p.water.w * s * (1.0 - exp(-p.water.x * min(t_end, 50.0)));
+  return p.water.w * s * (1.0 - T_end);
 }
 
 float radiance(vec3 o, vec3 Dc, vec3 dDx, vec3 dDy, out float depth_m) {
   float len = length(Dc);
   vec3 Dw = to_world(Dc), d = Dw / len;
-  vec2 opaque = first_opaque(o, d);
+  vec3 opaque = first_opaque(o, d);
   Hit h;
   depth_m = 0.0;
-  if (!intersect_net(o, d, h) || h.t >= opaque.x) return opaque.y + lamp_backscatter(d, opaque.x);
+  if (!intersect_net(o, d, h) || h.t >= opaque.x) return opaque.y + lamp_backscatter(d, opaque.z);
   if (h.t <= p.origin.w) depth_m = h.t / len * Dc.z;
   float cover = net_coverage(h, Dw, h.t / len, dDx, dDy);
   float albedo = p.net.w;
@@ -317,15 +317,17 @@ float radiance(vec3 o, vec3 Dc, vec3 dDx, vec3 dDy, out float depth_m) {
   }
   float T = exp(-p.water.x * h.t);
   float twine = albedo * irradiance(h.point, h.normal, true) * T + p.water.z * (1.0 - T);
-  return cover * twine + (1.0 - cover) * opaque.y + lamp_backscatter(d, h.t);
+  return cover * twine + (1.0 - cover) * opaque.y + lamp_backscatter(d, T);
 }
 
 float snow(uint x, uint y) {
-  int cx = int(x) / kSnowCellPx, cy = int(y) / kSnowCellPx;
+  // The 2x2 cells nearest to the pixel (sim/render_cpu.cpp).
+  int cx = (int(x) + kSnowCellPx / 2) / kSnowCellPx - 1;
+  int cy = (int(y) + kSnowCellPx / 2) / kSnowCellPx - 1;
   float density = uintBitsToFloat(p.counts.z);
   float s = 0.0;
-  for (int dy = -1; dy <= 1; ++dy) {
-    for (int dx = -1; dx <= 1; ++dx) {
+  for (int dy = 0; dy <= 1; ++dy) {
+    for (int dx = 0; dx <= 1; ++dx) {
       uint cell = uint(cx + dx) + (uint(cy + dy) << 16);
       uint h = hash3(cell, p.counts.x, p.counts.y ^ kStreamSnow);
       if (unit_float(h) >= density) continue;

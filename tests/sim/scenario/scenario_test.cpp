@@ -50,6 +50,14 @@ TEST(Scenario, MinimalScenarioGetsDefaults) {
   EXPECT_NEAR(b.velocity_world_mps.x(), -0.25, 1e-9);
 }
 
+TEST(Scenario, StartTimeKeepsEveryNanosecond) {
+  const Scenario s =
+      parse_scenario(std::string(kMinimal) + "start_time_ns: 1600000000123456789\n", "t.yaml");
+  EXPECT_EQ(s.frame_time_ns(1), 1600000000223456789);
+  EXPECT_NE(error_of(std::string(kMinimal) + "start_time_ns: 1.5\n").find("whole number"),
+            std::string::npos);
+}
+
 TEST(Scenario, TypoIsNamedWithItsFile) {
   const std::string e = error_of(std::string(kMinimal) + "water: {attenuation_per_n: 0.3}\n");
   EXPECT_NE(e.find("bad.yaml"), std::string::npos) << e;
