@@ -2,6 +2,7 @@
 // static shapes, BN folded, initializers embedded). MODEL is an ONNX file (re-written through
 // our importer) or a built-in architecture: builtin:compact or builtin:trudepth (320x240,
 // random weights; for engine tests and TensorRT smoke tests).
+#include <CLI/CLI.hpp>
 #include <cstdio>
 #include <string>
 
@@ -26,24 +27,17 @@ nn::Graph load(const std::string& model) {
 }  // namespace
 
 int cmd_export_onnx(const Args& args) {
+  CLI::App cli("Write a model as TensorRT-compatible ONNX (opset 17, static shapes, BN folded)",
+               "pensight export-onnx");
   std::string model, out;
   nn::OnnxExportOptions options;
-  for (size_t i = 0; i < args.size(); ++i) {
-    if (args[i] == "--out" && i + 1 < args.size()) {
-      out = args[++i];
-    } else if (args[i] == "--fp16") {
-      options.fp16_weights = true;
-    } else if (model.empty() && !args[i].starts_with("--")) {
-      model = args[i];
-    } else {
-      throw Error("export-onnx: unexpected argument '" + args[i] +
-                  "'; usage: pensight export-onnx MODEL --out FILE [--fp16]");
-    }
-  }
-  if (model.empty() || out.empty()) {
-    throw Error(
-        "export-onnx: usage: pensight export-onnx MODEL --out FILE [--fp16] (MODEL: a .onnx file, "
-        "builtin:compact or builtin:trudepth)");
+  cli.add_option("MODEL", model, "a .onnx file, builtin:compact or builtin:trudepth")->required();
+  cli.add_option("--out", out, "ONNX file to write")->required();
+  cli.add_flag("--fp16", options.fp16_weights, "store the weights as fp16");
+  try {
+    cli.parse(std::vector<std::string>(args.rbegin(), args.rend()));
+  } catch (const CLI::ParseError& e) {
+    return cli.exit(e);
   }
   const nn::Graph graph = load(model);
   const std::string bytes = nn::export_onnx_bytes(graph, options);
