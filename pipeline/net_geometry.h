@@ -33,7 +33,7 @@ const char* to_string(RoiStatus status);
 
 struct RoiNetPoint {
   RoiStatus status = RoiStatus::kNoLattice;
-  Eigen::Vector2d centre_px = Eigen::Vector2d::Zero();
+  Eigen::Vector2d centre_px = Eigen::Vector2d::Zero();    // ROI centre + energy centroid offset
   Eigen::Vector2d lattice1_px = Eigen::Vector2d::Zero();  // image lattice vectors at the centre
   Eigen::Vector2d lattice2_px = Eigen::Vector2d::Zero();
   Eigen::Vector3d p_C = Eigen::Vector3d::Zero();  // net point on the centre ray, camera frame

@@ -76,7 +76,9 @@ struct FftRoiCpu::Impl {
   // Resample (separable bilinear: a vertical blend of two source rows, then horizontal taps),
   // then zero mean / unit variance and the window. Sums use 8 float lanes per row (vectorised)
   // and double across rows.
-  void prepare_one(const ImageU8& image, RoiOrigin o, float* dst, float* row_buf) const {
+  // Returns the energy centroid of the result, in image pixels from the ROI centre.
+  std::pair<float, float> prepare_one(const ImageU8& image, RoiOrigin o, float* dst,
+                                      float* row_buf) const {
     const int n = shape.fft_size, roi = shape.roi_size;
     const bool identity = n == roi;
     double sum = 0;
@@ -109,11 +111,32 @@ struct FftRoiCpu::Impl {
     }
     const double var = sq / count;
     const float inv_std = var > kFlatVariance ? static_cast<float>(1.0 / std::sqrt(var)) : 0.0f;
+    double e = 0, eu = 0, ev = 0;
     for (int v = 0; v < n; ++v) {
       float* row = dst + static_cast<size_t>(v) * n;
       const float wy = window[v] * inv_std;
       for (int u = 0; u < n; ++u) row[u] = (row[u] - mean) * (wy * window[u]);
+      const double row_e = lane_sum(row, n, [](float x) { return x * x; });
+      e += row_e;
+      ev += row_e * v;
+      eu += lane_sum_indexed(row, n);
     }
+    if (!(e > 0)) return {0.0f, 0.0f};
+    const double centre = 0.5 * (n - 1), scale = static_cast<double>(roi) / n;
+    return {static_cast<float>((eu / e - centre) * scale),
+            static_cast<float>((ev / e - centre) * scale)};
+  }
+
+  // sum over u of x[u]^2 * u
+  static double lane_sum_indexed(const float* x, int n) {
+    float lanes[8] = {};
+    int i = 0;
+    for (; i + 8 <= n; i += 8)
+      for (int j = 0; j < 8; ++j) lanes[j] += x[i + j] * x[i + j] * static_cast<float>(i + j);
+    double total = 0;
+    for (; i < n; ++i) total += static_cast<double>(x[i]) * x[i] * i;
+    for (float l : lanes) total += l;
+    return total;
   }
 
   template <class F>
@@ -230,9 +253,11 @@ std::vector<RoiLattice> FftRoiCpu::run(const ImageU8& image, std::span<const Roi
 #pragma omp parallel for num_threads(m.threads) schedule(dynamic)
   for (int r = 0; r < count; ++r) {
     const int t = omp_get_thread_num();
-    m.prepare_one(image, rois[r], m.in[t].get(), m.rows[t].data());
+    const auto [dx, dy] = m.prepare_one(image, rois[r], m.in[t].get(), m.rows[t].data());
     fftwf_execute_dft_r2c(m.plan, m.in[t].get(), m.out[t].get());
     lattices[r] = analyze_spectrum(m.spectrum(t), m.shape, m.params);
+    lattices[r].centroid_dx = dx;
+    lattices[r].centroid_dy = dy;
   }
   return lattices;
 }

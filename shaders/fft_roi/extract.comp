@@ -1,7 +1,8 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 // One workgroup per ROI: bilinear resample of the ROI to FFT_N^2 samples, zero mean / unit
-// variance, separable Hann window. Mirrors FftRoiCpu's prepare step (kernels/fft_roi).
+// variance, separable Hann window, and the energy centroid of the result (RoiLattice fields 6, 7;
+// the peaks pass writes fields 0..5). Mirrors FftRoiCpu's prepare step (kernels/fft_roi).
 
 layout(local_size_x = 256) in;
 layout(constant_id = 0) const uint WIDTH = 720;
@@ -13,6 +14,7 @@ const uint BITS = 8;
 layout(std430, binding = 0) readonly buffer ImageWords { uint words[]; };
 layout(std430, binding = 1) readonly buffer Origins { ivec2 origins[]; };
 layout(std430, binding = 2) buffer Samples { float samples[]; };
+layout(std430, binding = 3) writeonly buffer Lattices { float lattices[]; };  // 8 floats per ROI
 layout(push_constant) uniform Push { uint num_rois; };
 
 #include "pixels.glsl"
@@ -80,8 +82,21 @@ void main() {
   }
   float var = workgroup_sum(q) / float(n);
   float inv_std = var > kFlatVariance ? inversesqrt(var) : 0.0;
+  float e = 0.0, eu = 0.0, ev = 0.0;
   for (uint i = gl_LocalInvocationID.x; i < n; i += 256u) {
     float w = window(i % FFT_N) * window(i / FFT_N) * inv_std;
-    samples[base + i] = (samples[base + i] - mean) * w;
+    float x = (samples[base + i] - mean) * w;
+    samples[base + i] = x;
+    e += x * x;
+    eu += x * x * float(i % FFT_N);
+    ev += x * x * float(i / FFT_N);
+  }
+  e = workgroup_sum(e);
+  eu = workgroup_sum(eu);
+  ev = workgroup_sum(ev);
+  if (gl_LocalInvocationID.x == 0u) {
+    float centre = 0.5 * float(FFT_N - 1u), scale = float(ROI) / float(FFT_N);
+    lattices[roi * 8u + 6u] = e > 0.0 ? (eu / e - centre) * scale : 0.0;
+    lattices[roi * 8u + 7u] = e > 0.0 ? (ev / e - centre) * scale : 0.0;
   }
 }

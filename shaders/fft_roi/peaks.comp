@@ -14,7 +14,7 @@ layout(constant_id = 5) const float SUBHARMONIC = 0.2;
 layout(constant_id = 6) const uint SUBBIN = 1;
 
 layout(std430, binding = 0) readonly buffer Spectrum { vec2 spectrum[]; };
-layout(std430, binding = 1) writeonly buffer Lattices { float lattices[]; };
+layout(std430, binding = 1) writeonly buffer Lattices { float lattices[]; };  // 8 floats per ROI
 layout(push_constant) uniform Push { uint num_rois; };
 
 #include "reduce.glsl"
@@ -174,6 +174,6 @@ void main() {
     }
   }
   if (lid == 0u) {
-    for (uint j = 0u; j < 6u; ++j) lattices[roi * 6u + j] = result[j];
+    for (uint j = 0u; j < 6u; ++j) lattices[roi * 8u + j] = result[j];  // 6, 7: extract pass
   }
 }

@@ -36,6 +36,10 @@ ImageU8 render_net(const PinholeCamera& camera, const NetScene& s) {
             continue;
           }
           const Eigen::Vector3d p = r * (c / denom);
+          if ((p - Eigen::Vector3d(0, 0, c)).dot(u1) > s.edge_m) {
+            sum += s.water_level;
+            continue;
+          }
           const double q1 = p.dot(e1) + ph1, q2 = p.dot(e2) + ph2;
           const bool twine = q1 - std::floor(q1) < duty || q2 - std::floor(q2) < duty;
           const double contrast = s.attenuation_m > 0 ? std::exp(-p.norm() / s.attenuation_m) : 1;

@@ -19,7 +19,8 @@ struct NetScene {
   double net_level = 190, water_level = 70;  // grey levels
   double attenuation_m = 0;                  // > 0: contrast falls as exp(-range / attenuation_m)
   double noise_sigma = 2;                    // Gaussian pixel noise, grey levels
-  int supersample = 3;                       // samples per pixel side
+  double edge_m = 1e9;  // the net ends this far right of the optical axis, in the net plane
+  int supersample = 3;  // samples per pixel side
   uint64_t seed = 1;
 };
 

@@ -18,9 +18,10 @@ using testing::VulkanTest;
 constexpr double kPi = 3.14159265358979323846;
 
 // Tolerances, in cycles per ROI (= FFT bins).
-constexpr double kSubbinTol = 0.06;   // sinusoidal lattice vs its true frequency (CPU)
-constexpr double kBackendTol = 2e-3;  // Vulkan vs CPU on the same frame
-constexpr double kQualityTol = 1e-3;  // absolute, Vulkan vs CPU
+constexpr double kSubbinTol = 0.06;    // sinusoidal lattice vs its true frequency (CPU)
+constexpr double kBackendTol = 2e-3;   // Vulkan vs CPU on the same frame
+constexpr double kQualityTol = 1e-3;   // absolute, Vulkan vs CPU
+constexpr double kCentroidTol = 0.01;  // image pixels, Vulkan vs CPU
 
 ImageU8 random_image(int w, int h, std::mt19937_64& rng) {
   ImageU8 img(w, h);
@@ -189,7 +190,7 @@ std::vector<RoiLattice> run_vulkan(const vk::Context& ctx, const FftRoiVk& kerne
   samples.fill(testing::kPoison);
   spectrum.fill(testing::kPoison);
   const float nan = testing::kPoison;
-  out.fill({nan, nan, nan, nan, nan, nan});
+  out.fill({nan, nan, nan, nan, nan, nan, nan, nan});
   vk::CommandStream stream(ctx);
   kernel.record(stream, image_buf, roi_buf, samples.raw(), spectrum.raw(), out.raw(), n);
   stream.submit_and_wait();
@@ -207,6 +208,8 @@ void expect_same_lattices(const std::vector<RoiLattice>& got, const std::vector<
     EXPECT_NEAR(g.f2y * roi_size, w.f2y * roi_size, kBackendTol) << "ROI " << i;
     EXPECT_NEAR(g.quality, w.quality, kQualityTol) << "ROI " << i;
     EXPECT_NEAR(g.contrast, w.contrast, 1e-3 * std::max(1.0f, w.contrast)) << "ROI " << i;
+    EXPECT_NEAR(g.centroid_dx, w.centroid_dx, kCentroidTol) << "ROI " << i;
+    EXPECT_NEAR(g.centroid_dy, w.centroid_dy, kCentroidTol) << "ROI " << i;
   }
 }
 

@@ -1,6 +1,7 @@
 // Accuracy of the whole FFT stage (CPU path) on rendered planar nets against their known truth.
 #include <gtest/gtest.h>
 
+#include "runtime/timing.h"
 #include "tests/pipeline/fft_detection/sweep.h"
 #include "tests/support/vulkan_fixture.h"
 
@@ -66,6 +67,70 @@ TEST(FftAccuracy, NoNetGivesNanWithReason) {
   const auto flat = detector.detect(ImageU8(720, 540, 90));
   EXPECT_FALSE(flat.pose.valid());
   EXPECT_EQ(flat.pose.valid_rois, 0);
+}
+
+// The net ends right of the image centre: the ROIs that see only water must be rejected.
+TEST(FftAccuracy, HalfNetFramesRejectTheEmptyRois) {
+  const PinholeCamera cam;
+  const auto scenes = testing::sweep_scenes(8, testing::fresh_seed(),
+                                            {.noise_sigma = 4, .edge_m = 0.0, .supersample = 2});
+  NetDetector detector(cam, {.backend = Backend::kCpu});
+  const auto e = testing::run_sweep(cam, render_all(cam, scenes), scenes, detector, true);
+  testing::print_errors("half net", e);
+  EXPECT_LE(e.invalid, 1);
+  EXPECT_LE(testing::percentile(e.d_rel, 0.5), 0.025);
+  EXPECT_LE(testing::percentile(e.psi_deg, 0.5), 2.5);
+  EXPECT_LE(testing::percentile(e.d_rel, 1.0), 0.2);  // no wrong distance
+}
+
+// Ablation table for docs/fft_detection.md (run with --gtest_also_run_disabled_tests): each
+// improvement over the published method switched on in turn, on the same rendered frames.
+TEST(FftAccuracy, DISABLED_Ablation) {
+  const PinholeCamera cam;
+  const auto full = testing::sweep_scenes(32, 7, {.noise_sigma = 3, .supersample = 2});
+  const auto half =
+      testing::sweep_scenes(16, 8, {.noise_sigma = 3, .edge_m = 0.0, .supersample = 2});
+  const auto full_frames = render_all(cam, full), half_frames = render_all(cam, half);
+  struct Variant {
+    const char* label;
+    NetDetectorConfig config;
+  };
+  NetDetectorConfig published{.fft_size = 300, .window = false, .backend = Backend::kCpu};
+  published.peaks.subbin = false;
+  published.peaks.subharmonic_ratio = 1e9f;
+  published.points.min_quality = 0;
+  published.pose.inlier_rel = 1e9;
+  published.pose.max_curvature_share = 1e9;
+  NetDetectorConfig window = published;
+  window.window = true;
+  NetDetectorConfig subbin = window;
+  subbin.peaks.subbin = true;
+  NetDetectorConfig resample = subbin;
+  resample.fft_size = 256;
+  NetDetectorConfig reject = resample;
+  reject.peaks.subharmonic_ratio = 0.2f;
+  reject.points.min_quality = 0.03;
+  reject.pose = {};
+  NetDetectorConfig small = reject;
+  small.fft_size = 128;
+  for (const Variant& v :
+       {Variant{"published (300, no window)", published}, Variant{"+ Hann window", window},
+        Variant{"+ sub-bin peaks", subbin}, Variant{"+ resample 300->256", resample},
+        Variant{"+ rejection (default)", reject}, Variant{"default with 128", small}}) {
+    NetDetector detector(cam, v.config);
+    Stopwatch sw;
+    const auto e = testing::run_sweep(cam, full_frames, full, detector);
+    const double ms = sw.elapsed_ms() / static_cast<double>(full_frames.size());
+    const auto h = testing::run_sweep(cam, half_frames, half, detector);
+    testing::print_errors(v.label, e);
+    int wrong = 0;
+    for (double d : h.d_rel) wrong += d > 0.2;
+    std::printf(
+        "%-28s half net: d_rel median %.2f%% p95 %.2f%%, >20%% off: %d/%d, NaN %d | %.1f "
+        "ms/frame\n",
+        "", 100 * testing::percentile(h.d_rel, 0.5), 100 * testing::percentile(h.d_rel, 0.95),
+        wrong, h.frames, h.invalid, ms);
+  }
 }
 
 }  // namespace
