@@ -36,8 +36,9 @@ RoiNetPoint roi_net_point(const kernels::RoiLattice& lattice, kernels::RoiOrigin
   RoiNetPoint out;
   out.quality = lattice.quality;
   // The lattice was measured where the ROI's energy is: on the net part of a ROI at its edge.
-  out.centre_px = Eigen::Vector2d(origin.x + 0.5 * (roi_size - 1) + lattice.centroid_dx,
-                                  origin.y + 0.5 * (roi_size - 1) + lattice.centroid_dy);
+  out.centre_px = Eigen::Vector2d(origin.x + 0.5 * (roi_size - 1), origin.y + 0.5 * (roi_size - 1));
+  if (params.use_centroid)
+    out.centre_px += Eigen::Vector2d(lattice.centroid_dx, lattice.centroid_dy);
   if (!(lattice.quality >= params.min_quality)) return out;
 
   Eigen::Matrix2d f;

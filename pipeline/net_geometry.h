@@ -26,6 +26,7 @@ struct NetPointParams {
   double min_period_px = 2.5;  // finer lattices are below what the resampled ROI can carry
   double max_tilt_rad = 1.22;  // 70 deg: beyond, the foreshortened period is unreliable
   double max_range_m = 20.0;
+  bool use_centroid = true;  // place the point at the ROI's energy centroid (off: ROI centre)
 };
 
 enum class RoiStatus { kValid, kNoLattice, kTooFine, kTooOblique, kBadGeometry };

@@ -1,9 +1,9 @@
 #pragma once
 // FFT net detection per ROI: a grid of square ROIs is cut from a grey frame, each ROI resampled
-// to a power-of-two square (bilinear), normalised to zero mean / unit variance, multiplied by a
-// separable Hann window, transformed with a real-to-complex 2D FFT, and its power spectrum searched
-// for the two base frequency vectors of the net lattice (sub-bin refined). Only the small per-ROI
-// RoiLattice records leave the device.
+// to a power-of-two square (bilinear after a [1 2 1] binomial anti-alias prefilter), normalised to
+// zero mean / unit variance, multiplied by a separable Hann window, transformed with a
+// real-to-complex 2D FFT, and its power spectrum searched for the two base frequency vectors of the
+// net lattice (sub-bin refined). Only the small per-ROI RoiLattice records leave the device.
 //
 // Spectrum layout (all backends, as FFTW's r2c): per ROI fft_size rows (ky, natural order with
 // negative frequencies in the upper half) of fft_size/2+1 complex bins (kx >= 0), row-major.

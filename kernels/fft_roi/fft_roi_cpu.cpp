@@ -1,6 +1,8 @@
 #include <fftw3.h>
 #include <omp.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <mutex>
 #include <string>
@@ -30,10 +32,14 @@ FftwArray<T> fftw_array(size_t count) {
   return FftwArray<T>(p);
 }
 
-// Bilinear sample positions of the resampled grid: sample u sits at (u + 0.5) * roi/fft - 0.5.
+// Resampling taps per output index u (sample u sits at x = (u + 0.5) * roi / fft - 0.5): a [1 2
+// 1]/4 binomial prefilter convolved with the linear interpolation, i.e. four source taps floor(x) -
+// 1 .. floor(x) + 2, clamped to the ROI. Plain bilinear lets the spectral image of a lattice near
+// the pixel Nyquist (300 - f cycles per ROI) through, which the decimation to 256 folds into the
+// band as a false, coarser lattice; the binomial zero at 0.5 cycles/px removes it.
 struct Taps {
-  std::vector<int> i0;
-  std::vector<float> w1;  // weight of i0 + 1
+  std::vector<std::array<int, 4>> index;
+  std::vector<std::array<float, 4>> weight;
 };
 
 Taps taps(int roi, int n) {
@@ -41,12 +47,12 @@ Taps taps(int roi, int n) {
   const double scale = static_cast<double>(roi) / n;
   for (int u = 0; u < n; ++u) {
     const double x = (u + 0.5) * scale - 0.5;
-    int i = static_cast<int>(std::floor(x));
-    double w = x - i;
-    if (i < 0) i = 0, w = 0;
-    if (i >= roi - 1) i = roi - 2, w = 1;
-    t.i0.push_back(i);
-    t.w1.push_back(static_cast<float>(w));
+    const int i = static_cast<int>(std::floor(x));
+    const auto f = static_cast<float>(x - i);
+    std::array<int, 4> index;
+    for (int j = 0; j < 4; ++j) index[j] = std::clamp(i - 1 + j, 0, roi - 1);
+    t.index.push_back(index);
+    t.weight.push_back({(1 - f) / 4, (2 - f) / 4, (1 + f) / 4, f / 4});
   }
   return t;
 }
@@ -73,7 +79,7 @@ struct FftRoiCpu::Impl {
     }
   }
 
-  // Resample (separable bilinear: a vertical blend of two source rows, then horizontal taps),
+  // Resample (separable: a vertical blend of four source rows, then four horizontal taps),
   // then zero mean / unit variance and the window. Sums use 8 float lanes per row (vectorised)
   // and double across rows.
   // Returns the energy centroid of the result, in image pixels from the ROI centre.
@@ -88,16 +94,20 @@ struct FftRoiCpu::Impl {
         const uint8_t* src = &image.at(o.x, o.y + v);
         for (int u = 0; u < n; ++u) row[u] = src[u];
       } else {
-        const uint8_t* a = &image.at(o.x, o.y + taps.i0[v]);
-        const uint8_t* b = a + image.width;
-        const float wy = taps.w1[v];
+        const std::array<int, 4>& iy = taps.index[v];
+        const std::array<float, 4>& wy = taps.weight[v];
+        const uint8_t* r0 = &image.at(o.x, o.y + iy[0]);
+        const uint8_t* r1 = &image.at(o.x, o.y + iy[1]);
+        const uint8_t* r2 = &image.at(o.x, o.y + iy[2]);
+        const uint8_t* r3 = &image.at(o.x, o.y + iy[3]);
         for (int x = 0; x < roi; ++x) {
-          const float top = a[x];
-          row_buf[x] = top + wy * (static_cast<float>(b[x]) - top);
+          row_buf[x] = wy[0] * r0[x] + wy[1] * r1[x] + wy[2] * r2[x] + wy[3] * r3[x];
         }
         for (int u = 0; u < n; ++u) {
-          const float l = row_buf[taps.i0[u]], r = row_buf[taps.i0[u] + 1];
-          row[u] = l + taps.w1[u] * (r - l);
+          const std::array<int, 4>& ix = taps.index[u];
+          const std::array<float, 4>& wx = taps.weight[u];
+          row[u] = wx[0] * row_buf[ix[0]] + wx[1] * row_buf[ix[1]] + wx[2] * row_buf[ix[2]] +
+                   wx[3] * row_buf[ix[3]];
         }
       }
       sum += lane_sum(row, n, [](float x) { return x; });

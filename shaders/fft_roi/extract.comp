@@ -1,6 +1,6 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// One workgroup per ROI: bilinear resample of the ROI to FFT_N^2 samples, zero mean / unit
+// One workgroup per ROI: prefiltered bilinear resample of the ROI to FFT_N^2 samples, zero mean / unit
 // variance, separable Hann window, and the energy centroid of the result (RoiLattice fields 6, 7;
 // the peaks pass writes fields 0..5). Mirrors FftRoiCpu's prepare step (kernels/fft_roi).
 
@@ -24,21 +24,18 @@ PENSIGHT_DEFINE_WORKGROUP_SUM(256)
 const float kFlatVariance = 1e-9;
 const float kPi = 3.14159265358979323846;
 
-// Bilinear tap of resampled index u: first source index and the weight of the next one.
-void tap(uint u, out uint i0, out float w1) {
+// Resampling taps of index u: [1 2 1]/4 binomial convolved with linear interpolation, source
+// indices floor(x) - 1 .. floor(x) + 2 clamped to the ROI (see Taps in fft_roi_cpu.cpp for why).
+void taps(uint u, out uint index[4], out float weight[4]) {
   float x = (float(u) + 0.5) * (float(ROI) / float(FFT_N)) - 0.5;
-  float f = floor(x);
-  w1 = x - f;
-  int i = int(f);
-  if (i < 0) {
-    i = 0;
-    w1 = 0.0;
-  }
-  if (i >= int(ROI) - 1) {
-    i = int(ROI) - 2;
-    w1 = 1.0;
-  }
-  i0 = uint(i);
+  float fl = floor(x);
+  float f = x - fl;
+  int i = int(fl);
+  for (int j = 0; j < 4; ++j) index[j] = uint(clamp(i - 1 + j, 0, int(ROI) - 1));
+  weight[0] = (1.0 - f) / 4.0;
+  weight[1] = (2.0 - f) / 4.0;
+  weight[2] = (1.0 + f) / 4.0;
+  weight[3] = f / 4.0;
 }
 
 float window(uint u) {
@@ -49,15 +46,17 @@ float window(uint u) {
 
 float resample(uvec2 o, uint u, uint v) {
   if (FFT_N == ROI) return load_pixel(o.x + u, o.y + v);
-  uint ix, iy;
-  float wx, wy;
-  tap(u, ix, wx);
-  tap(v, iy, wy);
-  float a0 = load_pixel(o.x + ix, o.y + iy), a1 = load_pixel(o.x + ix + 1u, o.y + iy);
-  float b0 = load_pixel(o.x + ix, o.y + iy + 1u), b1 = load_pixel(o.x + ix + 1u, o.y + iy + 1u);
-  float top = a0 + wx * (a1 - a0);
-  float bottom = b0 + wx * (b1 - b0);
-  return top + wy * (bottom - top);
+  uint ix[4], iy[4];
+  float wx[4], wy[4];
+  taps(u, ix, wx);
+  taps(v, iy, wy);
+  float result = 0.0;
+  for (int j = 0; j < 4; ++j) {
+    float row = 0.0;
+    for (int i = 0; i < 4; ++i) row += wx[i] * load_pixel(o.x + ix[i], o.y + iy[j]);
+    result += wy[j] * row;
+  }
+  return result;
 }
 
 void main() {

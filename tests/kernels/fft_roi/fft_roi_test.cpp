@@ -235,7 +235,7 @@ TEST_F(VulkanTest, StageMatchesCpuOnNetImages) {
     const testing::NetScene scene{.distance_m = dist(rng),
                                   .psi_rad = psi(rng),
                                   .pitch_rad = pitch(rng),
-                                  .supersample = 2,
+
                                   .seed = rng()};
     const ImageU8 img = testing::render_net(cam, scene);
     const auto want = cpu.run(img, rois);
