@@ -27,9 +27,12 @@ struct NetPointParams {
   double max_tilt_rad = 1.22;  // 70 deg: beyond, the foreshortened period is unreliable
   double max_range_m = 20.0;
   bool use_centroid = true;  // place the point at the ROI's energy centroid (off: ROI centre)
+  // A lattice whose energy centroid lies further than this share of the ROI size from its centre
+  // covers only part of the ROI (net edge, occlusion): its peak is skewed by the truncation.
+  double max_centroid_share = 0.05;
 };
 
-enum class RoiStatus { kValid, kNoLattice, kTooFine, kTooOblique, kBadGeometry };
+enum class RoiStatus { kValid, kNoLattice, kPartial, kTooFine, kTooOblique, kBadGeometry };
 const char* to_string(RoiStatus status);
 
 struct RoiNetPoint {

@@ -59,8 +59,9 @@ struct RoiLattice {
   float f2x = 0, f2y = 0;  // ordered by angle atan2(f.y, f.x) ascending
   float quality = 0;       // share of the ROI's in-band spectral energy in the two peaks (0..1)
   float contrast = 0;      // weaker peak's power over the mean in-band power
-  // Energy centroid of the windowed ROI (Parseval: where the FFT's input energy sits), in image
-  // pixels from the ROI centre. A ROI half on the net measures the lattice of that half.
+  // Centroid of the windowed ROI's local contrast energy (16 x 16 blocks, each block's variance
+  // about its own mean), in image pixels from the ROI centre: where the lattice was measured. A
+  // ROI half on the net measures the lattice of that half.
   float centroid_dx = 0, centroid_dy = 0;
 };
 static_assert(sizeof(RoiLattice) == 8 * sizeof(float));

@@ -59,6 +59,9 @@ Taps taps(int roi, int n) {
 
 }  // namespace
 
+// Must match the 16 x 16 blocks of shaders/fft_roi/extract.comp (one per invocation).
+constexpr int kCentroidBlocks = 16;
+
 struct FftRoiCpu::Impl {
   FftRoiShape shape;
   PeakParams params;
@@ -121,32 +124,39 @@ struct FftRoiCpu::Impl {
     }
     const double var = sq / count;
     const float inv_std = var > kFlatVariance ? static_cast<float>(1.0 / std::sqrt(var)) : 0.0f;
-    double e = 0, eu = 0, ev = 0;
     for (int v = 0; v < n; ++v) {
       float* row = dst + static_cast<size_t>(v) * n;
       const float wy = window[v] * inv_std;
       for (int u = 0; u < n; ++u) row[u] = (row[u] - mean) * (wy * window[u]);
-      const double row_e = lane_sum(row, n, [](float x) { return x * x; });
-      e += row_e;
-      ev += row_e * v;
-      eu += lane_sum_indexed(row, n);
     }
-    if (!(e > 0)) return {0.0f, 0.0f};
-    const double centre = 0.5 * (n - 1), scale = static_cast<double>(roi) / n;
-    return {static_cast<float>((eu / e - centre) * scale),
-            static_cast<float>((ev / e - centre) * scale)};
+    return centroid(dst);
   }
 
-  // sum over u of x[u]^2 * u
-  static double lane_sum_indexed(const float* x, int n) {
-    float lanes[8] = {};
-    int i = 0;
-    for (; i + 8 <= n; i += 8)
-      for (int j = 0; j < 8; ++j) lanes[j] += x[i + j] * x[i + j] * static_cast<float>(i + j);
-    double total = 0;
-    for (; i < n; ++i) total += static_cast<double>(x[i]) * x[i] * i;
-    for (float l : lanes) total += l;
-    return total;
+  // Centroid of the local contrast energy: the variance of each of kCentroidBlocks^2 blocks about
+  // its own mean (so a step between net and water does not count), at the block centres.
+  std::pair<float, float> centroid(const float* dst) const {
+    const int n = shape.fft_size;
+    double e = 0, eu = 0, ev = 0;
+    for (int by = 0; by < kCentroidBlocks; ++by) {
+      const int v0 = by * n / kCentroidBlocks, v1 = (by + 1) * n / kCentroidBlocks;
+      for (int bx = 0; bx < kCentroidBlocks; ++bx) {
+        const int u0 = bx * n / kCentroidBlocks, u1 = (bx + 1) * n / kCentroidBlocks;
+        float sum = 0, sq = 0;
+        for (int v = v0; v < v1; ++v) {
+          const float* row = dst + static_cast<size_t>(v) * n;
+          for (int u = u0; u < u1; ++u) sum += row[u], sq += row[u] * row[u];
+        }
+        const float count = static_cast<float>((v1 - v0) * (u1 - u0));
+        const double eb = std::max(0.0f, sq - sum * sum / count);
+        e += eb;
+        eu += eb * 0.5 * (u0 + u1 - 1);
+        ev += eb * 0.5 * (v0 + v1 - 1);
+      }
+    }
+    if (!(e > 0)) return {0.0f, 0.0f};
+    const double centre = 0.5 * (n - 1), scale = static_cast<double>(shape.roi_size) / n;
+    return {static_cast<float>((eu / e - centre) * scale),
+            static_cast<float>((ev / e - centre) * scale)};
   }
 
   template <class F>

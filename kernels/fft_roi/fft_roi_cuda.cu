@@ -113,14 +113,22 @@ __global__ void extract_kernel(ExtractArgs a) {
   for (int i = threadIdx.x; i < count; i += kThreads) q += (dst[i] - mean) * (dst[i] - mean);
   const float var = block_sum(q, partial) / count;
   const float inv_std = var > kFlatVariance ? rsqrtf(var) : 0.0f;
-  float e = 0, eu = 0, ev = 0;
-  for (int i = threadIdx.x; i < count; i += kThreads) {
-    const float x = (dst[i] - mean) * window_at(i % a.n, a) * window_at(i / a.n, a) * inv_std;
-    dst[i] = x;
-    e += x * x;
-    eu += x * x * float(i % a.n);
-    ev += x * x * float(i / a.n);
+  // Block by block (16 x 16 blocks, one per thread): local contrast energy centroid, as in
+  // shaders/fft_roi/extract.comp. __syncthreads() in block_sum made the samples visible.
+  const int bx = threadIdx.x % 16, by = threadIdx.x / 16;
+  const int u0 = bx * a.n / 16, u1 = (bx + 1) * a.n / 16;
+  const int v0 = by * a.n / 16, v1 = (by + 1) * a.n / 16;
+  float sum = 0, sq = 0;
+  for (int v = v0; v < v1; ++v) {
+    for (int u = u0; u < u1; ++u) {
+      const float x = (dst[v * a.n + u] - mean) * (window_at(v, a) * inv_std * window_at(u, a));
+      dst[v * a.n + u] = x;
+      sum += x;
+      sq += x * x;
+    }
   }
+  float e = fmaxf(0.0f, sq - sum * sum / float((v1 - v0) * (u1 - u0)));
+  float eu = e * 0.5f * float(u0 + u1 - 1), ev = e * 0.5f * float(v0 + v1 - 1);
   e = block_sum(e, partial);
   eu = block_sum(eu, partial);
   ev = block_sum(ev, partial);

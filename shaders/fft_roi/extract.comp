@@ -1,7 +1,7 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 // One workgroup per ROI: prefiltered bilinear resample of the ROI to FFT_N^2 samples, zero mean / unit
-// variance, separable Hann window, and the energy centroid of the result (RoiLattice fields 6, 7;
+// variance, separable Hann window, and the local-contrast energy centroid (RoiLattice fields 6, 7;
 // the peaks pass writes fields 0..5). Mirrors FftRoiCpu's prepare step (kernels/fft_roi).
 
 layout(local_size_x = 256) in;
@@ -13,7 +13,7 @@ const uint BITS = 8;
 
 layout(std430, binding = 0) readonly buffer ImageWords { uint words[]; };
 layout(std430, binding = 1) readonly buffer Origins { ivec2 origins[]; };
-layout(std430, binding = 2) buffer Samples { float samples[]; };
+layout(std430, binding = 2) coherent buffer Samples { float samples[]; };
 layout(std430, binding = 3) writeonly buffer Lattices { float lattices[]; };  // 8 floats per ROI
 layout(push_constant) uniform Push { uint num_rois; };
 
@@ -81,15 +81,27 @@ void main() {
   }
   float var = workgroup_sum(q) / float(n);
   float inv_std = var > kFlatVariance ? inversesqrt(var) : 0.0;
-  float e = 0.0, eu = 0.0, ev = 0.0;
-  for (uint i = gl_LocalInvocationID.x; i < n; i += 256u) {
-    float w = window(i % FFT_N) * window(i / FFT_N) * inv_std;
-    float x = (samples[base + i] - mean) * w;
-    samples[base + i] = x;
-    e += x * x;
-    eu += x * x * float(i % FFT_N);
-    ev += x * x * float(i / FFT_N);
+  // The last pass goes block by block (16 x 16 blocks, one per invocation) for the centroid of
+  // local contrast energy: each block's variance about its own mean, at the block centre. The
+  // samples were written by other invocations: make them visible first.
+  memoryBarrierBuffer();
+  barrier();
+  uint bx = gl_LocalInvocationID.x % 16u, by = gl_LocalInvocationID.x / 16u;
+  uint u0 = bx * FFT_N / 16u, u1 = (bx + 1u) * FFT_N / 16u;
+  uint v0 = by * FFT_N / 16u, v1 = (by + 1u) * FFT_N / 16u;
+  float sum = 0.0, sq = 0.0;
+  for (uint v = v0; v < v1; ++v) {
+    for (uint u = u0; u < u1; ++u) {
+      uint i = v * FFT_N + u;
+      float x = (samples[base + i] - mean) * (window(v) * inv_std * window(u));
+      samples[base + i] = x;
+      sum += x;
+      sq += x * x;
+    }
   }
+  float e = max(0.0, sq - sum * sum / float((v1 - v0) * (u1 - u0)));
+  float eu = e * 0.5 * float(u0 + u1 - 1u);
+  float ev = e * 0.5 * float(v0 + v1 - 1u);
   e = workgroup_sum(e);
   eu = workgroup_sum(eu);
   ev = workgroup_sum(ev);
