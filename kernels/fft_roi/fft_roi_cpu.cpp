@@ -38,9 +38,12 @@ FftwArray<T> fftw_array(size_t count) {
 // the pixel Nyquist (300 - f cycles per ROI) through, which the decimation to 256 folds into the
 // band as a false, coarser lattice; the binomial zero at 0.5 cycles/px removes it.
 struct Taps {
-  std::vector<std::array<int, 4>> index;
+  std::vector<std::array<int, 4>> index;  // clamped source indices
+  std::vector<int> first;                 // floor(x) - 1 + kPad: first tap in a padded row
   std::vector<std::array<float, 4>> weight;
 };
+// Edge replication on each side of a padded row, so that the four taps are consecutive.
+constexpr int kPad = 2;
 
 Taps taps(int roi, int n) {
   Taps t;
@@ -52,6 +55,7 @@ Taps taps(int roi, int n) {
     std::array<int, 4> index;
     for (int j = 0; j < 4; ++j) index[j] = std::clamp(i - 1 + j, 0, roi - 1);
     t.index.push_back(index);
+    t.first.push_back(i - 1 + kPad);
     t.weight.push_back({(1 - f) / 4, (2 - f) / 4, (1 + f) / 4, f / 4});
   }
   return t;
@@ -103,14 +107,16 @@ struct FftRoiCpu::Impl {
         const uint8_t* r1 = &image.at(o.x, o.y + iy[1]);
         const uint8_t* r2 = &image.at(o.x, o.y + iy[2]);
         const uint8_t* r3 = &image.at(o.x, o.y + iy[3]);
+        float* padded = row_buf + kPad;
         for (int x = 0; x < roi; ++x) {
-          row_buf[x] = wy[0] * r0[x] + wy[1] * r1[x] + wy[2] * r2[x] + wy[3] * r3[x];
+          padded[x] = wy[0] * r0[x] + wy[1] * r1[x] + wy[2] * r2[x] + wy[3] * r3[x];
         }
+        for (int k = 1; k <= kPad; ++k)
+          padded[-k] = padded[0], padded[roi - 1 + k] = padded[roi - 1];
         for (int u = 0; u < n; ++u) {
-          const std::array<int, 4>& ix = taps.index[u];
+          const float* p = row_buf + taps.first[u];
           const std::array<float, 4>& wx = taps.weight[u];
-          row[u] = wx[0] * row_buf[ix[0]] + wx[1] * row_buf[ix[1]] + wx[2] * row_buf[ix[2]] +
-                   wx[3] * row_buf[ix[3]];
+          row[u] = wx[0] * p[0] + wx[1] * p[1] + wx[2] * p[2] + wx[3] * p[3];
         }
       }
       sum += lane_sum(row, n, [](float x) { return x; });
@@ -124,30 +130,38 @@ struct FftRoiCpu::Impl {
     }
     const double var = sq / count;
     const float inv_std = var > kFlatVariance ? static_cast<float>(1.0 / std::sqrt(var)) : 0.0f;
+    // Normalise + window, and the per-block sums of the centroid in the same pass.
+    std::array<float, kCentroidBlocks * kCentroidBlocks> block_sum{}, block_sq{};
+    int by = 0;
     for (int v = 0; v < n; ++v) {
       float* row = dst + static_cast<size_t>(v) * n;
       const float wy = window[v] * inv_std;
       for (int u = 0; u < n; ++u) row[u] = (row[u] - mean) * (wy * window[u]);
+      if (v >= (by + 1) * n / kCentroidBlocks) ++by;
+      for (int bx = 0; bx < kCentroidBlocks; ++bx) {
+        const int u0 = bx * n / kCentroidBlocks, len = (bx + 1) * n / kCentroidBlocks - u0;
+        const size_t b = static_cast<size_t>(by) * kCentroidBlocks + bx;
+        block_sum[b] += static_cast<float>(lane_sum(row + u0, len, [](float x) { return x; }));
+        block_sq[b] += static_cast<float>(lane_sum(row + u0, len, [](float x) { return x * x; }));
+      }
     }
-    return centroid(dst);
+    return centroid(block_sum, block_sq);
   }
 
   // Centroid of the local contrast energy: the variance of each of kCentroidBlocks^2 blocks about
   // its own mean (so a step between net and water does not count), at the block centres.
-  std::pair<float, float> centroid(const float* dst) const {
+  std::pair<float, float> centroid(
+      const std::array<float, kCentroidBlocks * kCentroidBlocks>& block_sum,
+      const std::array<float, kCentroidBlocks * kCentroidBlocks>& block_sq) const {
     const int n = shape.fft_size;
     double e = 0, eu = 0, ev = 0;
     for (int by = 0; by < kCentroidBlocks; ++by) {
       const int v0 = by * n / kCentroidBlocks, v1 = (by + 1) * n / kCentroidBlocks;
       for (int bx = 0; bx < kCentroidBlocks; ++bx) {
         const int u0 = bx * n / kCentroidBlocks, u1 = (bx + 1) * n / kCentroidBlocks;
-        float sum = 0, sq = 0;
-        for (int v = v0; v < v1; ++v) {
-          const float* row = dst + static_cast<size_t>(v) * n;
-          for (int u = u0; u < u1; ++u) sum += row[u], sq += row[u] * row[u];
-        }
+        const size_t b = static_cast<size_t>(by) * kCentroidBlocks + bx;
         const float count = static_cast<float>((v1 - v0) * (u1 - u0));
-        const double eb = std::max(0.0f, sq - sum * sum / count);
+        const double eb = std::max(0.0f, block_sq[b] - block_sum[b] * block_sum[b] / count);
         e += eb;
         eu += eb * 0.5 * (u0 + u1 - 1);
         ev += eb * 0.5 * (v0 + v1 - 1);
@@ -195,7 +209,7 @@ FftRoiCpu::FftRoiCpu(const FftRoiShape& shape, const PeakParams& params, int thr
   for (int t = 0; t < threads; ++t) {
     m.in.push_back(fftw_array<float>(m.nn));
     m.out.push_back(fftw_array<fftwf_complex>(m.nc));
-    m.rows.emplace_back(shape.roi_size);
+    m.rows.emplace_back(shape.roi_size + 2 * kPad);
   }
   std::lock_guard lock(planner_mutex());
   m.plan = fftwf_plan_dft_r2c_2d(n, n, m.in[0].get(), m.out[0].get(),
