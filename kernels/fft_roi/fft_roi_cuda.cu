@@ -197,7 +197,9 @@ __device__ float2 refine(const PeakArgs& a, const Spec& s, int2 b) {
     dx = vertex(lp(b.x - 1, b.y), l0, lp(b.x + 1, b.y));
     dy = vertex(lp(b.x, b.y - 1), l0, lp(b.x, b.y + 1));
   }
-  return make_float2((b.x + dx) / a.roi, (b.y + dy) / a.roi);
+  const float fx = (b.x + dx) / a.roi, fy = (b.y + dy) / a.roi;
+  // A peak on the kx = 0 column may refine to kx < 0: back to the half plane.
+  return (fx < 0 || (fx == 0 && fy < 0)) ? make_float2(-fx, -fy) : make_float2(fx, fy);
 }
 
 __device__ float energy3x3(const Spec& s, int2 b) {

@@ -152,6 +152,8 @@ RoiLattice analyze_spectrum(std::span<const std::complex<float>> spectrum, const
     const float inv = 1.0f / static_cast<float>(shape.roi_size);
     fx = (static_cast<float>(b.kx) + dx) * inv;
     fy = (static_cast<float>(b.ky) + dy) * inv;
+    // A peak on the kx = 0 column may refine to kx < 0: back to the half plane.
+    if (fx < 0 || (fx == 0 && fy < 0)) fx = -fx, fy = -fy;
   };
   refine(p1, out.f1x, out.f1y);
   refine(p2, out.f2x, out.f2y);

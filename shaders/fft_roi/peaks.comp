@@ -105,7 +105,9 @@ vec2 refine(ivec2 b) {
     d.x = vertex(log_power(power(b.x - 1, b.y)), l0, log_power(power(b.x + 1, b.y)));
     d.y = vertex(log_power(power(b.x, b.y - 1)), l0, log_power(power(b.x, b.y + 1)));
   }
-  return (vec2(b) + d) / float(ROI);
+  vec2 f = (vec2(b) + d) / float(ROI);
+  // A peak on the kx = 0 column may refine to kx < 0: back to the half plane.
+  return (f.x < 0.0 || (f.x == 0.0 && f.y < 0.0)) ? -f : f;
 }
 
 float energy3x3(ivec2 b) {

@@ -21,8 +21,8 @@ struct NetScene {
   double net_level = 190, water_level = 70;  // grey levels
   double attenuation_m = 0;                  // > 0: contrast falls as exp(-range / attenuation_m)
   double blur_sigma_px = 0.6;  // Gaussian PSF of lens and sensor (no real camera has none)
-  double noise_sigma = 2;                    // Gaussian pixel noise, grey levels
-  double edge_m = 1e9;  // the net ends this far right of the optical axis, in the net plane
+  double noise_sigma = 2;      // Gaussian pixel noise, grey levels
+  double edge_m = 1e9;         // the net ends this far right of the optical axis, in the net plane
   uint64_t seed = 1;
 };
 

@@ -22,7 +22,7 @@ TEST(FftAccuracy, SweepMeetsBounds) {
   const auto scenes = testing::sweep_scenes(24, testing::fresh_seed(), {});
   const auto frames = render_all(cam, scenes);
   NetDetector detector(cam, {.backend = Backend::kCpu});
-  const auto e = testing::run_sweep(cam, frames, scenes, detector, true);
+  const auto e = testing::run_sweep(frames, scenes, detector, true);
   testing::print_errors("default", e);
   EXPECT_EQ(e.invalid, 0);
   EXPECT_LE(testing::percentile(e.d_rel, 0.5), 0.02);
@@ -40,7 +40,7 @@ TEST(FftAccuracy, TurbidAndLowLight) {
        {std::pair{"turbid", turbid}, std::pair{"low light", low_light}}) {
     const auto scenes = testing::sweep_scenes(12, seed, base);
     NetDetector detector(cam, {.backend = Backend::kCpu});
-    const auto e = testing::run_sweep(cam, render_all(cam, scenes), scenes, detector, true);
+    const auto e = testing::run_sweep(render_all(cam, scenes), scenes, detector, true);
     testing::print_errors(label, e);
     EXPECT_LE(e.invalid, 1) << label;
     EXPECT_LE(testing::percentile(e.d_rel, 0.5), 0.02) << label;
@@ -98,7 +98,7 @@ TEST(FftAccuracy, HalfNetFramesRejectTheEmptyRois) {
   const auto scenes =
       testing::sweep_scenes(8, testing::fresh_seed(), {.noise_sigma = 4, .edge_m = 0.0});
   NetDetector detector(cam, {.backend = Backend::kCpu});
-  const auto e = testing::run_sweep(cam, render_all(cam, scenes), scenes, detector, true);
+  const auto e = testing::run_sweep(render_all(cam, scenes), scenes, detector, true);
   testing::print_errors("half net", e);
   EXPECT_LE(e.invalid, 1);
   EXPECT_LE(testing::percentile(e.d_rel, 0.5), 0.025);
@@ -145,8 +145,8 @@ TEST(FftAccuracy, DISABLED_Ablation) {
         Variant{"+ energy centroid", centroid}, Variant{"+ rejection (default)", reject},
         Variant{"default with 128", small}}) {
     NetDetector detector(cam, v.config);
-    const auto e = testing::run_sweep(cam, full_frames, full, detector);
-    const auto h = testing::run_sweep(cam, half_frames, half, detector);
+    const auto e = testing::run_sweep(full_frames, full, detector);
+    const auto h = testing::run_sweep(half_frames, half, detector);
     testing::print_errors(v.label, e);
     int wrong = 0;
     for (double d : h.d_rel) wrong += d > 0.2;
