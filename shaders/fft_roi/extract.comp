@@ -38,18 +38,23 @@ void taps(uint u, out uint index[4], out float weight[4]) {
   weight[3] = f / 4.0;
 }
 
-float window(uint u) {
+float window_of(uint u) {
   if (WINDOW == 0u) return 1.0;
   float s = sin(kPi * (float(u) + 0.5) / float(FFT_N));
   return s * s;
 }
 
+// Window and taps per index, computed once per workgroup (rows and columns share them).
+shared float s_window[FFT_N];
+shared uvec4 s_index[FFT_N];
+shared vec4 s_weight[FFT_N];
+
+float window(uint u) { return s_window[u]; }
+
 float resample(uvec2 o, uint u, uint v) {
   if (FFT_N == ROI) return load_pixel(o.x + u, o.y + v);
-  uint ix[4], iy[4];
-  float wx[4], wy[4];
-  taps(u, ix, wx);
-  taps(v, iy, wy);
+  uvec4 ix = s_index[u], iy = s_index[v];
+  vec4 wx = s_weight[u], wy = s_weight[v];
   float result = 0.0;
   for (int j = 0; j < 4; ++j) {
     float row = 0.0;
@@ -65,6 +70,15 @@ void main() {
   uvec2 o = uvec2(origins[roi]);
   uint n = FFT_N * FFT_N;
   uint base = roi * n;
+  for (uint u = gl_LocalInvocationID.x; u < FFT_N; u += 256u) {
+    uint index[4];
+    float weight[4];
+    taps(u, index, weight);
+    s_index[u] = uvec4(index[0], index[1], index[2], index[3]);
+    s_weight[u] = vec4(weight[0], weight[1], weight[2], weight[3]);
+    s_window[u] = window_of(u);
+  }
+  barrier();
 
   // Each invocation re-reads only what it wrote itself, so no barrier is needed between loops.
   float s = 0.0;
