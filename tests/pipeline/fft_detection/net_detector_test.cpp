@@ -36,8 +36,9 @@ TEST(NetDetector, SparseDepthsAreOnTheNet) {
       .distance_m = 1.4, .psi_rad = 0.25, .pitch_rad = -0.1, .seed = rng()};
   NetDetector detector(cam, {.backend = Backend::kCpu, .cpu_threads = 2});
   EXPECT_NE(detector.description().find("cpu"), std::string::npos);
-  const NetDetection d = detector.detect(testing::render_net(cam, scene));
+  const NetDetection d = detector.detect(testing::render_net(cam, scene), 1234567890123);
   ASSERT_TRUE(d.pose.valid()) << d.pose.reason;
+  EXPECT_EQ(d.timestamp_ns, 1234567890123);
   EXPECT_EQ(d.lattices.size(), 30u);
   EXPECT_EQ(d.points.size(), 30u);
   EXPECT_EQ(static_cast<int>(d.depths.size()), d.pose.inlier_rois);
