@@ -171,7 +171,7 @@ const std::vector<kernels::RoiOrigin>& NetDetector::rois() const {
   return impl_->rois;
 }
 
-NetDetection NetDetector::detect(const ImageU8& image) {
+NetDetection NetDetector::detect(const ImageU8& image, int64_t timestamp_ns) {
   Impl& m = *impl_;
   if (image.width != m.camera.width_px || image.height != m.camera.height_px) {
     throw Error("NetDetector: image is " + std::to_string(image.width) + "x" +
@@ -179,6 +179,7 @@ NetDetection NetDetector::detect(const ImageU8& image) {
                 std::to_string(m.camera.width_px) + "x" + std::to_string(m.camera.height_px));
   }
   NetDetection d;
+  d.timestamp_ns = timestamp_ns;
   Stopwatch sw;
   switch (m.backend) {
     case Backend::kVulkan:

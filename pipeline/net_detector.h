@@ -3,6 +3,7 @@
 // CUDA) -> per-ROI net points -> sparse depths and the FFT relative pose, with timings. Built once
 // per camera and configuration (plans, pipelines, buffers and the recorded command stream are
 // made in the constructor); detect() is called per frame.
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -35,6 +36,7 @@ struct NetDetectorConfig {
 };
 
 struct NetDetection {
+  int64_t timestamp_ns = 0;                   // the frame's, passed through
   std::vector<kernels::RoiLattice> lattices;  // per ROI, grid order
   std::vector<RoiNetPoint> points;            // per ROI, grid order
   std::vector<SparseDepth> depths;            // ROIs that support the pose (empty when NaN)
@@ -57,7 +59,7 @@ class NetDetector {
   const std::vector<kernels::RoiOrigin>& rois() const;
 
   // Throws pensight::Error when the image size differs from the camera's.
-  NetDetection detect(const ImageU8& image);
+  NetDetection detect(const ImageU8& image, int64_t timestamp_ns = 0);
 
   struct Impl;
 

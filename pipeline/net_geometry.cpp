@@ -16,6 +16,8 @@ const char* to_string(RoiStatus status) {
       return "valid";
     case RoiStatus::kNoLattice:
       return "no net lattice";
+    case RoiStatus::kPartial:
+      return "net covers part of the ROI";
     case RoiStatus::kTooFine:
       return "lattice too fine";
     case RoiStatus::kTooOblique:
@@ -35,8 +37,15 @@ RoiNetPoint roi_net_point(const kernels::RoiLattice& lattice, kernels::RoiOrigin
   }
   RoiNetPoint out;
   out.quality = lattice.quality;
+  // The lattice was measured where the ROI's energy is: on the net part of a ROI at its edge.
   out.centre_px = Eigen::Vector2d(origin.x + 0.5 * (roi_size - 1), origin.y + 0.5 * (roi_size - 1));
+  if (params.use_centroid)
+    out.centre_px += Eigen::Vector2d(lattice.centroid_dx, lattice.centroid_dy);
   if (!(lattice.quality >= params.min_quality)) return out;
+  if (std::hypot(lattice.centroid_dx, lattice.centroid_dy) > params.max_centroid_share * roi_size) {
+    out.status = RoiStatus::kPartial;
+    return out;
+  }
 
   Eigen::Matrix2d f;
   f << lattice.f1x, lattice.f2x, lattice.f1y, lattice.f2y;

@@ -26,14 +26,18 @@ struct NetPointParams {
   double min_period_px = 2.5;  // finer lattices are below what the resampled ROI can carry
   double max_tilt_rad = 1.22;  // 70 deg: beyond, the foreshortened period is unreliable
   double max_range_m = 20.0;
+  bool use_centroid = true;  // place the point at the ROI's energy centroid (off: ROI centre)
+  // A lattice whose energy centroid lies further than this share of the ROI size from its centre
+  // covers only part of the ROI (net edge, occlusion): its peak is skewed by the truncation.
+  double max_centroid_share = 0.05;
 };
 
-enum class RoiStatus { kValid, kNoLattice, kTooFine, kTooOblique, kBadGeometry };
+enum class RoiStatus { kValid, kNoLattice, kPartial, kTooFine, kTooOblique, kBadGeometry };
 const char* to_string(RoiStatus status);
 
 struct RoiNetPoint {
   RoiStatus status = RoiStatus::kNoLattice;
-  Eigen::Vector2d centre_px = Eigen::Vector2d::Zero();
+  Eigen::Vector2d centre_px = Eigen::Vector2d::Zero();    // ROI centre + energy centroid offset
   Eigen::Vector2d lattice1_px = Eigen::Vector2d::Zero();  // image lattice vectors at the centre
   Eigen::Vector2d lattice2_px = Eigen::Vector2d::Zero();
   Eigen::Vector3d p_C = Eigen::Vector3d::Zero();  // net point on the centre ray, camera frame

@@ -123,9 +123,17 @@ FftRelativePose relative_pose_fft(std::span<const RoiNetPoint> rois,
   }
   plane = fit<3>(s, in, plane_basis);
 
+  const double psi = std::atan(plane(1)), pitch = std::atan(plane(2));
+  if (std::abs(psi) > params.max_obliquity_rad || std::abs(pitch) > params.max_obliquity_rad) {
+    return invalid(rois.size(), valid,
+                   "net too oblique (psi " + std::to_string(std::lround(psi * 180 / M_PI)) +
+                       " deg, pitch " + std::to_string(std::lround(pitch * 180 / M_PI)) +
+                       " deg; limit " +
+                       std::to_string(std::lround(params.max_obliquity_rad * 180 / M_PI)) + ")");
+  }
   FftRelativePose pose{plane(0),
-                       std::atan(plane(1)),
-                       std::atan(plane(2)),
+                       psi,
+                       pitch,
                        valid,
                        static_cast<int>(in.size()),
                        0,

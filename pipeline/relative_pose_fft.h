@@ -20,6 +20,7 @@ struct RelativePoseFftParams {
   int min_valid_rois = 6;
   double inlier_rel = 0.05;          // plane residual / depth that still counts as on the net
   int min_paraboloid_rois = 12;      // fewer inliers: d_net from the plane
+  double max_obliquity_rad = 1.05;   // |psi| or |pitch| beyond 60 deg: NaN, "net too oblique"
   double max_curvature_share = 0.1;  // paraboloid's d_net more than this off the plane's: use plane
 };
 

@@ -1,9 +1,9 @@
 #pragma once
 // FFT net detection per ROI: a grid of square ROIs is cut from a grey frame, each ROI resampled
-// to a power-of-two square (bilinear), normalised to zero mean / unit variance, multiplied by a
-// separable Hann window, transformed with a real-to-complex 2D FFT, and its power spectrum searched
-// for the two base frequency vectors of the net lattice (sub-bin refined). Only the small per-ROI
-// RoiLattice records leave the device.
+// to a power-of-two square (bilinear after a [1 2 1] binomial anti-alias prefilter), normalised to
+// zero mean / unit variance, multiplied by a separable Hann window, transformed with a
+// real-to-complex 2D FFT, and its power spectrum searched for the two base frequency vectors of the
+// net lattice (sub-bin refined). Only the small per-ROI RoiLattice records leave the device.
 //
 // Spectrum layout (all backends, as FFTW's r2c): per ROI fft_size rows (ky, natural order with
 // negative frequencies in the upper half) of fft_size/2+1 complex bins (kx >= 0), row-major.
@@ -59,8 +59,12 @@ struct RoiLattice {
   float f2x = 0, f2y = 0;  // ordered by angle atan2(f.y, f.x) ascending
   float quality = 0;       // share of the ROI's in-band spectral energy in the two peaks (0..1)
   float contrast = 0;      // weaker peak's power over the mean in-band power
+  // Centroid of the windowed ROI's local contrast energy (16 x 16 blocks, each block's variance
+  // about its own mean), in image pixels from the ROI centre: where the lattice was measured. A
+  // ROI half on the net measures the lattice of that half.
+  float centroid_dx = 0, centroid_dy = 0;
 };
-static_assert(sizeof(RoiLattice) == 6 * sizeof(float));
+static_assert(sizeof(RoiLattice) == 8 * sizeof(float));
 
 void validate(const FftRoiShape& shape, bool needs_power_of_two);
 

@@ -1,6 +1,7 @@
 // Spectrum analysis of one ROI. shaders/fft_roi/peaks.comp mirrors this step by step (same band,
 // same tie-break, same sub-harmonic and sub-bin rules) so the backends agree bin for bin.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <utility>
 
@@ -8,6 +9,8 @@
 
 namespace pensight::kernels {
 namespace {
+
+constexpr int kTop = 16;
 
 struct Bin {
   int kx = 0, ky = 0;
@@ -113,32 +116,48 @@ RoiLattice analyze_spectrum(std::span<const std::complex<float>> spectrum, const
 
   // Pass 1: in-band energy and the strongest bin (ties: the first in row-major order).
   // Energy in 8 float lanes (vectorisable; the row sums are short), totals in double.
+  // The kTop strongest bins are kept in (power desc, visit order) order, which is the full
+  // scan's order: pass 2 usually finds its answer among them.
   double energy = 0;
   int count = 0;
-  Bin p1;
   float lanes[8] = {};
   int lane = 0;
+  std::array<Bin, kTop> top{};
+  int num_top = 0;
   for_each_in_band(s, band, [&](int kx, int ky, float v) {
     lanes[lane] += v;
     lane = (lane + 1) & 7;
     ++count;
-    if (v > p1.power) p1 = {kx, ky, v};
+    if (num_top == kTop && !(v > top[kTop - 1].power)) return;
+    int i = num_top < kTop ? num_top++ : kTop - 1;
+    for (; i > 0 && v > top[i - 1].power; --i) top[i] = top[i - 1];
+    top[i] = {kx, ky, v};
   });
   for (float l : lanes) energy += l;
   RoiLattice out;
-  if (p1.power <= 0 || count == 0) return out;
+  if (num_top == 0 || top[0].power <= 0) return out;
+  Bin p1 = top[0];
   p1 = fundamental(s, band, p1, params.subharmonic_ratio);
 
   // Pass 2: the strongest bin at least min_angle away from p1's direction.
   const float cos_max = std::cos(params.min_angle_deg * 3.14159265f / 180.0f);
   const float c2 = cos_max * cos_max;
   const float p1_r2 = static_cast<float>(p1.kx * p1.kx + p1.ky * p1.ky);
-  Bin p2;
-  for_each_in_band(s, band, [&](int kx, int ky, float v) {
+  auto in_cone = [&](int kx, int ky) {
     const float dot = static_cast<float>(kx * p1.kx + ky * p1.ky);
-    if (dot * dot >= c2 * static_cast<float>(kx * kx + ky * ky) * p1_r2) return;
-    if (v > p2.power) p2 = {kx, ky, v};
-  });
+    return dot * dot >= c2 * static_cast<float>(kx * kx + ky * ky) * p1_r2;
+  };
+  // If any kept bin is outside the cone, the first such is the scan's answer: every bin not kept
+  // comes after all kept ones in the scan's order.
+  Bin p2;
+  for (int i = 0; i < num_top && p2.power < 0; ++i) {
+    if (!in_cone(top[i].kx, top[i].ky)) p2 = top[i];
+  }
+  if (p2.power < 0) {
+    for_each_in_band(s, band, [&](int kx, int ky, float v) {
+      if (!in_cone(kx, ky) && v > p2.power) p2 = {kx, ky, v};
+    });
+  }
   if (p2.power <= 0) return out;
   p2 = fundamental(s, band, p2, params.subharmonic_ratio);
 
@@ -152,6 +171,8 @@ RoiLattice analyze_spectrum(std::span<const std::complex<float>> spectrum, const
     const float inv = 1.0f / static_cast<float>(shape.roi_size);
     fx = (static_cast<float>(b.kx) + dx) * inv;
     fy = (static_cast<float>(b.ky) + dy) * inv;
+    // A peak on the kx = 0 column may refine to kx < 0: back to the half plane.
+    if (fx < 0 || (fx == 0 && fy < 0)) fx = -fx, fy = -fy;
   };
   refine(p1, out.f1x, out.f1y);
   refine(p2, out.f2x, out.f2y);

@@ -38,7 +38,7 @@ FftRoiVk::FftRoiVk(const vk::Context& ctx, const FftRoiShape& shape, const PeakP
     : ctx_(&ctx),
       shape_(checked(shape)),
       extract_(ctx, {.shader = "fft_roi/extract",
-                     .num_buffers = 3,
+                     .num_buffers = 4,
                      .push_constant_bytes = sizeof(Push),
                      .specialization = {u32(shape.width), u32(shape.roi_size), u32(shape.fft_size),
                                         shape.window ? 1u : 0u}}),
@@ -91,8 +91,8 @@ void FftRoiVk::record(vk::CommandStream& stream, const vk::Buffer& image, const 
         "FftRoiVk::record: the image, ROI or lattice buffer is smaller than the shape and " +
         std::to_string(num_rois) + " ROIs need");
   }
-  stream.dispatch(extract_, {vk::in(image), vk::in(rois), vk::out(samples)}, {num_rois, 1, 1},
-                  Push{num_rois}, "fft_extract");
+  stream.dispatch(extract_, {vk::in(image), vk::in(rois), vk::out(samples), vk::out(lattices)},
+                  {num_rois, 1, 1}, Push{num_rois}, "fft_extract");
   record_fft(stream, samples, spectrum, num_rois);
   stream.dispatch(peaks_, {vk::in(spectrum), vk::out(lattices)}, {num_rois, 1, 1}, Push{num_rois},
                   "fft_peaks");

@@ -15,7 +15,7 @@ layout(constant_id = 5) const float SUBHARMONIC = 0.2;
 layout(constant_id = 6) const uint SUBBIN = 1;
 
 layout(std430, binding = 0) readonly buffer Spectrum { vec2 spectrum[]; };
-layout(std430, binding = 1) writeonly buffer Lattices { float lattices[]; };
+layout(std430, binding = 1) writeonly buffer Lattices { float lattices[]; };  // 8 floats per ROI
 layout(push_constant) uniform Push { uint num_rois; };
 
 #include "reduce.glsl"
@@ -106,7 +106,9 @@ vec2 refine(ivec2 b) {
     d.x = vertex(log_power(power(b.x - 1, b.y)), l0, log_power(power(b.x + 1, b.y)));
     d.y = vertex(log_power(power(b.x, b.y - 1)), l0, log_power(power(b.x, b.y + 1)));
   }
-  return (vec2(b) + d) / float(ROI);
+  vec2 f = (vec2(b) + d) / float(ROI);
+  // A peak on the kx = 0 column may refine to kx < 0: back to the half plane.
+  return (f.x < 0.0 || (f.x == 0.0 && f.y < 0.0)) ? -f : f;
 }
 
 float energy3x3(ivec2 b) {
@@ -175,6 +177,6 @@ void main() {
     }
   }
   if (lid == 0u) {
-    for (uint j = 0u; j < 6u; ++j) lattices[roi * 6u + j] = result[j];
+    for (uint j = 0u; j < 6u; ++j) lattices[roi * 8u + j] = result[j];  // 6, 7: extract pass
   }
 }

@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <random>
 
 namespace pensight::testing {
@@ -21,29 +22,63 @@ ImageU8 render_net(const PinholeCamera& camera, const NetScene& s) {
   const double duty = s.twine_m / s.mesh_m;
   std::normal_distribution<double> noise(0, s.noise_sigma);
 
-  ImageU8 img(camera.width_px, camera.height_px);
-  const int ss = std::max(1, s.supersample);
-  for (int y = 0; y < img.height; ++y) {
-    for (int x = 0; x < img.width; ++x) {
-      double sum = 0;
-      for (int j = 0; j < ss; ++j) {
-        for (int i = 0; i < ss; ++i) {
-          const Eigen::Vector2d px(x - 0.5 + (i + 0.5) / ss, y - 0.5 + (j + 0.5) / ss);
-          const Eigen::Vector3d r = camera.ray(px);
-          const double denom = 1 - a * r.x() - b * r.y();
-          if (!(denom > 0)) {
-            sum += s.water_level;
-            continue;
-          }
-          const Eigen::Vector3d p = r * (c / denom);
-          const double q1 = p.dot(e1) + ph1, q2 = p.dot(e2) + ph2;
-          const bool twine = q1 - std::floor(q1) < duty || q2 - std::floor(q2) < duty;
-          const double contrast = s.attenuation_m > 0 ? std::exp(-p.norm() / s.attenuation_m) : 1;
-          sum += s.water_level + (twine ? contrast * (s.net_level - s.water_level) : 0);
-        }
+  // Net point seen through a pixel position; nullopt where the ray misses the net.
+  auto hit = [&](const Eigen::Vector2d& px) -> std::optional<Eigen::Vector3d> {
+    const Eigen::Vector3d r = camera.ray(px);
+    const double denom = 1 - a * r.x() - b * r.y();
+    if (!(denom > 0)) return std::nullopt;
+    const Eigen::Vector3d p = r * (c / denom);
+    if ((p - Eigen::Vector3d(0, 0, c)).dot(u1) > s.edge_m) return std::nullopt;
+    return p;
+  };
+  // Twine share of a stripe pattern of period 1 (twine on [0, duty)) at t, seen through a
+  // Gaussian of sigma (mesh units): its Fourier series with each harmonic attenuated
+  // (cos(k x) by rotation, sin(pi k duty) from a table).
+  std::vector<double> amplitude;
+  for (int k = 1; k <= 256; ++k) amplitude.push_back(2 / (M_PI * k) * std::sin(M_PI * k * duty));
+  auto stripe = [&](double t, double sigma) {
+    const double x = 2 * M_PI * (t - 0.5 * duty), c1 = std::cos(x), s1 = std::sin(x);
+    const double decay = -2 * M_PI * M_PI * sigma * sigma;
+    double v = duty, cs = c1, sn = s1;
+    for (int k = 1; k <= 256; ++k) {
+      const double att = std::exp(decay * k * k);
+      if (att < 1e-4) break;
+      v += amplitude[k - 1] * att * cs;
+      const double next = cs * c1 - sn * s1;
+      sn = sn * c1 + cs * s1;
+      cs = next;
+    }
+    return std::clamp(v, 0.0, 1.0);
+  };
+  // Lens PSF and the pixel's box (variance 1/12 px^2) as one Gaussian.
+  const double sigma_px = std::sqrt(s.blur_sigma_px * s.blur_sigma_px + 1.0 / 12);
+
+  const int w = camera.width_px, h = camera.height_px;
+  std::vector<std::optional<Eigen::Vector3d>> hits(static_cast<size_t>(w) * h);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) hits[static_cast<size_t>(y) * w + x] = hit(Eigen::Vector2d(x, y));
+  auto at = [&](int x, int y) -> const std::optional<Eigen::Vector3d>& {
+    return hits[static_cast<size_t>(std::clamp(y, 0, h - 1)) * w + std::clamp(x, 0, w - 1)];
+  };
+
+  ImageU8 img(w, h);
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      const auto& p = at(x, y);
+      const auto &px0 = at(x - 1, y), &px1 = at(x + 1, y), &py0 = at(x, y - 1), &py1 = at(x, y + 1);
+      double v = s.water_level;
+      if (p && px0 && px1 && py0 && py1) {
+        // Plane coordinates change by grad q per pixel; the PSF's sigma along q is |grad q|.
+        const Eigen::Vector3d dx = (*px1 - *px0) / (x > 0 && x < w - 1 ? 2.0 : 1.0);
+        const Eigen::Vector3d dy = (*py1 - *py0) / (y > 0 && y < h - 1 ? 2.0 : 1.0);
+        const double s1 = sigma_px * std::hypot(dx.dot(e1), dy.dot(e1));
+        const double s2 = sigma_px * std::hypot(dx.dot(e2), dy.dot(e2));
+        const double c1 = stripe(p->dot(e1) + ph1, s1), c2 = stripe(p->dot(e2) + ph2, s2);
+        const double twine = c1 + c2 - c1 * c2;
+        const double contrast = s.attenuation_m > 0 ? std::exp(-p->norm() / s.attenuation_m) : 1;
+        v += twine * contrast * (s.net_level - s.water_level);
       }
-      const double v = sum / (ss * ss) + noise(rng);
-      img.at(x, y) = static_cast<uint8_t>(std::clamp(std::lround(v), 0L, 255L));
+      img.at(x, y) = static_cast<uint8_t>(std::clamp(std::lround(v + noise(rng)), 0L, 255L));
     }
   }
   return img;

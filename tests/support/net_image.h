@@ -1,7 +1,9 @@
 #pragma once
 // Analytic test frames for the FFT net detector until the renderer lands: a planar square net in
 // front of the camera, ray-traced through pensight::PinholeCamera (distortion included) with
-// supersampling, and frames without a net.
+// the twine pattern filtered analytically by the pixel footprint and the lens PSF before
+// sampling (so thin, far twine is band-limited like in a real camera instead of aliasing), and
+// frames without a net.
 #include <cstdint>
 
 #include "pipeline/camera.h"
@@ -18,8 +20,9 @@ struct NetScene {
   double twine_rotation_rad = 0;             // twine directions within the net plane
   double net_level = 190, water_level = 70;  // grey levels
   double attenuation_m = 0;                  // > 0: contrast falls as exp(-range / attenuation_m)
-  double noise_sigma = 2;                    // Gaussian pixel noise, grey levels
-  int supersample = 3;                       // samples per pixel side
+  double blur_sigma_px = 0.6;  // Gaussian PSF of lens and sensor (no real camera has none)
+  double noise_sigma = 2;      // Gaussian pixel noise, grey levels
+  double edge_m = 1e9;         // the net ends this far right of the optical axis, in the net plane
   uint64_t seed = 1;
 };
 

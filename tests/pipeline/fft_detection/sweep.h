@@ -46,7 +46,7 @@ inline std::vector<NetScene> sweep_scenes(int count, uint64_t seed, const NetSce
   return scenes;
 }
 
-inline SweepErrors run_sweep(const PinholeCamera& cam, const std::vector<ImageU8>& frames,
+inline SweepErrors run_sweep(const std::vector<ImageU8>& frames,
                              const std::vector<NetScene>& scenes, NetDetector& detector,
                              bool verbose = false) {
   SweepErrors e;
@@ -72,7 +72,6 @@ inline SweepErrors run_sweep(const PinholeCamera& cam, const std::vector<ImageU8
           (d.pose.psi_net_rad - s.psi_rad) * 180 / M_PI,
           (d.pose.pitch_net_rad - s.pitch_rad) * 180 / M_PI, d.pose.inlier_rois, d.pose.valid_rois);
     }
-    (void)cam;
   }
   return e;
 }

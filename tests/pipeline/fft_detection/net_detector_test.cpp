@@ -1,0 +1,74 @@
+#include "pipeline/net_detector.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "runtime/error.h"
+#include "tests/support/net_image.h"
+#include "tests/support/vulkan_fixture.h"
+
+namespace pensight {
+namespace {
+
+TEST(NetDetector, BackendNames) {
+  for (Backend b : {Backend::kAuto, Backend::kCpu, Backend::kVulkan, Backend::kCuda}) {
+    EXPECT_EQ(parse_backend(to_string(b)), b);
+  }
+  EXPECT_THROW(parse_backend("gpu"), Error);
+}
+
+TEST(NetDetector, RejectsBadConfigurationAndImages) {
+  const PinholeCamera cam;
+  EXPECT_THROW(NetDetector(cam, {.mesh_m = 0, .backend = Backend::kCpu}), Error);
+  EXPECT_THROW(NetDetector(cam, {.grid = {.size_px = 600}, .backend = Backend::kCpu}), Error);
+  NetDetector detector(cam, {.backend = Backend::kCpu});
+  EXPECT_THROW(detector.detect(ImageU8(640, 480)), Error);
+  EXPECT_NE(NetDetector(cam, {}).backend(), Backend::kAuto);
+}
+
+// Sparse depths lie on the rendered plane, at the pixels of their ROIs.
+TEST(NetDetector, SparseDepthsAreOnTheNet) {
+  std::mt19937_64 rng(testing::fresh_seed());
+  const PinholeCamera cam;
+  const testing::NetScene scene{
+      .distance_m = 1.4, .psi_rad = 0.25, .pitch_rad = -0.1, .seed = rng()};
+  NetDetector detector(cam, {.backend = Backend::kCpu, .cpu_threads = 2});
+  EXPECT_NE(detector.description().find("cpu"), std::string::npos);
+  const NetDetection d = detector.detect(testing::render_net(cam, scene), 1234567890123);
+  ASSERT_TRUE(d.pose.valid()) << d.pose.reason;
+  EXPECT_EQ(d.timestamp_ns, 1234567890123);
+  EXPECT_EQ(d.lattices.size(), 30u);
+  EXPECT_EQ(d.points.size(), 30u);
+  EXPECT_EQ(static_cast<int>(d.depths.size()), d.pose.inlier_rois);
+  const double a = std::tan(scene.psi_rad), b = std::tan(scene.pitch_rad);
+  for (const SparseDepth& s : d.depths) {
+    EXPECT_TRUE(cam.in_image({s.px, s.py}));
+    const Eigen::Vector3d r = cam.ray({s.px, s.py});
+    const double z = scene.distance_m / (1 - a * r.x() - b * r.y());
+    EXPECT_NEAR(s.depth_m, z, 0.03 * z) << s.px << ", " << s.py;
+  }
+  EXPECT_GE(d.fft_ms, 0);
+  EXPECT_GE(d.pose_ms, 0);
+}
+
+// The Vulkan backend (lavapipe here) gives the CPU's pose.
+TEST(NetDetector, VulkanBackendMatchesCpu) {
+  std::mt19937_64 rng(testing::fresh_seed());
+  const PinholeCamera cam{.k1 = -0.03};
+  const testing::NetScene scene{.distance_m = 0.9, .psi_rad = -0.3, .seed = rng()};
+  const ImageU8 frame = testing::render_net(cam, scene);
+  NetDetector cpu(cam, {.backend = Backend::kCpu});
+  NetDetector vulkan(cam, {.backend = Backend::kVulkan, .vulkan_device = "llvmpipe"});
+  EXPECT_EQ(vulkan.backend(), Backend::kVulkan);
+  const NetDetection c = cpu.detect(frame), v = vulkan.detect(frame);
+  ASSERT_TRUE(c.pose.valid() && v.pose.valid()) << c.pose.reason << v.pose.reason;
+  EXPECT_NEAR(v.pose.d_net_m, c.pose.d_net_m, 1e-4 * c.pose.d_net_m);
+  EXPECT_NEAR(v.pose.psi_net_rad, c.pose.psi_net_rad, 1e-4);
+  EXPECT_NEAR(v.pose.pitch_net_rad, c.pose.pitch_net_rad, 1e-4);
+  EXPECT_EQ(v.pose.inlier_rois, c.pose.inlier_rois);
+}
+
+}  // namespace
+}  // namespace pensight
