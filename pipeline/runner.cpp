@@ -96,7 +96,7 @@ RunSummary run_dataset(const Dataset& dataset, const std::filesystem::path& out_
     try {
       const ImageU8 frame = dataset.load_frame(i);
       summary.times.add("load image", sw.elapsed_ms());
-      const NetDetection d = detector.detect(frame);
+      const NetDetection d = detector.detect(frame, row.timestamp_ns);
       summary.times.add("fft net detection", d.fft_ms);
       summary.times.add("relative pose (fft)", d.pose_ms);
       row.valid_rois = d.pose.valid_rois;
