@@ -31,13 +31,14 @@ Eigen::Isometry3d forward_mount(double x, double z) {
   return T;
 }
 
-DvlConfig dvl_config() {
-  DvlConfig dvl;
-  dvl.T_body_dvl = forward_mount(0.4, 0.2);
+DvlCalibration dvl_config() {
+  DvlCalibration dvl;
+  dvl.T_BS = forward_mount(0.4, 0.2);
   const double off = 22.5 * std::numbers::pi / 180.0;
   for (size_t i = 0; i < 4; ++i) {
     const double az = std::numbers::pi / 4 + static_cast<double>(i) * std::numbers::pi / 2;
-    dvl.beams_S[i] = {std::sin(off) * std::cos(az), std::sin(off) * std::sin(az), std::cos(off)};
+    dvl.beam_directions_S[i] = {std::sin(off) * std::cos(az), std::sin(off) * std::sin(az),
+                                std::cos(off)};
   }
   return dvl;
 }
@@ -46,7 +47,7 @@ DvlConfig dvl_config() {
 struct Frame {
   NetObservation camera;
   std::vector<DvlSample> dvl;
-  std::vector<DepthSample> depth;
+  std::vector<PressureSample> depth;
   std::vector<AttitudeSample> attitude;
 };
 
@@ -67,7 +68,7 @@ std::vector<Frame> make_frames() {
   std::normal_distribution<double> n01(0.0, 1.0);
   const PinholeCamera cam;
   const Eigen::Isometry3d T_bc = forward_mount(0.3, 0.1);
-  const DvlConfig dvl = dvl_config();
+  const DvlCalibration dvl = dvl_config();
   std::vector<Frame> frames(kFrames);
   for (int f = 0; f < kFrames; ++f) {
     const double t = 0.1 * f;
@@ -94,10 +95,11 @@ std::vector<Frame> make_frames() {
       const Eigen::Vector3d v_P =
           (pose_at(s + h).translation() - pose_at(s - h).translation()) / (2 * h);
       DvlSample d;
-      d.t_ns = ns(s);
-      d.v_B_mps =
+      d.timestamp_ns = ns(s);
+      d.valid = true;
+      d.velocity_B_mps =
           T.linear().transpose() * v_P + 0.01 * Eigen::Vector3d(n01(rng), n01(rng), n01(rng));
-      d.range_m = dvl_ranges_to_cylinder(dvl, T, kRadius);
+      d.beam_range_m = dvl_ranges_to_cylinder(dvl, T, kRadius);
       fr.dvl.push_back(d);
     }
     if (f % 4 != 3) fr.depth.push_back({ns(t + 0.031), 5.0 + 0.02 * n01(rng)});

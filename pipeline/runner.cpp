@@ -1,6 +1,7 @@
 #include "pipeline/runner.h"
 
 #include <string>
+#include <vector>
 
 #include "pipeline/dataset/estimates_csv.h"
 #include "pipeline/global_pose/global_pose_estimator.h"
@@ -15,9 +16,7 @@ global_pose::GlobalPoseEstimatorConfig global_pose_config(const Dataset& d) {
   c.pen_radius_m = d.scene.pen_radius_m;
   c.initial_rho_rad = d.scene.initial_rho_rad.value_or(0.0);
   c.T_body_camera = d.cam0.T_BS;
-  if (d.dvl0)
-    c.dvl_beams =
-        global_pose::DvlConfig{d.dvl0->calibration.T_BS, d.dvl0->calibration.beam_directions_S};
+  if (d.dvl0) c.dvl_beams = d.dvl0->calibration;
   c.has_dvl = d.dvl0.has_value();
   c.has_attitude = d.imu0.has_value();
   c.has_pressure = d.pressure0.has_value();
@@ -31,28 +30,19 @@ class SensorFeed {
   explicit SensorFeed(const Dataset& d) : d_(d) {}
 
   void until(int64_t t_ns, global_pose::GlobalPoseEstimator& est) {
-    if (d_.dvl0) {
-      for (const auto& s = d_.dvl0->samples; dvl_ < s.size() && s[dvl_].timestamp_ns <= t_ns;
-           ++dvl_) {
-        est.add(global_pose::DvlSample{s[dvl_].timestamp_ns, s[dvl_].velocity_B_mps, s[dvl_].valid,
-                                       s[dvl_].beam_range_m});
-      }
-    }
-    if (d_.pressure0) {
-      for (const auto& s = *d_.pressure0; depth_ < s.size() && s[depth_].timestamp_ns <= t_ns;
-           ++depth_) {
-        est.add(global_pose::DepthSample{s[depth_].timestamp_ns, s[depth_].depth_m});
-      }
-    }
-    if (d_.imu0) {
-      for (const auto& s = *d_.imu0; att_ < s.size() && s[att_].timestamp_ns <= t_ns; ++att_) {
-        est.add(global_pose::AttitudeSample{s[att_].timestamp_ns, s[att_].roll_rad,
-                                            s[att_].pitch_rad, s[att_].yaw_rad});
-      }
-    }
+    if (d_.dvl0) add_until(d_.dvl0->samples, dvl_, t_ns, est);
+    if (d_.pressure0) add_until(*d_.pressure0, depth_, t_ns, est);
+    if (d_.imu0) add_until(*d_.imu0, att_, t_ns, est);
   }
 
  private:
+  template <class Sample>
+  static void add_until(const std::vector<Sample>& samples, size_t& next, int64_t t_ns,
+                        global_pose::GlobalPoseEstimator& est) {
+    for (; next < samples.size() && samples[next].timestamp_ns <= t_ns; ++next)
+      est.add(samples[next]);
+  }
+
   const Dataset& d_;
   size_t dvl_ = 0, depth_ = 0, att_ = 0;
 };

@@ -6,14 +6,14 @@
 namespace pensight::global_pose {
 namespace {
 bool earlier(const AttitudeSample& a, int64_t t) {
-  return a.t_ns < t;
+  return a.timestamp_ns < t;
 }
 }  // namespace
 
 bool AttitudeSeries::insert(const AttitudeSample& s) {
   if (!std::isfinite(s.roll_rad) || !std::isfinite(s.pitch_rad)) return false;
-  const auto it = std::lower_bound(samples_.begin(), samples_.end(), s.t_ns, earlier);
-  if (it != samples_.end() && it->t_ns == s.t_ns) return false;
+  const auto it = std::lower_bound(samples_.begin(), samples_.end(), s.timestamp_ns, earlier);
+  if (it != samples_.end() && it->timestamp_ns == s.timestamp_ns) return false;
   samples_.insert(it, s);
   return true;
 }
@@ -24,23 +24,24 @@ std::optional<AttitudeSample> AttitudeSeries::at(int64_t t_ns, double max_gap_s)
   const auto hi = std::lower_bound(samples_.begin(), samples_.end(), t_ns, earlier);
   if (hi == samples_.end()) {
     const AttitudeSample& last = samples_.back();
-    if (t_ns - last.t_ns > max_gap_ns) return std::nullopt;
+    if (t_ns - last.timestamp_ns > max_gap_ns) return std::nullopt;
     return last;
   }
-  if (hi->t_ns == t_ns || hi == samples_.begin()) {
-    if (hi->t_ns - t_ns > max_gap_ns) return std::nullopt;
+  if (hi->timestamp_ns == t_ns || hi == samples_.begin()) {
+    if (hi->timestamp_ns - t_ns > max_gap_ns) return std::nullopt;
     return *hi;
   }
   const AttitudeSample& a = *(hi - 1);
   const AttitudeSample& b = *hi;
-  if (b.t_ns - a.t_ns > 2 * max_gap_ns) {
-    const AttitudeSample& near = (t_ns - a.t_ns < b.t_ns - t_ns) ? a : b;
-    if (std::abs(near.t_ns - t_ns) > max_gap_ns) return std::nullopt;
+  if (b.timestamp_ns - a.timestamp_ns > 2 * max_gap_ns) {
+    const AttitudeSample& near = (t_ns - a.timestamp_ns < b.timestamp_ns - t_ns) ? a : b;
+    if (std::abs(near.timestamp_ns - t_ns) > max_gap_ns) return std::nullopt;
     return near;
   }
-  const double f = static_cast<double>(t_ns - a.t_ns) / static_cast<double>(b.t_ns - a.t_ns);
+  const double f = static_cast<double>(t_ns - a.timestamp_ns) /
+                   static_cast<double>(b.timestamp_ns - a.timestamp_ns);
   AttitudeSample s;
-  s.t_ns = t_ns;
+  s.timestamp_ns = t_ns;
   s.roll_rad = a.roll_rad + f * (b.roll_rad - a.roll_rad);
   s.pitch_rad = a.pitch_rad + f * (b.pitch_rad - a.pitch_rad);
   s.yaw_rad = wrap_angle(a.yaw_rad + f * wrap_angle(b.yaw_rad - a.yaw_rad));
@@ -48,7 +49,7 @@ std::optional<AttitudeSample> AttitudeSeries::at(int64_t t_ns, double max_gap_s)
 }
 
 void AttitudeSeries::trim_before(int64_t t_ns) {
-  while (samples_.size() > 1 && samples_[1].t_ns < t_ns) samples_.pop_front();
+  while (samples_.size() > 1 && samples_[1].timestamp_ns < t_ns) samples_.pop_front();
 }
 
 }  // namespace pensight::global_pose

@@ -14,14 +14,14 @@ NetRelativePose DvlPlane::in_camera(const Eigen::Isometry3d& T_body_camera) cons
   return {offset / m.z(), std::atan2(-m.x(), m.z()), std::atan2(-m.y(), m.z())};
 }
 
-DvlPlane dvl_net_plane(const DvlConfig& dvl, const std::array<double, 4>& range_m, double roll_rad,
-                       double pitch_rad) {
+DvlPlane dvl_net_plane(const DvlCalibration& dvl, const std::array<double, 4>& range_m,
+                       double roll_rad, double pitch_rad) {
   DvlPlane plane;
   std::array<Eigen::Vector3d, 4> pts;
   int n = 0;
   for (size_t i = 0; i < 4; ++i) {
     if (!(std::isfinite(range_m[i]) && range_m[i] > 0)) continue;
-    pts[n++] = dvl.T_body_dvl * (range_m[i] * dvl.beams_S[i].normalized());
+    pts[n++] = dvl.T_BS * (range_m[i] * dvl.beam_directions_S[i].normalized());
   }
   plane.beams = n;
   if (n < 3) return plane;
@@ -44,13 +44,14 @@ DvlPlane dvl_net_plane(const DvlConfig& dvl, const std::array<double, 4>& range_
   return plane;
 }
 
-std::array<double, 4> dvl_ranges_to_cylinder(const DvlConfig& dvl,
+std::array<double, 4> dvl_ranges_to_cylinder(const DvlCalibration& dvl,
                                              const Eigen::Isometry3d& T_pen_body, double radius_m) {
-  const Eigen::Isometry3d T_pen_dvl = T_pen_body * dvl.T_body_dvl;
+  const Eigen::Isometry3d T_pen_dvl = T_pen_body * dvl.T_BS;
   std::array<double, 4> ranges = {kNaN, kNaN, kNaN, kNaN};
   for (size_t i = 0; i < 4; ++i) {
-    const auto t = ray_to_cylinder(T_pen_dvl.translation(),
-                                   T_pen_dvl.linear() * dvl.beams_S[i].normalized(), radius_m);
+    const auto t =
+        ray_to_cylinder(T_pen_dvl.translation(),
+                        T_pen_dvl.linear() * dvl.beam_directions_S[i].normalized(), radius_m);
     if (t) ranges[i] = *t;
   }
   return ranges;

@@ -5,15 +5,10 @@
 #include <Eigen/Geometry>
 #include <array>
 
+#include "pipeline/dataset/dataset_types.h"
 #include "pipeline/global_pose/pen_geometry.h"
 
 namespace pensight::global_pose {
-
-// dvl0/sensor.yaml: the DVL's pose on the body and its beam directions in the DVL frame.
-struct DvlConfig {
-  Eigen::Isometry3d T_body_dvl = Eigen::Isometry3d::Identity();
-  std::array<Eigen::Vector3d, 4> beams_S = {};  // normalised on use
-};
 
 struct DvlPlane {
   bool ok = false;
@@ -27,13 +22,14 @@ struct DvlPlane {
   NetRelativePose in_camera(const Eigen::Isometry3d& T_body_camera) const;
 };
 
-// Non-finite or non-positive ranges are ignored. Roll and pitch (body attitude) level the normal
-// before the heading is taken; the distance does not depend on them.
-DvlPlane dvl_net_plane(const DvlConfig& dvl, const std::array<double, 4>& range_m,
+// The DVL's pose and beam directions come from dvl0/sensor.yaml (the directions are normalised on
+// use). Non-finite or non-positive ranges are ignored. Roll and pitch (body attitude) level the
+// normal before the heading is taken; the distance does not depend on them.
+DvlPlane dvl_net_plane(const DvlCalibration& dvl, const std::array<double, 4>& range_m,
                        double roll_rad = 0, double pitch_rad = 0);
 
 // The beam ranges a DVL at T_pen_body would measure on the pen wall (NaN where a beam misses).
-std::array<double, 4> dvl_ranges_to_cylinder(const DvlConfig& dvl,
+std::array<double, 4> dvl_ranges_to_cylinder(const DvlCalibration& dvl,
                                              const Eigen::Isometry3d& T_pen_body, double radius_m);
 
 }  // namespace pensight::global_pose

@@ -91,10 +91,10 @@ void GlobalPoseEstimator::warn_once(int id, const std::string& message) {
 }
 
 void GlobalPoseEstimator::add(const DvlSample& s) {
-  enqueue({s.t_ns, kDvl, s}, arrival_.dvl_velocity);
+  enqueue({s.timestamp_ns, kDvl, s}, arrival_.dvl_velocity);
 }
-void GlobalPoseEstimator::add(const DepthSample& s) {
-  enqueue({s.t_ns, kDepth, s}, arrival_.depth);
+void GlobalPoseEstimator::add(const PressureSample& s) {
+  enqueue({s.timestamp_ns, kDepth, s}, arrival_.depth);
 }
 void GlobalPoseEstimator::add(const NetObservation& obs) {
   if (!obs.quality.empty() && obs.quality.size() != obs.points_C.size())
@@ -106,7 +106,7 @@ void GlobalPoseEstimator::add(const NetObservation& obs) {
 }
 void GlobalPoseEstimator::add(const AttitudeSample& s) {
   if (attitude_.insert(s)) {
-    enqueue({s.t_ns, kAttitude, s}, arrival_.attitude);
+    enqueue({s.timestamp_ns, kAttitude, s}, arrival_.attitude);
     return;
   }
   ++arrival_.attitude.received;
@@ -233,7 +233,7 @@ void GlobalPoseEstimator::apply(const Event& e) {
       apply_attitude(std::get<AttitudeSample>(e.sample));
       break;
     case kDepth:
-      apply_depth(std::get<DepthSample>(e.sample));
+      apply_depth(std::get<PressureSample>(e.sample));
       break;
     case kDvl:
       apply_dvl(std::get<DvlSample>(e.sample));
@@ -326,7 +326,7 @@ void GlobalPoseEstimator::apply_attitude(const AttitudeSample& s) {
       Eigen::Matrix<double, 1, 1>(var), {true}, kYawStates);
 }
 
-void GlobalPoseEstimator::apply_depth(const DepthSample& s) {
+void GlobalPoseEstimator::apply_depth(const PressureSample& s) {
   SensorCounters& c = state_.counts.depth;
   if (!std::isfinite(s.depth_m)) {
     ++c.invalid;
@@ -346,13 +346,13 @@ void GlobalPoseEstimator::apply_depth(const DepthSample& s) {
 }
 
 void GlobalPoseEstimator::apply_dvl(const DvlSample& s) {
-  const auto [roll, pitch] = level_at(s.t_ns);
+  const auto [roll, pitch] = level_at(s.timestamp_ns);
   SensorCounters& cv = state_.counts.dvl_velocity;
-  if (!s.valid || !s.v_B_mps.allFinite()) {
+  if (!s.valid || !s.velocity_B_mps.allFinite()) {
     ++cv.invalid;
     warn_once(kWarnInvalidDvl, "invalid or NaN DVL velocity skipped");
   } else {
-    const Eigen::Vector3d v_L = rotation_level_body(roll, pitch) * s.v_B_mps;
+    const Eigen::Vector3d v_L = rotation_level_body(roll, pitch) * s.velocity_B_mps;
     state_.last_velocity_L = v_L;
     if (!state_.initialised) {
       ++cv.accepted;
@@ -367,7 +367,7 @@ void GlobalPoseEstimator::apply_dvl(const DvlSample& s) {
     }
   }
   if (!cfg_.use_dvl_plane || !cfg_.dvl_beams || !state_.initialised) return;
-  const DvlPlane measured = dvl_net_plane(*cfg_.dvl_beams, s.range_m, roll, pitch);
+  const DvlPlane measured = dvl_net_plane(*cfg_.dvl_beams, s.beam_range_m, roll, pitch);
   if (measured.beams == 0) return;  // no ranges in this sample
   SensorCounters& cp = state_.counts.dvl_plane;
   if (!measured.ok) {
@@ -380,7 +380,7 @@ void GlobalPoseEstimator::apply_dvl(const DvlSample& s) {
     auto ranges =
         dvl_ranges_to_cylinder(*cfg_.dvl_beams, T_pen_body(x, roll, pitch), cfg_.pen_radius_m);
     for (size_t i = 0; i < 4; ++i)
-      if (!std::isfinite(s.range_m[i])) ranges[i] = kNaN;
+      if (!std::isfinite(s.beam_range_m[i])) ranges[i] = kNaN;
     const DvlPlane p = dvl_net_plane(*cfg_.dvl_beams, ranges, roll, pitch);
     return Eigen::Vector2d(p.distance_m, p.heading_rad);
   };

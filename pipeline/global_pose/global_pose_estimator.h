@@ -50,7 +50,7 @@ struct GlobalPoseEstimatorConfig {
   double pen_radius_m = 12.0;  // scene.yaml; a flat net is a large radius (100 m)
   double initial_rho_rad = 0.0;
   Eigen::Isometry3d T_body_camera = Eigen::Isometry3d::Identity();
-  std::optional<DvlConfig> dvl_beams;  // dvl0/sensor.yaml; no DVL plane updates without it
+  std::optional<DvlCalibration> dvl_beams;  // dvl0/sensor.yaml; no DVL plane updates without it
   // Which sensor folders the dataset has; an absent one is announced once, not an error.
   bool has_dvl = true;
   bool has_attitude = true;
@@ -96,7 +96,7 @@ class GlobalPoseEstimator {
   explicit GlobalPoseEstimator(GlobalPoseEstimatorConfig config);
 
   void add(const DvlSample& s);
-  void add(const DepthSample& s);
+  void add(const PressureSample& s);
   void add(const AttitudeSample& s);
   // Throws pensight::Error when obs.quality is neither empty nor one per point.
   void add(const NetObservation& obs);
@@ -115,7 +115,7 @@ class GlobalPoseEstimator {
   struct Event {
     int64_t t_ns;
     Kind kind;
-    std::variant<AttitudeSample, DepthSample, DvlSample, NetObservation> sample;
+    std::variant<AttitudeSample, PressureSample, DvlSample, NetObservation> sample;
   };
   // Everything applying a sample changes, so a late sample can roll it back.
   struct FilterState {
@@ -138,7 +138,7 @@ class GlobalPoseEstimator {
   void enqueue(Event e, SensorCounters& arrival);
   void apply(const Event& e);
   void apply_attitude(const AttitudeSample& s);
-  void apply_depth(const DepthSample& s);
+  void apply_depth(const PressureSample& s);
   void apply_dvl(const DvlSample& s);
   void apply_camera(const NetObservation& obs);
   void initialise(const PenFix& fix, int64_t t_ns);

@@ -1,37 +1,15 @@
 #pragma once
-// Timestamped sensor samples fed to the global-pose estimators (dataset-format.md sensors).
-// Timestamps are integer nanoseconds on the clock shared by all sensors.
+// What the global-pose estimators take besides the dataset's sensor samples (DvlSample,
+// PressureSample, AttitudeSample of pipeline/dataset/dataset_types.h, fed as read), and what they
+// give. Timestamps are integer nanoseconds on the clock shared by all sensors.
 #include <Eigen/Core>
-#include <array>
 #include <cstdint>
 #include <vector>
 
+#include "pipeline/dataset/dataset_types.h"
 #include "pipeline/global_pose/pen_geometry.h"
 
 namespace pensight::global_pose {
-
-// dvl0/data.csv: body-frame velocity over the net/ground (already rotated by the DVL's T_BS) and
-// optional beam ranges (NaN where a beam has no return).
-struct DvlSample {
-  int64_t t_ns = 0;
-  Eigen::Vector3d v_B_mps = Eigen::Vector3d::Constant(kNaN);
-  bool valid = true;
-  std::array<double, 4> range_m = {kNaN, kNaN, kNaN, kNaN};
-};
-
-// pressure0/data.csv: depth of the body origin, positive down.
-struct DepthSample {
-  int64_t t_ns = 0;
-  double depth_m = kNaN;
-};
-
-// imu0/attitude.csv: body attitude. The yaw's origin need not be the pen frame's.
-struct AttitudeSample {
-  int64_t t_ns = 0;
-  double roll_rad = kNaN;
-  double pitch_rad = kNaN;
-  double yaw_rad = kNaN;
-};
 
 // One camera frame's output of the FFT net detector: 3D net points in C (one per ROI, NaN where
 // a ROI found no net) with their qualities (> 0; empty = all 1), and the net-relative pose

@@ -6,12 +6,11 @@
 // R_P_B = Rz(yaw) R_L_B.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-#include <limits>
 #include <optional>
 
-namespace pensight::global_pose {
+#include "pipeline/dataset/dataset_types.h"
 
-inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+namespace pensight::global_pose {
 
 // Wraps an angle to (-pi, pi].
 double wrap_angle(double a_rad);

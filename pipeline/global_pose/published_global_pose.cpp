@@ -21,14 +21,14 @@ PublishedGlobalPose::PublishedGlobalPose(PublishedGlobalPoseConfig config)
 
 void PublishedGlobalPose::add(const DvlSample& s) {
   if (!cfg_.has_dvl) return;
-  if (!s.valid || !s.v_B_mps.allFinite()) {
+  if (!s.valid || !s.velocity_B_mps.allFinite()) {
     if (invalid_dvl_++ == 0)
       log_warning("global pose (published): invalid/NaN DVL velocity skipped");
     return;
   }
-  const int64_t prev = std::exchange(last_dvl_ns_, s.t_ns);
+  const int64_t prev = std::exchange(last_dvl_ns_, s.timestamp_ns);
   if (!started_ || !fix_.ok || prev < 0) return;
-  const double dt = 1e-9 * static_cast<double>(s.t_ns - prev);
+  const double dt = 1e-9 * static_cast<double>(s.timestamp_ns - prev);
   if (dt <= 0) return;
   if (dt > cfg_.max_dvl_gap_s) {
     ++dvl_gaps_;
@@ -36,14 +36,14 @@ void PublishedGlobalPose::add(const DvlSample& s) {
   }
   const Eigen::Vector3d v_L =
       cfg_.level_with_attitude
-          ? Eigen::Vector3d(rotation_level_body(roll_rad_, pitch_rad_) * s.v_B_mps)
-          : s.v_B_mps;
+          ? Eigen::Vector3d(rotation_level_body(roll_rad_, pitch_rad_) * s.velocity_B_mps)
+          : s.velocity_B_mps;
   // Direction of increasing rho in L: the outward radial (bearing -psi_r) turned by +90 deg.
   const Eigen::Vector2d e_rho(std::sin(fix_.psi_r_rad), std::cos(fix_.psi_r_rad));
   rho_rad_ += dt * v_L.head<2>().dot(e_rho) / fix_.r_g_m;
 }
 
-void PublishedGlobalPose::add(const DepthSample& s) {
+void PublishedGlobalPose::add(const PressureSample& s) {
   if (std::isfinite(s.depth_m)) depth_m_ = s.depth_m;
 }
 

@@ -27,7 +27,7 @@ class PublishedGlobalPose {
   explicit PublishedGlobalPose(PublishedGlobalPoseConfig config);
 
   void add(const DvlSample& s);
-  void add(const DepthSample& s);
+  void add(const PressureSample& s);
   void add(const AttitudeSample& s);
   // Runs the fix on one camera frame and returns that frame's estimates row.
   GlobalPose add(const NetObservation& obs);

@@ -15,11 +15,12 @@ namespace {
 constexpr double kDeg = std::numbers::pi / 180.0;
 
 // Ranges of the beams to the plane n.p = d (body frame).
-std::array<double, 4> ranges_to_plane(const DvlConfig& dvl, const Eigen::Vector3d& n, double d) {
+std::array<double, 4> ranges_to_plane(const DvlCalibration& dvl, const Eigen::Vector3d& n,
+                                      double d) {
   std::array<double, 4> r{};
   for (size_t i = 0; i < 4; ++i) {
-    const Eigen::Vector3d o = dvl.T_body_dvl.translation();
-    const Eigen::Vector3d u = dvl.T_body_dvl.linear() * dvl.beams_S[i].normalized();
+    const Eigen::Vector3d o = dvl.T_BS.translation();
+    const Eigen::Vector3d u = dvl.T_BS.linear() * dvl.beam_directions_S[i].normalized();
     r[i] = (d - n.dot(o)) / n.dot(u);
   }
   return r;
@@ -28,7 +29,7 @@ std::array<double, 4> ranges_to_plane(const DvlConfig& dvl, const Eigen::Vector3
 TEST(DvlPlane, FlatWallIsExactAndMatchesTheCameraView) {
   std::mt19937_64 rng(testing::fresh_seed());
   std::uniform_real_distribution<double> ang(-20 * kDeg, 20 * kDeg), dist(0.8, 3.0);
-  const DvlConfig dvl = sim::forward_dvl();
+  const DvlCalibration dvl = sim::forward_dvl();
   const Eigen::Isometry3d T_bc = sim::forward_camera();
   for (int trial = 0; trial < 50; ++trial) {
     const double yaw = ang(rng), tilt = ang(rng), d = dist(rng);
@@ -61,7 +62,7 @@ TEST(DvlPlane, FlatWallIsExactAndMatchesTheCameraView) {
 }
 
 TEST(DvlPlane, FewerThanThreeBeamsGiveNaN) {
-  const DvlConfig dvl = sim::forward_dvl();
+  const DvlCalibration dvl = sim::forward_dvl();
   const DvlPlane plane = dvl_net_plane(dvl, {1.0, kNaN, -1.0, 2.0});
   EXPECT_FALSE(plane.ok);
   EXPECT_EQ(plane.beams, 2);
@@ -76,7 +77,7 @@ TEST(DvlPlane, FewerThanThreeBeamsGiveNaN) {
 TEST(DvlPlane, InThePenTracksTheRelativePose) {
   std::mt19937_64 rng(testing::fresh_seed());
   std::normal_distribution<double> noise(0.0, 0.02);
-  const DvlConfig dvl = sim::forward_dvl();
+  const DvlCalibration dvl = sim::forward_dvl();
   for (const double radius : {12.0, 25.0, 100.0}) {
     std::vector<double> heading_err, dist_err;
     std::uniform_real_distribution<double> d(0.5, 2.0), yaw(-15 * kDeg, 15 * kDeg);

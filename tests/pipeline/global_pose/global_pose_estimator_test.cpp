@@ -82,7 +82,7 @@ Errors run_estimator(const sim::Sequence& seq, GlobalPoseEstimator& est) {
   ErrorCollector c;
   sim::Visitor v;
   v.dvl = [&](const DvlSample& s) { est.add(s); };
-  v.depth = [&](const DepthSample& s) { est.add(s); };
+  v.depth = [&](const PressureSample& s) { est.add(s); };
   v.attitude = [&](const AttitudeSample& s) { est.add(s); };
   v.camera = [&](const NetObservation& obs, const sim::Pose& truth) {
     est.add(obs);
@@ -100,7 +100,7 @@ Errors run_published(const sim::Sequence& seq, double radius) {
   ErrorCollector c;
   sim::Visitor v;
   v.dvl = [&](const DvlSample& s) { node.add(s); };
-  v.depth = [&](const DepthSample& s) { node.add(s); };
+  v.depth = [&](const PressureSample& s) { node.add(s); };
   v.camera = [&](const NetObservation& obs, const sim::Pose& truth) {
     c.add(node.add(obs), truth);
   };
@@ -185,9 +185,9 @@ TEST(GlobalPoseEstimator, DvlSpikeIsRejectedAndRecoversWithin2s) {
   const double t_spike = 60.0;
   int n_spiked = 0;
   for (auto& s : spiked.dvl) {
-    const double t = 1e-9 * static_cast<double>(s.t_ns - sim::kStartNs);
+    const double t = 1e-9 * static_cast<double>(s.timestamp_ns - sim::kStartNs);
     if (t >= t_spike && t < t_spike + 0.5) {
-      s.v_B_mps += Eigen::Vector3d(0.8, 1.8, 0.3);
+      s.velocity_B_mps += Eigen::Vector3d(0.8, 1.8, 0.3);
       ++n_spiked;
     }
   }
@@ -250,7 +250,7 @@ TEST(GlobalPoseEstimator, NaNVelocitiesAreSkippedAndCounted) {
   int spoiled = 0;
   for (size_t i = 0; i < seq.dvl.size(); i += 3) {
     if (i % 2 == 0) {
-      seq.dvl[i].v_B_mps.x() = kNaN;
+      seq.dvl[i].velocity_B_mps.x() = kNaN;
     } else {
       seq.dvl[i].valid = false;
     }
@@ -346,11 +346,11 @@ TEST(GlobalPoseEstimator, OutOfOrderAndDuplicateSamples) {
   std::uniform_real_distribution<double> latency(0.0, 0.3);
   auto t_of = [](int64_t t_ns) { return 1e-9 * static_cast<double>(t_ns - sim::kStartNs); };
   for (size_t i = 0; i < seq.dvl.size(); ++i)
-    arrivals.push_back({t_of(seq.dvl[i].t_ns) + latency(rng), 0, i});
+    arrivals.push_back({t_of(seq.dvl[i].timestamp_ns) + latency(rng), 0, i});
   for (size_t i = 0; i < seq.depth.size(); ++i)
-    arrivals.push_back({t_of(seq.depth[i].t_ns) + latency(rng), 1, i});
+    arrivals.push_back({t_of(seq.depth[i].timestamp_ns) + latency(rng), 1, i});
   for (size_t i = 0; i < seq.attitude.size(); ++i)
-    arrivals.push_back({t_of(seq.attitude[i].t_ns) + latency(rng), 2, i});
+    arrivals.push_back({t_of(seq.attitude[i].timestamp_ns) + latency(rng), 2, i});
   for (size_t i = 0; i < seq.camera.size(); ++i)
     arrivals.push_back({t_of(seq.camera[i].t_ns) + latency(rng), 3, i});
   std::sort(arrivals.begin(), arrivals.end(),
@@ -396,7 +396,7 @@ TEST(GlobalPoseEstimator, OutOfOrderAndDuplicateSamples) {
       c.dvl_velocity.too_late + c.depth.too_late + c.attitude.too_late + c.vision_fix.too_late, 0);
   EXPECT_NE(describe(c).find("out of order"), std::string::npos);
   // Far older than the 2 s window: dropped and counted, not fatal.
-  shuffled.add(DepthSample{t_end - 10'000'000'000, 3.0});
+  shuffled.add(PressureSample{t_end - 10'000'000'000, 3.0});
   EXPECT_EQ(shuffled.counters().depth.too_late, 1);
   EXPECT_NEAR(shuffled.estimate(t_end).z_g_m, b.z_g_m, 1e-12);
   (void)e_ordered;

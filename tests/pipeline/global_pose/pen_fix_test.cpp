@@ -146,7 +146,7 @@ TEST(PublishedGlobalPose, SequenceErrorsWithinBounds) {
     double rho0 = kNaN, psi0 = kNaN;
     sim::Visitor v;
     v.dvl = [&](const DvlSample& s) { node.add(s); };
-    v.depth = [&](const DepthSample& s) { node.add(s); };
+    v.depth = [&](const PressureSample& s) { node.add(s); };
     v.camera = [&](const NetObservation& obs, const sim::Pose& truth) {
       const GlobalPose g = node.add(obs);
       ASSERT_TRUE(std::isfinite(g.r_g_m) && std::isfinite(g.rho_g_rad) &&

@@ -21,14 +21,14 @@ Eigen::Isometry3d forward_camera() {
   return T;
 }
 
-DvlConfig forward_dvl() {
-  DvlConfig dvl;
-  dvl.T_body_dvl.linear() = forward_camera().linear();
-  dvl.T_body_dvl.translation() = Eigen::Vector3d(0.4, 0.0, 0.2);
+DvlCalibration forward_dvl() {
+  DvlCalibration dvl;
+  dvl.T_BS.linear() = forward_camera().linear();
+  dvl.T_BS.translation() = Eigen::Vector3d(0.4, 0.0, 0.2);
   const double off = 22.5 * std::numbers::pi / 180.0;
   for (int i = 0; i < 4; ++i) {
     const double az = std::numbers::pi / 4 + i * std::numbers::pi / 2;
-    dvl.beams_S[i] =
+    dvl.beam_directions_S[i] =
         Eigen::Vector3d(std::sin(off) * std::cos(az), std::sin(off) * std::sin(az), std::cos(off));
   }
   return dvl;
@@ -95,7 +95,7 @@ int64_t to_ns(double t_s) {
 }  // namespace
 
 Sequence make_sequence(const Trajectory& traj, const SensorNoise& noise, uint64_t seed,
-                       const Eigen::Isometry3d& T_body_camera, const DvlConfig& dvl) {
+                       const Eigen::Isometry3d& T_body_camera, const DvlCalibration& dvl) {
   Sequence seq;
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> unit(0.0, 1.0);
@@ -106,13 +106,14 @@ Sequence make_sequence(const Trajectory& traj, const SensorNoise& noise, uint64_
   }
   for (double t = 0.013; t <= traj.duration_s; t += 0.25) {
     DvlSample s;
-    s.t_ns = to_ns(t);
+    s.timestamp_ns = to_ns(t);
+    s.valid = true;
     const Eigen::Vector3d v = traj.body_velocity(t);
-    s.v_B_mps = (1.0 + noise.dvl_scale_error) * v + noise.dvl_bias_mps +
-                noise.dvl_sigma_mps * Eigen::Vector3d(unit(rng), unit(rng), unit(rng));
+    s.velocity_B_mps = (1.0 + noise.dvl_scale_error) * v + noise.dvl_bias_mps +
+                       noise.dvl_sigma_mps * Eigen::Vector3d(unit(rng), unit(rng), unit(rng));
     const auto ranges = dvl_ranges_to_cylinder(dvl, traj.at(t).T_pen_body(), traj.radius_m);
     for (size_t i = 0; i < 4; ++i) {
-      if (ranges[i] < 30.0) s.range_m[i] = ranges[i] + noise.dvl_range_sigma_m * unit(rng);
+      if (ranges[i] < 30.0) s.beam_range_m[i] = ranges[i] + noise.dvl_range_sigma_m * unit(rng);
     }
     seq.dvl.push_back(s);
   }
@@ -133,9 +134,9 @@ void replay(const Sequence& seq, const Visitor& visit) {
   size_t id = 0, ip = 0, ia = 0, ic = 0;
   const int64_t never = std::numeric_limits<int64_t>::max();
   for (;;) {
-    const int64_t td = id < seq.dvl.size() ? seq.dvl[id].t_ns : never;
-    const int64_t tp = ip < seq.depth.size() ? seq.depth[ip].t_ns : never;
-    const int64_t ta = ia < seq.attitude.size() ? seq.attitude[ia].t_ns : never;
+    const int64_t td = id < seq.dvl.size() ? seq.dvl[id].timestamp_ns : never;
+    const int64_t tp = ip < seq.depth.size() ? seq.depth[ip].timestamp_ns : never;
+    const int64_t ta = ia < seq.attitude.size() ? seq.attitude[ia].timestamp_ns : never;
     const int64_t tc = ic < seq.camera.size() ? seq.camera[ic].t_ns : never;
     const int64_t t = std::min({td, tp, ta, tc});
     if (t == never) return;

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "pipeline/camera.h"
+#include "pipeline/dataset/dataset_types.h"
 #include "pipeline/global_pose/dvl_plane.h"
 #include "pipeline/global_pose/measurements.h"
 
@@ -28,7 +29,7 @@ struct Pose {
 // Forward-looking camera 0.3 m ahead of and 0.1 m below the body origin.
 Eigen::Isometry3d forward_camera();
 // Forward-looking DVL 0.4 m ahead, 0.2 m below, four beams 22.5 deg off its boresight (+z_S).
-DvlConfig forward_dvl();
+DvlCalibration forward_dvl();
 
 struct PointNoise {
   double range_sigma_frac = 0.015;  // FFT depth noise, relative to range
@@ -74,7 +75,7 @@ struct SensorNoise {
 
 struct Sequence {
   std::vector<DvlSample> dvl;
-  std::vector<DepthSample> depth;
+  std::vector<PressureSample> depth;
   std::vector<AttitudeSample> attitude;
   std::vector<NetObservation> camera;
   std::vector<Pose> truth;  // one per camera frame
@@ -85,12 +86,12 @@ inline constexpr int64_t kStartNs = 1'700'000'000'000'000'000;
 // Camera 10 Hz, DVL 4 Hz, pressure 8 Hz, attitude 20 Hz, on staggered clocks.
 Sequence make_sequence(const Trajectory& traj, const SensorNoise& noise, uint64_t seed,
                        const Eigen::Isometry3d& T_body_camera = forward_camera(),
-                       const DvlConfig& dvl = forward_dvl());
+                       const DvlCalibration& dvl = forward_dvl());
 
 // Calls the visitor with every sample of the sequence in timestamp order.
 struct Visitor {
   std::function<void(const DvlSample&)> dvl;
-  std::function<void(const DepthSample&)> depth;
+  std::function<void(const PressureSample&)> depth;
   std::function<void(const AttitudeSample&)> attitude;
   std::function<void(const NetObservation&, const Pose& truth)> camera;
 };
