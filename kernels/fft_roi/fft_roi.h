@@ -46,7 +46,10 @@ struct FftRoiShape {
 
 // Peak search over the power spectrum. Frequencies are in cycles per ROI (= FFT bins).
 struct PeakParams {
-  float min_cycles = 3.0f;         // below: illumination gradients and window leakage
+  // Fewer lattice periods across the ROI cannot be told from illumination gradients and window
+  // leakage (open water gave false 0.1 m nets at 3); 5 limits the near range to ~0.23 m at the
+  // default 300 px ROI, fx 462 px and 30 mm mesh.
+  float min_cycles = 5.0f;
   float max_nyquist_share = 0.9f;  // above max_nyquist_share * fft_size / 2: resampling alias
   float min_angle_deg = 25.0f;  // the second base vector makes at least this angle with the first
   float subharmonic_ratio = 0.2f;  // a peak at half the frequency this strong is the fundamental
