@@ -7,6 +7,7 @@
 
 #include "kernels/fft_roi/fft_roi.h"
 #include "runtime/cuda_check.cuh"
+#include "runtime/cuda_reduce.cuh"
 #include "runtime/error.h"
 
 namespace pensight::kernels {
@@ -18,18 +19,6 @@ void check_cufft(cufftResult r, const char* call) {
   if (r != CUFFT_SUCCESS) {
     throw Error(std::string(call) + " failed with cufftResult " + std::to_string(int(r)));
   }
-}
-
-__device__ float block_sum(float v, float* partial) {
-  partial[threadIdx.x] = v;
-  __syncthreads();
-  for (int s = kThreads / 2; s > 0; s /= 2) {
-    if (threadIdx.x < s) partial[threadIdx.x] += partial[threadIdx.x + s];
-    __syncthreads();
-  }
-  const float total = partial[0];
-  __syncthreads();
-  return total;
 }
 
 // Argmax over the block; ties go to the lower index; -1 when no thread had a candidate.
@@ -108,10 +97,10 @@ __global__ void extract_kernel(ExtractArgs a) {
     dst[i] = v;
     s += v;
   }
-  const float mean = block_sum(s, partial) / count;
+  const float mean = cuda::block_sum<kThreads>(s, partial) / count;
   float q = 0;
   for (int i = threadIdx.x; i < count; i += kThreads) q += (dst[i] - mean) * (dst[i] - mean);
-  const float var = block_sum(q, partial) / count;
+  const float var = cuda::block_sum<kThreads>(q, partial) / count;
   const float inv_std = var > kFlatVariance ? rsqrtf(var) : 0.0f;
   // Block by block (16 x 16 blocks, one per thread): local contrast energy centroid, as in
   // shaders/fft_roi/extract.comp. __syncthreads() in block_sum made the samples visible.
@@ -129,9 +118,9 @@ __global__ void extract_kernel(ExtractArgs a) {
   }
   float e = fmaxf(0.0f, sq - sum * sum / float((v1 - v0) * (u1 - u0)));
   float eu = e * 0.5f * float(u0 + u1 - 1), ev = e * 0.5f * float(v0 + v1 - 1);
-  e = block_sum(e, partial);
-  eu = block_sum(eu, partial);
-  ev = block_sum(ev, partial);
+  e = cuda::block_sum<kThreads>(e, partial);
+  eu = cuda::block_sum<kThreads>(eu, partial);
+  ev = cuda::block_sum<kThreads>(ev, partial);
   if (threadIdx.x == 0) {
     const float centre = 0.5f * (a.n - 1), scale = float(a.roi) / float(a.n);
     a.lattices[blockIdx.x].centroid_dx = e > 0 ? (eu / e - centre) * scale : 0.0f;
@@ -226,8 +215,8 @@ __global__ void peaks_kernel(PeakArgs a) {
     count += 1;
     if (v > v1) v1 = v, i1 = i;
   }
-  energy = block_sum(energy, partial);
-  count = block_sum(count, partial);
+  energy = cuda::block_sum<kThreads>(energy, partial);
+  count = cuda::block_sum<kThreads>(count, partial);
   const int w1 = block_argmax(v1, i1, value, idx);
   RoiLattice& out = a.lattices[blockIdx.x];
   float r[6] = {0, 0, 0, 0, 0, 0};

@@ -1,22 +1,11 @@
 #include "kernels/roi_normalize/roi_normalize.h"
 #include "runtime/cuda_check.cuh"
+#include "runtime/cuda_reduce.cuh"
 
 namespace pensight::kernels {
 namespace {
 
 constexpr int kThreads = 256;
-
-__device__ float block_sum(float v, float* partial) {
-  partial[threadIdx.x] = v;
-  __syncthreads();
-  for (int s = kThreads / 2; s > 0; s /= 2) {
-    if (threadIdx.x < s) partial[threadIdx.x] += partial[threadIdx.x + s];
-    __syncthreads();
-  }
-  const float total = partial[0];
-  __syncthreads();
-  return total;
-}
 
 // One block per ROI. Pixels are shifted by the ROI's first pixel before summing so that a flat
 // ROI gives exactly zero variance in float, as in the Vulkan shader.
@@ -29,13 +18,13 @@ __global__ void roi_normalize_kernel(const uint8_t* image, int width, const RoiO
   auto pixel = [&](int i) { return image[(o.y + i / size) * width + o.x + i % size] - ref; };
   float s = 0;
   for (int i = threadIdx.x; i < n; i += kThreads) s += pixel(i);
-  const float mean = block_sum(s, partial) / n;
+  const float mean = cuda::block_sum<kThreads>(s, partial) / n;
   float q = 0;
   for (int i = threadIdx.x; i < n; i += kThreads) {
     const float d = pixel(i) - mean;
     q += d * d;
   }
-  const float var = block_sum(q, partial) / n;
+  const float var = cuda::block_sum<kThreads>(q, partial) / n;
   const float inv_std = var > kFlatVariance ? rsqrtf(var) : 0.0f;
   float* dst = out + static_cast<size_t>(blockIdx.x) * n;
   for (int i = threadIdx.x; i < n; i += kThreads) dst[i] = (pixel(i) - mean) * inv_std;
