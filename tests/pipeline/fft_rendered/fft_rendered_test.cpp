@@ -1,0 +1,82 @@
+// Issue 4's accuracy acceptance on the synthetic world's own renders: short sequences of the
+// shipped scenarios (1 sample per pixel, CPU renderer), through `pensight run`'s pipeline on the
+// CPU backend, scored by `pensight evaluate`'s code. Full-length numbers: docs/fft_detection.md.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <ostream>
+#include <string>
+
+#include "pipeline/dataset/dataset_reader.h"
+#include "pipeline/dataset/estimates_csv.h"
+#include "pipeline/evaluation/evaluation.h"
+#include "pipeline/runner.h"
+#include "sim/generate.h"
+#include "sim/scenario.h"
+
+namespace pensight {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Case {
+  const char* scenario;
+  double duration_s;     // 0: the whole scenario
+  size_t min_estimated;  // measurable frames with an estimate: no pass on a handful
+};
+
+void PrintTo(const Case& c, std::ostream* os) {
+  *os << c.scenario;
+}
+
+class FftRendered : public ::testing::TestWithParam<Case> {};
+
+TEST_P(FftRendered, AccuracyWithinIssueBounds) {
+  const Case c = GetParam();
+  const char* source_dir = std::getenv("PENSIGHT_SOURCE_DIR");
+  ASSERT_NE(source_dir, nullptr) << "PENSIGHT_SOURCE_DIR is set by CTest";
+  sim::Scenario s =
+      sim::load_scenario(fs::path(source_dir) / "scenarios" / (std::string(c.scenario) + ".yaml"));
+  if (c.duration_s > 0) s.duration_s = c.duration_s;
+  s.camera.samples_per_axis = 1;
+
+  const fs::path dir = fs::temp_directory_path() /
+                       ("pensight_fft_rendered_" + std::string(c.scenario) + "_" +
+                        std::to_string(::testing::UnitTest::GetInstance()->random_seed()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  auto renderer = sim::make_renderer(s, {}, "cpu");
+  sim::generate_dataset(s, *renderer, dir / "dataset");
+
+  const Dataset dataset = read_dataset(dir / "dataset");
+  RunOptions options;
+  options.detector.backend = Backend::kCpu;
+  const RunSummary summary = run_dataset(dataset, dir / "out", options);
+  const auto rows = read_estimates_csv(dir / "out" / "estimates.csv");
+  const NetPoseAccuracy a = score_net_pose(dataset, rows, NetPoseSource::kFft);
+  fs::remove_all(dir);
+
+  SCOPED_TRACE(std::string(c.scenario) + ":\n" + describe(a));
+  EXPECT_EQ(summary.frames, static_cast<size_t>(s.num_frames()));
+  EXPECT_EQ(a.frames, static_cast<size_t>(s.num_frames()));
+  // The error figures cover measurable frames with an estimate only; require enough of them.
+  ASSERT_GE(a.measurable_estimated, c.min_estimated);
+  EXPECT_LE(a.d_net_rel.median, 0.02);
+  EXPECT_LE(a.d_net_rel.p95, 0.05);
+  EXPECT_LE(a.psi_net_deg.median, 1.0);
+  EXPECT_LE(a.psi_net_deg.p95, 3.0);
+  EXPECT_LE(static_cast<double>(a.gross_errors), 0.02 * static_cast<double>(a.frames));
+}
+
+// The whole sweep: it opens and closes on open water (no net), and runs 0.43-2.6 m with the
+// heading swinging +-17 deg. Turbid and low light: their first 3 s.
+INSTANTIATE_TEST_SUITE_P(Scenarios, FftRendered,
+                         ::testing::Values(Case{"sweep", 0, 30}, Case{"turbid", 3, 25},
+                                           Case{"lowlight", 3, 25}),
+                         [](const auto& param_info) {
+                           return std::string(param_info.param.scenario);
+                         });
+
+}  // namespace
+}  // namespace pensight
