@@ -3,6 +3,7 @@
 // state their acceptance: errors over the frames inside an envelope (net fills the image, range
 // and heading within limits), and the share of all frames that report a grossly wrong distance.
 #include <cstddef>
+#include <cstdint>
 #include <span>
 #include <string>
 
