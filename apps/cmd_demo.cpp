@@ -80,8 +80,10 @@ int cmd_demo(const Args& args) {
   const auto rows = read_estimates_csv(out_dir / "estimates.csv");
   std::printf(
       "3. accuracy against ground truth (measurable: net fills >= half the image, "
-      "0.4-2.5 m, |psi_net| <= 35 deg)\n   net pose from FFT:\n%s",
-      describe(score_net_pose(dataset, rows, NetPoseSource::kFft)).c_str());
+      "0.4-2.5 m, |psi_net| <= 35 deg)\n   net pose from FFT:\n%s"
+      "   global pose (all frames; rho_g and psi_g as changes from the first frame with both):\n%s",
+      describe(score_net_pose(dataset, rows, NetPoseSource::kFft)).c_str(),
+      describe(score_global_pose(dataset, rows)).c_str());
   std::printf("rendering took %.1f s%s\n", render_s,
               keep.empty() ? "" : ("; dataset and estimates kept in " + keep).c_str());
   return 0;

@@ -24,9 +24,11 @@ int cmd_evaluate(const Args& args) {
   const auto rows = read_estimates_csv(std::filesystem::path(out_dir) / "estimates.csv");
   std::printf(
       "measurable: net fraction >= %.2f, %.1f-%.1f m, |psi_net| <= 35 deg\n"
-      "net pose from FFT:\n%s",
+      "net pose from FFT:\n%s"
+      "global pose (all frames; rho_g and psi_g as changes from the first frame with both):\n%s",
       envelope.min_net_fraction, envelope.min_d_net_m, envelope.max_d_net_m,
-      describe(score_net_pose(dataset, rows, NetPoseSource::kFft, envelope)).c_str());
+      describe(score_net_pose(dataset, rows, NetPoseSource::kFft, envelope)).c_str(),
+      describe(score_global_pose(dataset, rows)).c_str());
   return 0;
 }
 

@@ -23,6 +23,23 @@ Estimate pick(const EstimateRow& r, NetPoseSource source) {
              : Estimate{r.d_net_depth_m, r.psi_net_depth_rad, r.pitch_net_depth_rad};
 }
 
+// Into (-pi, pi].
+double wrap_angle(double a_rad) {
+  constexpr double kPi = 3.14159265358979323846;
+  const double w = std::remainder(a_rad, 2 * kPi);
+  return w <= -kPi ? w + 2 * kPi : w;
+}
+
+std::unordered_map<int64_t, const GroundTruthRow*> truth_by_time(const Dataset& dataset) {
+  if (!dataset.groundtruth0) {
+    throw Error("dataset " + dataset.root.string() +
+                " has no groundtruth0/data.csv, so estimates cannot be scored");
+  }
+  std::unordered_map<int64_t, const GroundTruthRow*> truth;
+  for (const GroundTruthRow& t : dataset.groundtruth0->rows) truth[t.timestamp_ns] = &t;
+  return truth;
+}
+
 bool inside(const GroundTruthRow& t, const AccuracyEnvelope& e) {
   return std::isfinite(t.d_net_m) && t.net_fraction >= e.min_net_fraction &&
          t.d_net_m >= e.min_d_net_m && t.d_net_m <= e.max_d_net_m &&
@@ -50,13 +67,7 @@ ErrorStats error_stats(std::span<const double> errors) {
 
 NetPoseAccuracy score_net_pose(const Dataset& dataset, std::span<const EstimateRow> rows,
                                NetPoseSource source, const AccuracyEnvelope& envelope) {
-  if (!dataset.groundtruth0) {
-    throw Error("dataset " + dataset.root.string() +
-                " has no groundtruth0/data.csv, so estimates cannot be scored");
-  }
-  std::unordered_map<int64_t, const GroundTruthRow*> truth;
-  for (const GroundTruthRow& t : dataset.groundtruth0->rows) truth[t.timestamp_ns] = &t;
-
+  const auto truth = truth_by_time(dataset);
   NetPoseAccuracy a;
   std::vector<double> d_rel, psi_deg, pitch_deg;
   for (const EstimateRow& r : rows) {
@@ -99,6 +110,62 @@ std::string describe(const NetPoseAccuracy& a) {
       a.psi_net_deg.max, a.pitch_net_deg.median, a.pitch_net_deg.p95, a.pitch_net_deg.max,
       100 * a.gross_rel, a.gross_errors,
       a.frames ? 100.0 * static_cast<double>(a.gross_errors) / static_cast<double>(a.frames) : 0.0);
+  return buf;
+}
+
+GlobalPoseAccuracy score_global_pose(const Dataset& dataset, std::span<const EstimateRow> rows) {
+  const auto truth = truth_by_time(dataset);
+  GlobalPoseAccuracy a;
+  std::vector<double> r_err, z_err, rho_err, psi_err;
+  const EstimateRow* ref = nullptr;
+  const GroundTruthRow* ref_truth = nullptr;
+  for (const EstimateRow& r : rows) {
+    const auto it = truth.find(r.timestamp_ns);
+    if (it == truth.end()) continue;
+    const GroundTruthRow& t = *it->second;
+    const Eigen::Vector3d& p = t.p_world_body_m;
+    ++a.frames;
+    if (std::isfinite(r.r_g_m)) {
+      ++a.with_r_g;
+      r_err.push_back(r.r_g_m - std::hypot(p.x(), p.y()));
+    }
+    if (std::isfinite(r.z_g_m)) {
+      ++a.with_z_g;
+      z_err.push_back(r.z_g_m - p.z());
+    }
+    if (!std::isfinite(r.rho_g_rad) || !std::isfinite(r.psi_g_rad)) continue;
+    ++a.with_rho_psi;
+    if (!ref) {
+      ref = &r;
+      ref_truth = &t;
+      a.reference_timestamp_ns = r.timestamp_ns;
+    }
+    const Eigen::Vector3d& p0 = ref_truth->p_world_body_m;
+    const double rho_true = wrap_angle(std::atan2(p.y(), p.x()) - std::atan2(p0.y(), p0.x()));
+    const double psi_true = wrap_angle(t.yaw_rad - ref_truth->yaw_rad);
+    rho_err.push_back(wrap_angle(wrap_angle(r.rho_g_rad - ref->rho_g_rad) - rho_true) * kRadToDeg);
+    psi_err.push_back(wrap_angle(wrap_angle(r.psi_g_rad - ref->psi_g_rad) - psi_true) * kRadToDeg);
+  }
+  a.r_g_m = error_stats(r_err);
+  a.z_g_m = error_stats(z_err);
+  a.rho_change_deg = error_stats(rho_err);
+  a.psi_change_deg = error_stats(psi_err);
+  return a;
+}
+
+std::string describe(const GlobalPoseAccuracy& a) {
+  char buf[640];
+  std::snprintf(buf, sizeof(buf),
+                "  frames scored %zu: with r_g %zu, with z_g %zu, with rho_g and psi_g %zu\n"
+                "  r_g error:          median %.1f mm, p95 %.1f mm, max %.1f mm\n"
+                "  z_g error:          median %.1f mm, p95 %.1f mm, max %.1f mm\n"
+                "  rho_g change error: median %.3f deg, p95 %.3f deg, max %.3f deg\n"
+                "  psi_g change error: median %.2f deg, p95 %.2f deg, max %.2f deg\n",
+                a.frames, a.with_r_g, a.with_z_g, a.with_rho_psi, 1e3 * a.r_g_m.median,
+                1e3 * a.r_g_m.p95, 1e3 * a.r_g_m.max, 1e3 * a.z_g_m.median, 1e3 * a.z_g_m.p95,
+                1e3 * a.z_g_m.max, a.rho_change_deg.median, a.rho_change_deg.p95,
+                a.rho_change_deg.max, a.psi_change_deg.median, a.psi_change_deg.p95,
+                a.psi_change_deg.max);
   return buf;
 }
 

@@ -3,6 +3,7 @@
 // state their acceptance: errors over the frames inside an envelope (net fills the image, range
 // and heading within limits), and the share of all frames that report a grossly wrong distance.
 #include <cstddef>
+#include <cstdint>
 #include <span>
 #include <string>
 
@@ -49,5 +50,27 @@ NetPoseAccuracy score_net_pose(const Dataset& dataset, std::span<const EstimateR
 
 // Human-readable lines for the report, e.g. "d_net rel. error: median 0.41%, p95 1.2% (n=87)".
 std::string describe(const NetPoseAccuracy& a);
+
+// Global pose (r_g, rho_g, z_g, psi_g) against the truth body pose: r = hypot(x, y), z, and, as
+// dataset-format.md says the pen's azimuth origin is not observable, rho = atan2(y, x) and
+// psi = yaw compared as changes from the reference frame (the first scored frame where rho_g
+// and psi_g are finite). Angle differences are wrapped to (-pi, pi]. Every scored frame counts,
+// whatever its distance from the net.
+struct GlobalPoseAccuracy {
+  size_t frames = 0;                    // rows scored (those with a ground-truth row)
+  size_t with_r_g = 0;                  // of those, with a finite r_g
+  size_t with_z_g = 0;                  // ... z_g
+  size_t with_rho_psi = 0;              // ... rho_g and psi_g
+  ErrorStats r_g_m;                     // r_g - r_true
+  ErrorStats z_g_m;                     // z_g - z_true
+  ErrorStats rho_change_deg;            // (rho_g - rho_g at ref) - (rho_true - rho_true at ref)
+  ErrorStats psi_change_deg;            // same for psi_g against yaw
+  int64_t reference_timestamp_ns = -1;  // -1: no frame with rho_g and psi_g
+};
+
+// Throws pensight::Error when the dataset has no groundtruth0.
+GlobalPoseAccuracy score_global_pose(const Dataset& dataset, std::span<const EstimateRow> rows);
+
+std::string describe(const GlobalPoseAccuracy& a);
 
 }  // namespace pensight

@@ -66,6 +66,74 @@ TEST(ScoreNetPose, EnvelopeAndGrossErrors) {
 TEST(ScoreNetPose, NeedsGroundTruth) {
   const Dataset ds;
   EXPECT_THROW(score_net_pose(ds, {}, NetPoseSource::kFft), Error);
+  EXPECT_THROW(score_global_pose(ds, {}), Error);
+}
+
+constexpr double kDeg = 3.14159265358979323846 / 180.0;
+
+GroundTruthRow pose_truth(int64_t t, double r, double rho_rad, double z, double yaw_rad) {
+  GroundTruthRow g;
+  g.timestamp_ns = t;
+  g.p_world_body_m = {r * std::cos(rho_rad), r * std::sin(rho_rad), z};
+  g.yaw_rad = yaw_rad;
+  return g;
+}
+
+EstimateRow pose_estimate(int64_t t, double r, double rho_rad, double z, double psi_rad) {
+  EstimateRow e;
+  e.timestamp_ns = t;
+  e.r_g_m = r;
+  e.rho_g_rad = rho_rad;
+  e.z_g_m = z;
+  e.psi_g_rad = psi_rad;
+  return e;
+}
+
+TEST(ScoreGlobalPose, ErrorsAndChangesFromTheFirstFrameWithRhoAndPsi) {
+  Dataset ds;
+  ds.groundtruth0.emplace();
+  // The truth's azimuth and yaw sit near +-pi so that the changes cross the wrap; the estimate's
+  // rho origin (0 at its first frame) differs from the truth's, which must not matter.
+  const double rho0 = 179 * kDeg, yaw0 = -179.5 * kDeg;
+  ds.groundtruth0->rows = {
+      pose_truth(1, 11.2, rho0, 3.0, yaw0),  // no rho/psi estimate: not the reference
+      pose_truth(2, 11.2, rho0, 3.0, yaw0),
+      pose_truth(3, 11.2, rho0 + 2 * kDeg, 3.1, yaw0 - 1 * kDeg),
+      pose_truth(4, 11.2, rho0 + 4 * kDeg, 3.2, yaw0 - 2 * kDeg),
+      pose_truth(5, 11.2, rho0 + 6 * kDeg, 3.3, yaw0)};
+  const std::vector<EstimateRow> rows = {
+      pose_estimate(1, 11.21, NAN, 3.0, NAN),
+      pose_estimate(2, 11.18, 0.0, 3.01, 0.5),                  // reference
+      pose_estimate(3, 11.2, 2 * kDeg, 3.1, 0.5 - 1.5 * kDeg),  // psi 0.5 deg off
+      pose_estimate(4, NAN, 4.2 * kDeg, NAN, 0.5 - 2 * kDeg),   // rho 0.2 deg off
+      pose_estimate(5, 11.3, NAN, 3.3, NAN),
+      pose_estimate(9, 11.2, 0.0, 3.0, 0.0)};  // no truth row: not scored
+  const GlobalPoseAccuracy a = score_global_pose(ds, rows);
+  EXPECT_EQ(a.frames, 5u);
+  EXPECT_EQ(a.with_r_g, 4u);
+  EXPECT_EQ(a.with_z_g, 4u);
+  EXPECT_EQ(a.with_rho_psi, 3u);
+  EXPECT_EQ(a.reference_timestamp_ns, 2);
+  EXPECT_NEAR(a.r_g_m.max, 0.1, 1e-9);      // frame 5
+  EXPECT_NEAR(a.r_g_m.median, 0.01, 1e-9);  // errors 0.01, 0.02, 0, 0.1: nearest rank
+  EXPECT_NEAR(a.z_g_m.max, 0.01, 1e-9);
+  EXPECT_NEAR(a.rho_change_deg.max, 0.2, 1e-9);
+  EXPECT_NEAR(a.psi_change_deg.max, 0.5, 1e-9);
+  EXPECT_NEAR(a.psi_change_deg.median, 0.0, 1e-9);
+  EXPECT_NE(describe(a).find("psi_g"), std::string::npos);
+}
+
+TEST(ScoreGlobalPose, NoEstimates) {
+  Dataset ds;
+  ds.groundtruth0.emplace();
+  ds.groundtruth0->rows = {pose_truth(1, 12, 0, 3, 0), pose_truth(2, 12, 0, 3, 0)};
+  const std::vector<EstimateRow> rows = {pose_estimate(1, NAN, NAN, NAN, NAN),
+                                         pose_estimate(2, NAN, NAN, NAN, NAN)};
+  const GlobalPoseAccuracy a = score_global_pose(ds, rows);
+  EXPECT_EQ(a.frames, 2u);
+  EXPECT_EQ(a.with_r_g + a.with_z_g + a.with_rho_psi, 0u);
+  EXPECT_EQ(a.reference_timestamp_ns, -1);
+  EXPECT_EQ(a.r_g_m.count, 0u);
 }
 
 }  // namespace
