@@ -3,22 +3,14 @@
 // CPU backend, scored by `pensight evaluate`'s code. Full-length numbers: docs/fft_detection.md.
 #include <gtest/gtest.h>
 
-#include <cstdlib>
-#include <filesystem>
 #include <ostream>
 #include <string>
 
-#include "pipeline/dataset/dataset_reader.h"
-#include "pipeline/dataset/estimates_csv.h"
 #include "pipeline/evaluation/evaluation.h"
-#include "pipeline/runner.h"
-#include "sim/generate.h"
-#include "sim/scenario.h"
+#include "tests/support/rendered_run.h"
 
 namespace pensight {
 namespace {
-
-namespace fs = std::filesystem;
 
 struct Case {
   const char* scenario;
@@ -34,28 +26,11 @@ class FftRendered : public ::testing::TestWithParam<Case> {};
 
 TEST_P(FftRendered, AccuracyWithinIssueBounds) {
   const Case c = GetParam();
-  const char* source_dir = std::getenv("PENSIGHT_SOURCE_DIR");
-  ASSERT_NE(source_dir, nullptr) << "PENSIGHT_SOURCE_DIR is set by CTest";
-  sim::Scenario s =
-      sim::load_scenario(fs::path(source_dir) / "scenarios" / (std::string(c.scenario) + ".yaml"));
-  if (c.duration_s > 0) s.duration_s = c.duration_s;
-  s.camera.samples_per_axis = 1;
-
-  const fs::path dir = fs::temp_directory_path() /
-                       ("pensight_fft_rendered_" + std::string(c.scenario) + "_" +
-                        std::to_string(::testing::UnitTest::GetInstance()->random_seed()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  auto renderer = sim::make_renderer(s, {}, "cpu");
-  sim::generate_dataset(s, *renderer, dir / "dataset");
-
-  const Dataset dataset = read_dataset(dir / "dataset");
-  RunOptions options;
-  options.detector.backend = Backend::kCpu;
-  const RunSummary summary = run_dataset(dataset, dir / "out", options);
-  const auto rows = read_estimates_csv(dir / "out" / "estimates.csv");
-  const NetPoseAccuracy a = score_net_pose(dataset, rows, NetPoseSource::kFft);
-  fs::remove_all(dir);
+  const sim::Scenario s =
+      testing::shipped_scenario(std::string(c.scenario) + ".yaml", c.duration_s);
+  const testing::RenderedRun run = testing::render_and_run(s);
+  const NetPoseAccuracy a = score_net_pose(run.dataset, run.rows, NetPoseSource::kFft);
+  const RunSummary& summary = run.summary;
 
   SCOPED_TRACE(std::string(c.scenario) + ":\n" + describe(a));
   EXPECT_EQ(summary.frames, static_cast<size_t>(s.num_frames()));
