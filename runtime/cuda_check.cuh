@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "runtime/error.h"
 
@@ -44,6 +45,13 @@ class DeviceArray {
   }
   void download(T* dst, size_t n, cudaStream_t stream = nullptr) const {
     PENSIGHT_CUDA(cudaMemcpyAsync(dst, data_, n * sizeof(T), cudaMemcpyDeviceToHost, stream));
+  }
+  // All elements, after the work queued on the default stream has finished.
+  std::vector<T> to_vector() const {
+    std::vector<T> out(count_);
+    download(out.data(), count_);
+    PENSIGHT_CUDA(cudaDeviceSynchronize());
+    return out;
   }
 
  private:

@@ -45,10 +45,7 @@ std::vector<float> roi_normalize_cuda(const ImageU8& image, std::span<const RoiO
   roi_normalize_kernel<<<static_cast<unsigned>(rois.size()), kThreads>>>(
       d_image.data(), image.width, d_rois.data(), roi_size, d_out.data());
   PENSIGHT_CUDA(cudaGetLastError());
-  std::vector<float> out(n);
-  d_out.download(out.data(), n);
-  PENSIGHT_CUDA(cudaDeviceSynchronize());
-  return out;
+  return d_out.to_vector();
 }
 
 }  // namespace pensight::kernels

@@ -50,10 +50,7 @@ std::vector<float> sparse_prior_cuda(const SparsePriorShape& shape,
                                        shape.width, shape.height, detail::inv_two_sigma2(shape),
                                        d_out.data());
   PENSIGHT_CUDA(cudaGetLastError());
-  std::vector<float> out(n);
-  d_out.download(out.data(), n);
-  PENSIGHT_CUDA(cudaDeviceSynchronize());
-  return out;
+  return d_out.to_vector();
 }
 
 }  // namespace pensight::kernels
