@@ -26,6 +26,11 @@ std::vector<ImageEntry> read_frames(const fs::path& file) {
   const CsvTable t(file, 2, 2);
   std::vector<ImageEntry> out;
   for (size_t r = 0; r < t.rows(); ++r) out.push_back({t.integer(r, 0), t.text(r, 1)});
+  // A run over no frames would write a header-only estimates.csv that looks like a result.
+  if (out.empty()) {
+    throw Error(file.string() +
+                ": lists no camera frames; add one row '<timestamp ns>,<file name>' per image");
+  }
   require_time_order(out, file);
   return out;
 }

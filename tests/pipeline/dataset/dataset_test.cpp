@@ -240,6 +240,12 @@ TEST_F(DatasetFilesTest, BadYamlUnknownAndMissingKeysAreNamed) {
   EXPECT_NE(e.find("'resolution': missing"), std::string::npos) << e;
 }
 
+TEST_F(DatasetFilesTest, DatasetWithoutFramesIsRefused) {
+  write_file(root_ / "cam0" / "data.csv", "#timestamp [ns],filename\n");
+  const std::string e = error_of([&] { read_dataset(root_); });
+  EXPECT_NE(e.find("cam0/data.csv: lists no camera frames"), std::string::npos) << e;
+}
+
 TEST_F(DatasetFilesTest, BadCsvFieldIsNamedWithLine) {
   write_file(root_ / "pressure0" / "data.csv", "#timestamp [ns],depth [m]\n\n100,1.5\n200,abc\n");
   const std::string e = error_of([&] { read_dataset(root_); });
