@@ -23,6 +23,7 @@
 
 #include "pipeline/global_pose/attitude_series.h"
 #include "pipeline/global_pose/dvl_plane.h"
+#include "pipeline/global_pose/lock_rule.h"
 #include "pipeline/global_pose/measurements.h"
 #include "pipeline/global_pose/pen_ekf.h"
 #include "pipeline/global_pose/pen_fix.h"
@@ -64,6 +65,9 @@ struct GlobalPoseEstimatorConfig {
   // After this many rejections in a row a sensor's next sample is applied without the gate, so
   // the filter re-locks after a real jump instead of refusing it forever.
   int relock_after_rejections = 12;
+  // Which circle fits may initialise the filter, and when agreeing gated-out fixes re-initialise
+  // its position (lock_rule.h).
+  LockRule lock;
   double history_s = 2.0;
   double max_attitude_gap_s = 0.5;
   // Beyond these standard deviations a value is reported as NaN (not observable).
@@ -82,6 +86,10 @@ struct SensorCounters {
   int duplicates = 0;    // same sensor, same timestamp: dropped
   int out_of_order = 0;  // arrived after later samples were applied: re-applied in order
   int too_late = 0;      // older than history_s behind the filter: dropped
+  // Vision fix only: fixes that failed the lock rule before initialisation, and re-lockings of
+  // the position to agreeing gated-out fixes (LockRule).
+  int not_lockable = 0;
+  int reinitialised = 0;
 };
 
 struct GlobalPoseCounters {
@@ -129,6 +137,13 @@ class GlobalPoseEstimator {
     Eigen::Vector3d last_velocity_L = Eigen::Vector3d::Constant(kNaN);
     GlobalPoseCounters counts;  // applied-sample counters
     std::array<int, 6> consecutive_rejections = {};
+    // The latest valid DVL net plane, to check a fix against before it sets the position.
+    int64_t plane_ns = kNever;
+    DvlSample plane_sample;
+    double plane_roll_rad = 0, plane_pitch_rad = 0;
+    DvlPlane plane;
+    // Innovations of the current run of gated-out lockable vision fixes.
+    std::vector<Eigen::Vector2d> rejected_fix_innovations;
   };
   struct Applied {
     Event event;
@@ -142,12 +157,22 @@ class GlobalPoseEstimator {
   void apply_dvl(const DvlSample& s);
   void apply_camera(const NetObservation& obs);
   void initialise(const PenFix& fix, int64_t t_ns);
+  // Counts a gated-out vision fix towards the re-initialisation rule (LockRule).
+  void consider_reinitialising(const PenFix& fix, const Eigen::Vector2d& innovation, int64_t t_ns);
+  // Re-locks x, y, psi to `fix` at the current azimuth after agreeing gated-out fixes.
+  void reinitialise_position(const PenFix& fix, int64_t t_ns);
+  // lock_refusal plus the check against a recent DVL net plane, for the state the fix would set
+  // at azimuth rho_rad.
+  std::string lock_refusal_at(const PenFix& fix, double rho_rad, int64_t t_ns) const;
+  // The DVL net plane (distance, heading) a pose would give with the beams of `s`.
+  Eigen::Vector2d predicted_plane(const StateVector& x, const DvlSample& s, double roll,
+                                  double pitch) const;
   // Roll and pitch at t (0 with a one-time warning when there is no attitude near t).
   std::pair<double, double> level_at(int64_t t_ns);
   template <int M, class H>
-  void gated_update(int sensor, SensorCounters& c, const Eigen::Matrix<double, M, 1>& z, H&& h,
-                    const Eigen::Matrix<double, M, M>& R, std::array<bool, M> angles,
-                    std::span<const int> depends_on);
+  UpdateOutcome gated_update(int sensor, SensorCounters& c, const Eigen::Matrix<double, M, 1>& z,
+                             H&& h, const Eigen::Matrix<double, M, M>& R,
+                             std::array<bool, M> angles, std::span<const int> depends_on);
   Eigen::Isometry3d T_pen_body(const StateVector& x, double roll, double pitch) const;
   void warn_once(int id, const std::string& message);
 
