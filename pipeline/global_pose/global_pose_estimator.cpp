@@ -279,16 +279,25 @@ UpdateOutcome GlobalPoseEstimator::gated_update(int sensor, SensorCounters& c,
                                                 std::array<bool, M> angles,
                                                 std::span<const int> depends_on) {
   int& streak = state_.consecutive_rejections[static_cast<size_t>(sensor)];
-  const bool relock = streak >= cfg_.relock_after_rejections;
-  const double gate = relock ? 0.0 : cfg_.gate_scale * kGateChi2[M];
-  const UpdateOutcome outcome =
-      state_.ekf.update<M>(z, std::forward<H>(h), R, angles, depends_on, gate);
+  const bool motion = sensor == kDvlVelocity || sensor == kAttitudeYaw;
+  const bool relock =
+      streak >= (motion ? cfg_.motion_relock_after_rejections : cfg_.relock_after_rejections);
+  const double gate = cfg_.gate_scale * kGateChi2[M];
+  // A motion sensor's sample is first tried with the gate: only one that still fails it after
+  // the streak means the motion changed.
+  bool ungated = relock && !motion;
+  UpdateOutcome outcome = state_.ekf.update<M>(z, h, R, angles, depends_on, ungated ? 0.0 : gate);
+  if (relock && motion && outcome == UpdateOutcome::kRejected) {
+    release_motion_states(sensor);
+    ungated = true;
+    outcome = state_.ekf.update<M>(z, h, R, angles, depends_on, 0.0);
+  }
   switch (outcome) {
     case UpdateOutcome::kAccepted:
       ++c.accepted;
       if (sensor == kDvlVelocity || sensor == kAttitudeYaw)
         state_.last_rho_aid_ns = state_.ekf.t_ns;
-      if (relock) {
+      if (ungated) {
         ++c.relocked;
         warn_once(kWarnRelock, std::string(sensor_name(sensor)) +
                                    " rejected repeatedly; applied without the gate to re-lock");
@@ -306,6 +315,24 @@ UpdateOutcome GlobalPoseEstimator::gated_update(int sensor, SensorCounters& c,
       break;
   }
   return outcome;
+}
+
+void GlobalPoseEstimator::release_motion_states(int sensor) {
+  // Standard deviations of the released states: above what a vehicle in a pen changes in one
+  // sample interval, so the measurement sets them.
+  struct Release {
+    int state;
+    double sigma;
+  };
+  static constexpr Release kDvlMotion[] = {{kU, 1.0}, {kV, 1.0}, {kW, 1.0}};
+  static constexpr Release kYawMotion[] = {{kPsi, 0.2}, {kPsiRate, 1.0}};
+  StateMatrix& P = state_.ekf.P;
+  for (const Release& r : sensor == kDvlVelocity ? std::span<const Release>(kDvlMotion)
+                                                 : std::span<const Release>(kYawMotion)) {
+    P.row(r.state).setZero();
+    P.col(r.state).setZero();
+    P(r.state, r.state) = r.sigma * r.sigma;
+  }
 }
 
 void GlobalPoseEstimator::apply_attitude(const AttitudeSample& s) {
@@ -430,7 +457,11 @@ std::string GlobalPoseEstimator::lock_refusal_at(const PenFix& fix, double rho_r
       predicted_plane(x, state_.plane_sample, state_.plane_roll_rad, state_.plane_pitch_rad);
   const double dd = p.x() - state_.plane.distance_m;
   const double dh = wrap_angle(p.y() - state_.plane.heading_rad);
-  if (!(std::abs(dd) <= cfg_.lock.plane_distance_tol_m) ||
+  // The plane is up to max_plane_age_s older than the fix: allow for the motion since.
+  const double speed =
+      state_.last_velocity_L.allFinite() ? state_.last_velocity_L.head<2>().norm() : 0.0;
+  const double age_s = 1e-9 * static_cast<double>(std::abs(t_ns - state_.plane_ns));
+  if (!(std::abs(dd) <= cfg_.lock.plane_distance_tol_m + speed * age_s) ||
       !(std::abs(dh) <= cfg_.lock.plane_heading_tol_rad)) {
     char buf[128];
     std::snprintf(buf, sizeof(buf), "DVL net plane disagrees by %.2f m, %.2f rad", dd, dh);
@@ -474,7 +505,7 @@ void GlobalPoseEstimator::apply_camera(const NetObservation& obs) {
       consider_reinitialising(fix, Eigen::Vector2d(z.x() - h.x(), wrap_angle(z.y() - h.y())),
                               obs.t_ns);
     } else {
-      state_.rejected_fix_innovations.clear();
+      state_.rejected_fixes.clear();
     }
   }
   if (!cfg_.use_vision_relative) return;
@@ -499,36 +530,56 @@ void GlobalPoseEstimator::apply_camera(const NetObservation& obs) {
 
 void GlobalPoseEstimator::consider_reinitialising(const PenFix& fix,
                                                   const Eigen::Vector2d& innovation, int64_t t_ns) {
-  auto& run = state_.rejected_fix_innovations;
+  auto& run = state_.rejected_fixes;
   const size_t needed = static_cast<size_t>(std::max(0, cfg_.lock.reinit_after_rejected_fixes));
   const double rho = std::atan2(state_.ekf.x(kY), state_.ekf.x(kX));
-  if (needed == 0 || !lock_refusal_at(fix, rho, t_ns).empty()) {
+  if (needed < 2 || !lock_refusal_at(fix, rho, t_ns).empty()) {
     run.clear();
     return;
   }
-  run.push_back(innovation);
+  run.push_back({t_ns, innovation});
   if (run.size() > needed) run.erase(run.begin());
   if (run.size() < needed) return;
+  // The fixes agree when their innovations lie on a line in time: a constant offset (the filter's
+  // position is wrong) plus a constant rate (its velocity is wrong too, e.g. after a reversal the
+  // constant-velocity model did not expect).
+  double t_mean = 0;
   Eigen::Vector2d mean = Eigen::Vector2d::Zero();
-  for (const auto& v : run) mean += v;
+  for (const auto& f : run) {
+    t_mean += 1e-9 * static_cast<double>(f.t_ns - t_ns);
+    mean += f.innovation;
+  }
+  t_mean /= static_cast<double>(run.size());
   mean /= static_cast<double>(run.size());
-  for (const auto& v : run)
-    if (std::abs(v.x() - mean.x()) > cfg_.lock.agree_r_m ||
-        std::abs(v.y() - mean.y()) > cfg_.lock.agree_psi_r_rad)
+  double stt = 0;
+  Eigen::Vector2d sty = Eigen::Vector2d::Zero();
+  for (const auto& f : run) {
+    const double dt = 1e-9 * static_cast<double>(f.t_ns - t_ns) - t_mean;
+    stt += dt * dt;
+    sty += dt * (f.innovation - mean);
+  }
+  const Eigen::Vector2d rate = stt > 0 ? Eigen::Vector2d(sty / stt) : Eigen::Vector2d::Zero();
+  for (const auto& f : run) {
+    const double dt = 1e-9 * static_cast<double>(f.t_ns - t_ns) - t_mean;
+    const Eigen::Vector2d residual = f.innovation - mean - dt * rate;
+    if (std::abs(residual.x()) > cfg_.lock.agree_r_m ||
+        std::abs(residual.y()) > cfg_.lock.agree_psi_r_rad)
       return;
-  char buf[200];
+  }
+  char buf[240];
   std::snprintf(buf, sizeof(buf),
-                "global pose: %zu vision fixes in a row gated out but agreeing (r_g off by %.2f m, "
-                "psi_r by %.1f deg): position re-initialised at t = %lld ns",
-                run.size(), mean.x(), mean.y() * 180.0 / 3.14159265358979323846,
-                static_cast<long long>(t_ns));
+                "global pose: %zu vision fixes in a row gated out but agreeing (r_g off by %.2f m "
+                "changing %.2f m/s, psi_r by %.1f deg): position re-initialised at t = %lld ns",
+                run.size(), innovation.x(), rate.x(),
+                innovation.y() * 180.0 / 3.14159265358979323846, static_cast<long long>(t_ns));
   log_warning(buf);
-  reinitialise_position(fix, t_ns);
+  reinitialise_position(fix, rate.x(), t_ns);
   ++state_.counts.vision_fix.reinitialised;
   run.clear();
 }
 
-void GlobalPoseEstimator::reinitialise_position(const PenFix& fix, int64_t t_ns) {
+void GlobalPoseEstimator::reinitialise_position(const PenFix& fix, double radial_rate_mps,
+                                                int64_t t_ns) {
   PenEkf& ekf = state_.ekf;
   StateVector& x = ekf.x;
   StateMatrix& P = ekf.P;
@@ -547,6 +598,16 @@ void GlobalPoseEstimator::reinitialise_position(const PenFix& fix, int64_t t_ns)
                             fix.r_g_m * fix.r_g_m * rho_var * tangential * tangential.transpose();
   x(kPsi) = wrap_angle(rho + fix.psi_r_rad);
   P(kPsi, kPsi) = fix.covariance(1, 1) + std::pow(cfg_.noise.fix_psi_r_floor_rad, 2) + rho_var;
+  // The fixes' r changed faster than the filter's by radial_rate_mps: its velocity is off by that
+  // along the outward radial, whose bearing in the levelled frame is -psi_r. The DVL sets it
+  // from a wide prior.
+  const Eigen::Vector2d radial_L(std::cos(fix.psi_r_rad), -std::sin(fix.psi_r_rad));
+  x.segment<2>(kU) += radial_rate_mps * radial_L;
+  for (const int i : {static_cast<int>(kU), static_cast<int>(kV)}) {
+    P.row(i).setZero();
+    P.col(i).setZero();
+    P(i, i) = 0.3 * 0.3;
+  }
   // The attitude yaw's offset was estimated against the wrong heading: set it again from the next
   // attitude sample.
   state_.yaw_bias_set = false;
@@ -574,7 +635,19 @@ void GlobalPoseEstimator::initialise(const PenFix& fix, int64_t t_ns) {
   ekf.x.segment<3>(kU) = velocity ? state_.last_velocity_L : Eigen::Vector3d::Zero();
   ekf.P.block<3, 3>(kU, kU) =
       (velocity ? std::pow(cfg_.noise.dvl_velocity_mps, 2) : 0.25) * Eigen::Matrix3d::Identity();
-  ekf.P(kPsiRate, kPsiRate) = 0.1 * 0.1;
+  // The vehicle may be turning fast when the first fix comes (a sweep): take the yaw rate from
+  // the attitude sensor when it has samples around t.
+  const auto yaw_now = attitude_.at(t_ns, cfg_.max_attitude_gap_s);
+  const auto yaw_before = attitude_.at(t_ns - 100'000'000, cfg_.max_attitude_gap_s);
+  if (cfg_.use_attitude_yaw && yaw_now && yaw_before && std::isfinite(yaw_now->yaw_rad) &&
+      std::isfinite(yaw_before->yaw_rad) && yaw_now->timestamp_ns != yaw_before->timestamp_ns) {
+    ekf.x(kPsiRate) =
+        wrap_angle(yaw_now->yaw_rad - yaw_before->yaw_rad) /
+        (1e-9 * static_cast<double>(yaw_now->timestamp_ns - yaw_before->timestamp_ns));
+    ekf.P(kPsiRate, kPsiRate) = 0.1 * 0.1;
+  } else {
+    ekf.P(kPsiRate, kPsiRate) = 1.0;
+  }
   ekf.P(kYawBias, kYawBias) = 10.0;  // set from the first attitude sample
   ekf.P(kDvlBiasU, kDvlBiasU) = ekf.P(kDvlBiasV, kDvlBiasV) =
       std::pow(cfg_.noise.dvl_bias_prior_mps, 2);

@@ -65,6 +65,11 @@ struct GlobalPoseEstimatorConfig {
   // After this many rejections in a row a sensor's next sample is applied without the gate, so
   // the filter re-locks after a real jump instead of refusing it forever.
   int relock_after_rejections = 12;
+  // DVL velocity and attitude yaw measure the motion states directly, and a manoeuvre the
+  // constant-velocity model did not expect (a turn or a reversal) is gated out like a spike. A
+  // spike lasts one or two samples; after this many rejections in a row the motion states they
+  // measure (u, v, w; psi, psi_rate) are released to a wide prior and the sample is applied.
+  int motion_relock_after_rejections = 2;
   // Which circle fits may initialise the filter, and when agreeing gated-out fixes re-initialise
   // its position (lock_rule.h).
   LockRule lock;
@@ -142,8 +147,12 @@ class GlobalPoseEstimator {
     DvlSample plane_sample;
     double plane_roll_rad = 0, plane_pitch_rad = 0;
     DvlPlane plane;
-    // Innovations of the current run of gated-out lockable vision fixes.
-    std::vector<Eigen::Vector2d> rejected_fix_innovations;
+    // The current run of gated-out lockable vision fixes: time and (r, psi_r) innovation.
+    struct RejectedFix {
+      int64_t t_ns;
+      Eigen::Vector2d innovation;
+    };
+    std::vector<RejectedFix> rejected_fixes;
   };
   struct Applied {
     Event event;
@@ -157,10 +166,14 @@ class GlobalPoseEstimator {
   void apply_dvl(const DvlSample& s);
   void apply_camera(const NetObservation& obs);
   void initialise(const PenFix& fix, int64_t t_ns);
+  // Releases the motion states a DVL velocity or attitude yaw measures (see
+  // motion_relock_after_rejections).
+  void release_motion_states(int sensor);
   // Counts a gated-out vision fix towards the re-initialisation rule (LockRule).
   void consider_reinitialising(const PenFix& fix, const Eigen::Vector2d& innovation, int64_t t_ns);
-  // Re-locks x, y, psi to `fix` at the current azimuth after agreeing gated-out fixes.
-  void reinitialise_position(const PenFix& fix, int64_t t_ns);
+  // Re-locks x, y, psi to `fix` at the current azimuth after agreeing gated-out fixes, and
+  // corrects the velocity by the rate at which their r innovations grew.
+  void reinitialise_position(const PenFix& fix, double radial_rate_mps, int64_t t_ns);
   // lock_refusal plus the check against a recent DVL net plane, for the state the fix would set
   // at azimuth rho_rad.
   std::string lock_refusal_at(const PenFix& fix, double rho_rad, int64_t t_ns) const;

@@ -20,6 +20,9 @@ std::string lock_refusal(const PenFix& fix, const LockRule& rule) {
   else if (!(std::sqrt(fix.covariance(0, 0)) <= rule.max_r_sigma_m))
     std::snprintf(why, sizeof(why), "sigma(r_g) %.3f m > %.3f", std::sqrt(fix.covariance(0, 0)),
                   rule.max_r_sigma_m);
+  else if (!(std::abs(fix.psi_r_rad) <= rule.max_abs_psi_r_rad))
+    std::snprintf(why, sizeof(why), "|psi_r| %.2f rad > %.2f", fix.psi_r_rad,
+                  rule.max_abs_psi_r_rad);
   return why;
 }
 

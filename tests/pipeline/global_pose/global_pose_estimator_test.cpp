@@ -465,10 +465,10 @@ TEST(GlobalPoseEstimator, PartialNetFixDoesNotInitialise) {
   EXPECT_GT(n.r_m.front(), 0.5);
 }
 
-// Frames 1-3 have all points 1.5 m too far (frame 0 sees nothing): a full, self-consistent,
-// wrong circle that passes the fix-only rule. Without the DVL plane to contradict it the filter
-// starts there, gates the good fixes out, and after reinit_after_rejected_fixes agreeing ones
-// re-locks its position (counted, logged) and is accurate again.
+// Frames 1-3 have all points moved 1.5 m along the optical axis (frame 0 sees nothing): a full,
+// self-consistent, wrong circle that passes the fix-only rule. Without the DVL plane to contradict
+// it the filter starts there, gates the good fixes out, and after reinit_after_rejected_fixes
+// agreeing ones re-locks its position (counted, logged) and is accurate again.
 TEST(GlobalPoseEstimator, AgreeingRejectedFixesReinitialise) {
   std::mt19937_64 rng(testing::fresh_seed());
   sim::Trajectory traj;
@@ -477,7 +477,7 @@ TEST(GlobalPoseEstimator, AgreeingRejectedFixesReinitialise) {
   const size_t bad_end = 4;
   for (auto& p : seq.camera[0].points_C) p.setConstant(kNaN);
   for (size_t i = 1; i < bad_end; ++i) {
-    for (auto& p : seq.camera[i].points_C) p *= (p.norm() + 1.5) / p.norm();
+    for (auto& p : seq.camera[i].points_C) p.z() += 1.5;
   }
   GlobalPoseEstimatorConfig cfg = estimator_config(12.0);
   cfg.use_dvl_plane = false;
