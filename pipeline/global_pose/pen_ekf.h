@@ -40,11 +40,11 @@ using StateVector = Eigen::Matrix<double, kStateDim, 1>;
 using StateMatrix = Eigen::Matrix<double, kStateDim, kStateDim>;
 
 struct ProcessNoise {
-  double horizontal_accel = 0.3;  // m/s^2 per sqrt(Hz)
-  double vertical_accel = 0.1;    // m/s^2 per sqrt(Hz)
-  double yaw_accel = 0.3;         // rad/s^2 per sqrt(Hz)
-  double yaw_bias_walk = 1e-4;    // rad per sqrt(s): drift of the attitude sensor's yaw
-  double dvl_bias_walk = 1e-4;    // m/s per sqrt(s)
+  double horizontal_accel = 0.05;  // m/s^2 per sqrt(Hz)
+  double vertical_accel = 0.05;    // m/s^2 per sqrt(Hz)
+  double yaw_accel = 0.05;         // rad/s^2 per sqrt(Hz)
+  double yaw_bias_walk = 1e-4;     // rad per sqrt(s): drift of the attitude sensor's yaw
+  double dvl_bias_walk = 1e-4;     // m/s per sqrt(s)
 };
 
 // Chi-square quantiles at p = 0.999 for 1, 2 and 3 degrees of freedom.
