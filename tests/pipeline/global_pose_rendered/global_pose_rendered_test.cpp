@@ -80,18 +80,20 @@ TEST(GlobalPoseRendered, SweepFromOpenWater) {
     const double r_true = t->p_world_body_m.head<2>().norm();
     if (std::isfinite(run.rows[i].r_g_m))
       r_err.push_back(run.rows[i].r_g_m - r_true);
-    else if (t->d_net_m <= 2.5)  // the far wall (3-12 m) fills the image while turning in
-      ++near_without;
+    else if (t->d_net_m <= AccuracyEnvelope{}.max_d_net_m &&
+             std::abs(t->psi_net_rad) <= AccuracyEnvelope{}.max_abs_psi_net_rad)
+      ++near_without;  // not the far wall (3-12 m) nor the oblique net while turning in
   }
   const ErrorStats e = error_stats(r_err);
   std::printf(
       "sweep: %zu frames with net >= half the image, %zu with r_g; r_g error median "
-      "%.1f mm, p95 %.1f mm, max %.1f mm\nestimator counters:\n%s\n",
-      full_view, r_err.size(), 1e3 * e.median, 1e3 * e.p95, 1e3 * e.max,
+      "%.1f mm, p95 %.1f mm, max %.1f mm; %zu in the envelope (<= 2.5 m, <= 35 deg) without "
+      "r_g\nestimator counters:\n%s\n",
+      full_view, r_err.size(), 1e3 * e.median, 1e3 * e.p95, 1e3 * e.max, near_without,
       run.summary.global_pose_counters.c_str());
   ::testing::Test::RecordProperty("sweep_r_g_max_mm", std::to_string(1e3 * e.max));
   ASSERT_GE(full_view, 40u);
-  EXPECT_LE(near_without, 2u);
+  EXPECT_LE(near_without, 2u);  // the lock waits for |psi_r| <= 25 deg
   // The median is the bulge: the net is up to 15 cm inside the cylinder there, and r_g is
   // measured to the net (the published node's median is the same). The tail is the two
   // instantaneous reversals (1.7 and 2.6 m/s steps) of the piecewise-linear trajectory, caught
