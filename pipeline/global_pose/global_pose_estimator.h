@@ -11,9 +11,11 @@
 // arrival) rolls the filter back to a snapshot before it and re-applies what followed, within
 // `history_s`; older ones are dropped. Duplicates are dropped. All are counted, none is fatal.
 //
-// rho_g is 0 (or initial_rho_rad) at the first camera frame with a valid circle fit, which also
-// initialises the filter; before it r_g, rho_g and psi_g are NaN. A value whose standard deviation
-// exceeds its limit (e.g. rho_g with neither DVL nor attitude yaw) is reported as NaN.
+// rho_g is 0 (or initial_rho_rad) at the first camera frame whose circle fit passes the lock rule
+// (lock_rule.h), which also initialises the filter; before it r_g, rho_g and psi_g are NaN. Vision
+// fixes that are gated out in a row yet agree with each other re-initialise the position. A value
+// whose standard deviation exceeds its limit (e.g. rho_g with neither DVL nor attitude yaw) is
+// reported as NaN.
 #include <Eigen/Geometry>
 #include <deque>
 #include <optional>

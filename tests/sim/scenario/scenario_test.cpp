@@ -31,7 +31,8 @@ const char* kMinimal =
     "    - {t_s: 2, net_distance_m: 1.5, depth_m: 3}\n";
 
 TEST(Scenario, ShippedScenariosLoad) {
-  for (const char* name : {"sweep", "follow", "lawnmower", "lowlight", "turbid", "tank"}) {
+  for (const char* name :
+       {"sweep", "follow", "lawnmower", "lowlight", "turbid", "tank", "follow_drift"}) {
     SCOPED_TRACE(name);
     const Scenario s = load_scenario(source_dir() + "/scenarios/" + name + ".yaml");
     EXPECT_EQ(s.name, name);
