@@ -24,7 +24,7 @@ struct LockRule {
   // line in time: the filter's position is off, and maybe its velocity), the position and
   // heading states are re-locked to the latest fix and the velocity corrected by the line's
   // slope. Fewer than 2 turns it off.
-  int reinit_after_rejected_fixes = 4;
+  int reinit_after_rejected_fixes = 3;
   double agree_r_m = 0.05;
   double agree_psi_r_rad = 0.05;
 };

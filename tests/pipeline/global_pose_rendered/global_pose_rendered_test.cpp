@@ -70,37 +70,48 @@ TEST(GlobalPoseRendered, FlatTank) {
 TEST(GlobalPoseRendered, SweepFromOpenWater) {
   const sim::Scenario s = testing::shipped_scenario("sweep.yaml");
   const testing::RenderedRun run = testing::render_and_run(s);
-  std::vector<double> r_err;
-  size_t full_view = 0, near_without = 0;
+  std::vector<double> r_err, r_err_envelope;
+  size_t full_view = 0, envelope = 0, envelope_without = 0;
+  const AccuracyEnvelope env;
   for (size_t i = 0; i < run.rows.size(); ++i) {
     const GroundTruthRow* t = run.dataset.truth_for_frame(i);
     ASSERT_NE(t, nullptr);
-    if (t->net_fraction < 0.5) continue;
+    if (t->net_fraction < env.min_net_fraction) continue;
     ++full_view;
+    // The envelope: also 0.4-2.5 m from the net and facing it within 35 deg (not the far
+    // wall 3-12 m away, nor the net seen obliquely while turning in and out).
+    const bool in_envelope = t->d_net_m >= env.min_d_net_m && t->d_net_m <= env.max_d_net_m &&
+                             std::abs(t->psi_net_rad) <= env.max_abs_psi_net_rad;
+    envelope += in_envelope ? 1 : 0;
     const double r_true = t->p_world_body_m.head<2>().norm();
-    if (std::isfinite(run.rows[i].r_g_m))
-      r_err.push_back(run.rows[i].r_g_m - r_true);
-    else if (t->d_net_m <= AccuracyEnvelope{}.max_d_net_m &&
-             std::abs(t->psi_net_rad) <= AccuracyEnvelope{}.max_abs_psi_net_rad)
-      ++near_without;  // not the far wall (3-12 m) nor the oblique net while turning in
+    if (!std::isfinite(run.rows[i].r_g_m)) {
+      envelope_without += in_envelope ? 1 : 0;
+      continue;
+    }
+    r_err.push_back(run.rows[i].r_g_m - r_true);
+    if (in_envelope) r_err_envelope.push_back(r_err.back());
   }
-  const ErrorStats e = error_stats(r_err);
+  const ErrorStats e = error_stats(r_err), ee = error_stats(r_err_envelope);
   std::printf(
-      "sweep: %zu frames with net >= half the image, %zu with r_g; r_g error median "
-      "%.1f mm, p95 %.1f mm, max %.1f mm; %zu in the envelope (<= 2.5 m, <= 35 deg) without "
-      "r_g\nestimator counters:\n%s\n",
-      full_view, r_err.size(), 1e3 * e.median, 1e3 * e.p95, 1e3 * e.max, near_without,
+      "sweep: %zu frames with net >= half the image, %zu with r_g: r_g error median %.1f mm, "
+      "p95 %.1f mm, max %.1f mm\n  of them %zu in the envelope, %zu with r_g: median %.1f mm, "
+      "p95 %.1f mm, max %.1f mm\nestimator counters:\n%s\n",
+      full_view, r_err.size(), 1e3 * e.median, 1e3 * e.p95, 1e3 * e.max, envelope,
+      r_err_envelope.size(), 1e3 * ee.median, 1e3 * ee.p95, 1e3 * ee.max,
       run.summary.global_pose_counters.c_str());
   ::testing::Test::RecordProperty("sweep_r_g_max_mm", std::to_string(1e3 * e.max));
   ASSERT_GE(full_view, 40u);
-  EXPECT_LE(near_without, 2u);  // the lock waits for |psi_r| <= 25 deg
-  // The median is the bulge: the net is up to 15 cm inside the cylinder there, and r_g is
-  // measured to the net (the published node's median is the same). The tail is the two
-  // instantaneous reversals (1.7 and 2.6 m/s steps) of the piecewise-linear trajectory, caught
-  // by the re-initialisation within 0.4 s. Before the lock rule: p95 2.1 m, max 2.2 m.
+  ASSERT_GE(envelope, 30u);
+  EXPECT_LE(envelope_without, 2u);  // the lock waits for |psi_r| <= 25 deg
+  // The medians are the bulge: the net is up to 15 cm inside the cylinder there, and r_g is
+  // measured to the net (the published node's median is the same). The envelope's tail is the two
+  // instantaneous reversals (1.7 and 2.6 m/s steps) of the piecewise-linear trajectory, caught by
+  // the re-initialisation within 0.3 s; the full view's maximum is the turn away at the end (no
+  // lockable fix, DVL lost). Before the lock rule: envelope p95 4.2 m, max 5.0 m.
   EXPECT_LE(e.median, 0.15);
-  EXPECT_LE(e.p95, 1.0);
-  EXPECT_LE(e.max, 1.2);
+  EXPECT_LE(e.max, 1.5);
+  EXPECT_LE(ee.median, 0.15);
+  EXPECT_LE(ee.p95, 0.6);
 }
 
 // follow_drift.yaml, rendered once and run twice: as rendered (with its injected DVL spike) and
