@@ -192,8 +192,8 @@ TEST_F(GenerateTest, DvlScaleErrorOffsetAndInjectedSpike) {
     ++valid;
     const double t = static_cast<double>(d.timestamp_ns - s.start_time_ns) * 1e-9;
     const BodyState b = body_state(s, t);
-    Eigen::Vector3d v = 1.01 * (b.T_world_body.linear().transpose() * b.velocity_world_mps) +
-                        s.dvl.bias_B_mps;
+    Eigen::Vector3d v =
+        1.01 * (b.T_world_body.linear().transpose() * b.velocity_world_mps) + s.dvl.bias_B_mps;
     if (t >= 3.0 - 1e-6 && t < 3.5 - 1e-6) {
       v += Eigen::Vector3d(0, 2.0, 0);
       ++spiked;
