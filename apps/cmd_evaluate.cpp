@@ -2,12 +2,16 @@
 #include <cstdio>
 
 #include "apps/command.h"
+#include "pipeline/dataset/global_pose_csv.h"
 #include "pipeline/evaluation/evaluation.h"
 
 namespace pensight::app {
 
 int cmd_evaluate(const Args& args) {
-  CLI::App cli("Score OUT/estimates.csv against the dataset's groundtruth0", "pensight evaluate");
+  CLI::App cli(
+      "Score OUT/estimates.csv (and OUT/global_pose_published.csv if present) against the "
+      "dataset's groundtruth0",
+      "pensight evaluate");
   std::string dataset_dir, out_dir;
   AccuracyEnvelope envelope;
   cli.add_option("DATASET", dataset_dir, "dataset folder with groundtruth0/")->required();
@@ -22,6 +26,8 @@ int cmd_evaluate(const Args& args) {
   }
   const Dataset dataset = read_dataset(dataset_dir);
   const auto rows = read_estimates_csv(std::filesystem::path(out_dir) / "estimates.csv");
+  const std::filesystem::path published_file =
+      std::filesystem::path(out_dir) / kPublishedGlobalPoseFile;
   std::printf(
       "measurable: net fraction >= %.2f, %.1f-%.1f m, |psi_net| <= 35 deg\n"
       "net pose from FFT:\n%s"
@@ -29,6 +35,11 @@ int cmd_evaluate(const Args& args) {
       envelope.min_net_fraction, envelope.min_d_net_m, envelope.max_d_net_m,
       describe(score_net_pose(dataset, rows, NetPoseSource::kFft, envelope)).c_str(),
       describe(score_global_pose(dataset, rows)).c_str());
+  if (std::filesystem::exists(published_file)) {
+    std::printf("global pose of the published node (%s, the baseline):\n%s",
+                kPublishedGlobalPoseFile,
+                describe(score_global_pose(dataset, read_global_pose_csv(published_file))).c_str());
+  }
   return 0;
 }
 

@@ -3,6 +3,7 @@
 
 #include "apps/command.h"
 #include "apps/progress_bar.h"
+#include "pipeline/dataset/global_pose_csv.h"
 #include "pipeline/runner.h"
 
 namespace pensight::app {
@@ -30,6 +31,9 @@ int cmd_run(const Args& args) {
       ->capture_default_str();
   cli.add_option("--cpu-threads", options.detector.cpu_threads, "CPU path threads (0: all)")
       ->capture_default_str();
+  bool no_published = false;
+  cli.add_flag("--no-published", no_published,
+               "do not run the published global-pose node (OUT/global_pose_published.csv)");
   cli.add_flag("--quiet", quiet, "no progress bar");
   try {
     cli.parse(std::vector<std::string>(args.rbegin(), args.rend()));
@@ -38,6 +42,7 @@ int cmd_run(const Args& args) {
   }
 
   options.detector.backend = parse_backend(backend);
+  options.write_published_global_pose = !no_published;
   ProgressBar bar("run");
   if (!quiet) options.on_progress = [&](size_t done, size_t total) { bar.update(done, total); };
   const Dataset dataset = read_dataset(dataset_dir);
@@ -47,6 +52,9 @@ int cmd_run(const Args& args) {
               s.frames_skipped, s.frames_without_pose, s.times.summary().c_str());
   std::printf("global pose sensors:\n%s", s.global_pose_counters.c_str());
   std::printf("wrote %s/estimates.csv\n", out_dir.c_str());
+  if (options.write_published_global_pose)
+    std::printf("wrote %s/%s (published global-pose node, the baseline)\n", out_dir.c_str(),
+                kPublishedGlobalPoseFile);
   return 0;
 }
 

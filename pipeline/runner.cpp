@@ -1,10 +1,14 @@
 #include "pipeline/runner.h"
 
+#include <algorithm>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "pipeline/dataset/estimates_csv.h"
+#include "pipeline/dataset/global_pose_csv.h"
 #include "pipeline/global_pose/global_pose_estimator.h"
+#include "pipeline/global_pose/published_global_pose.h"
 #include "runtime/error.h"
 #include "runtime/log.h"
 
@@ -23,24 +27,38 @@ global_pose::GlobalPoseEstimatorConfig global_pose_config(const Dataset& d) {
   return c;
 }
 
-// Feeds the estimator every DVL, pressure and attitude sample up to each camera frame's time, so
-// it sees the sensors as a vehicle would (nothing from the future).
+// The published node as the paper ran it: roll = pitch = 0, the latest sample of each sensor.
+global_pose::PublishedGlobalPoseConfig published_config(const Dataset& d) {
+  global_pose::PublishedGlobalPoseConfig c;
+  c.pen_radius_m = d.scene.pen_radius_m;
+  c.initial_rho_rad = d.scene.initial_rho_rad.value_or(0.0);
+  c.T_body_camera = d.cam0.T_BS;
+  c.has_dvl = d.dvl0.has_value();
+  return c;
+}
+
+// Feeds the estimators every DVL, pressure and attitude sample up to each camera frame's time,
+// so they see the sensors as a vehicle would (nothing from the future).
 class SensorFeed {
  public:
   explicit SensorFeed(const Dataset& d) : d_(d) {}
 
-  void until(int64_t t_ns, global_pose::GlobalPoseEstimator& est) {
-    if (d_.dvl0) add_until(d_.dvl0->samples, dvl_, t_ns, est);
-    if (d_.pressure0) add_until(*d_.pressure0, depth_, t_ns, est);
-    if (d_.imu0) add_until(*d_.imu0, att_, t_ns, est);
+  void until(int64_t t_ns, global_pose::GlobalPoseEstimator& est,
+             global_pose::PublishedGlobalPose* published) {
+    if (d_.dvl0) add_until(d_.dvl0->samples, dvl_, t_ns, est, published);
+    if (d_.pressure0) add_until(*d_.pressure0, depth_, t_ns, est, published);
+    if (d_.imu0) add_until(*d_.imu0, att_, t_ns, est, published);
   }
 
  private:
   template <class Sample>
   static void add_until(const std::vector<Sample>& samples, size_t& next, int64_t t_ns,
-                        global_pose::GlobalPoseEstimator& est) {
-    for (; next < samples.size() && samples[next].timestamp_ns <= t_ns; ++next)
+                        global_pose::GlobalPoseEstimator& est,
+                        global_pose::PublishedGlobalPose* published) {
+    for (; next < samples.size() && samples[next].timestamp_ns <= t_ns; ++next) {
       est.add(samples[next]);
+      if (published) published->add(samples[next]);
+    }
   }
 
   const Dataset& d_;
@@ -61,6 +79,13 @@ global_pose::NetObservation observation(int64_t t_ns, const NetDetection& d) {
   return obs;
 }
 
+void fill_global_pose(EstimateRow& row, const global_pose::GlobalPose& g) {
+  row.r_g_m = g.r_g_m;
+  row.rho_g_rad = g.rho_g_rad;
+  row.z_g_m = g.z_g_m;
+  row.psi_g_rad = g.psi_g_rad;
+}
+
 }  // namespace
 
 RunSummary run_dataset(const Dataset& dataset, const std::filesystem::path& out_dir,
@@ -76,12 +101,18 @@ RunSummary run_dataset(const Dataset& dataset, const std::filesystem::path& out_
   if (ec) throw Error("cannot create output folder " + out_dir.string() + ": " + ec.message());
   EstimatesCsvWriter estimates(out_dir / "estimates.csv");
   global_pose::GlobalPoseEstimator global_pose(global_pose_config(dataset));
+  std::optional<global_pose::PublishedGlobalPose> published;
+  std::optional<GlobalPoseCsvWriter> published_csv;
+  if (options.write_published_global_pose) {
+    published.emplace(published_config(dataset));
+    published_csv.emplace(out_dir / kPublishedGlobalPoseFile);
+  }
   SensorFeed feed(dataset);
 
   const size_t total = dataset.frames.size();
   for (size_t i = 0; i < total; ++i) {
-    EstimateRow row;
-    row.timestamp_ns = dataset.frames[i].timestamp_ns;
+    EstimateRow row, published_row;
+    row.timestamp_ns = published_row.timestamp_ns = dataset.frames[i].timestamp_ns;
     Stopwatch sw;
     try {
       const ImageU8 frame = dataset.load_frame(i);
@@ -98,23 +129,23 @@ RunSummary run_dataset(const Dataset& dataset, const std::filesystem::path& out_
         ++summary.frames_without_pose;
       }
       sw.restart();
-      feed.until(row.timestamp_ns, global_pose);
-      global_pose.add(observation(row.timestamp_ns, d));
-      const global_pose::GlobalPose g = global_pose.estimate(row.timestamp_ns);
+      feed.until(row.timestamp_ns, global_pose, published ? &*published : nullptr);
+      const global_pose::NetObservation obs = observation(row.timestamp_ns, d);
+      global_pose.add(obs);
+      fill_global_pose(row, global_pose.estimate(row.timestamp_ns));
       summary.times.add("global pose", sw.elapsed_ms());
-      row.r_g_m = g.r_g_m;
-      row.rho_g_rad = g.rho_g_rad;
-      row.z_g_m = g.z_g_m;
-      row.psi_g_rad = g.psi_g_rad;
+      if (published) fill_global_pose(published_row, published->add(obs));
     } catch (const Error& e) {
       log_warning("frame " + std::to_string(i) + " skipped (NaN row): " + e.what());
       ++summary.frames_skipped;
     }
     estimates.write(row);
+    if (published_csv) published_csv->write(published_row);
     ++summary.frames;
     if (options.on_progress) options.on_progress(i + 1, total);
   }
   estimates.finish();
+  if (published_csv) published_csv->finish();
   summary.global_pose_counters = global_pose::describe(global_pose.counters());
   return summary;
 }

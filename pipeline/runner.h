@@ -1,5 +1,6 @@
 #pragma once
-// `pensight run`: the pipeline over every frame of a dataset, writing OUT/estimates.csv.
+// `pensight run`: the pipeline over every frame of a dataset, writing OUT/estimates.csv and, as
+// the baseline, the published global-pose node's output OUT/global_pose_published.csv.
 #include <cstddef>
 #include <filesystem>
 #include <functional>
@@ -14,6 +15,8 @@ namespace pensight {
 struct RunOptions {
   // The camera and the mesh size come from the dataset; everything else from here.
   NetDetectorConfig detector;
+  // Also run the published global-pose node and write OUT/global_pose_published.csv.
+  bool write_published_global_pose = true;
   // Called after each frame with (frames done, total frames).
   std::function<void(size_t, size_t)> on_progress;
 };
@@ -27,7 +30,8 @@ struct RunSummary {
   std::string global_pose_counters;  // per-sensor accepted / rejected / late counts
 };
 
-// Writes out_dir/estimates.csv whole (temporary name, then rename), creating out_dir if needed.
+// Writes out_dir/estimates.csv (and global_pose_published.csv) whole (temporary name, then
+// rename), creating out_dir if needed.
 // Throws pensight::Error for problems that affect the whole run (unwritable output, a backend
 // that cannot run here, a ROI grid that does not fit the camera).
 RunSummary run_dataset(const Dataset& dataset, const std::filesystem::path& out_dir,

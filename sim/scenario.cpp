@@ -223,6 +223,20 @@ DvlConfig parse_dvl(const YamlMap& y) {
   d.dropout_probability = ranged(y, "dropout_probability", d.dropout_probability, 0, 1);
   d.spike_probability = ranged(y, "spike_probability", d.spike_probability, 0, 1);
   d.spike_mps = ranged(y, "spike_mps", d.spike_mps, 0, 100);
+  d.scale_error = ranged(y, "scale_error", d.scale_error, -0.5, 0.5);
+  d.bias_B_mps = vec3(y, "bias_mps", d.bias_B_mps);
+  if (y.has("spikes")) {
+    for (const YamlMap& m : y.map_list("spikes")) {
+      DvlSpike spike;
+      spike.t_s = ranged(m, "t_s", 0, 0, 1e6);
+      spike.duration_s = positive(m, "duration_s", spike.duration_s);
+      spike.velocity_B_mps = vec3(m, "velocity_mps", spike.velocity_B_mps);
+      m.reject_unknown_keys();
+      d.spikes.push_back(spike);
+    }
+  } else {
+    y.optional_number("spikes");
+  }
   y.reject_unknown_keys();
   return d;
 }

@@ -84,6 +84,13 @@ struct CameraConfig {
   double shot_noise = 0.3;  // grey levels per sqrt(grey level)
 };
 
+// A velocity error added to every DVL sample taken in [t_s, t_s + duration_s): a deterministic
+// spike for robustness tests (the random ones below come and go with the seed).
+struct DvlSpike {
+  double t_s = 0, duration_s = 0.5;
+  Eigen::Vector3d velocity_B_mps = Eigen::Vector3d::Zero();
+};
+
 struct DvlConfig {
   bool enabled = true;
   double rate_hz = 4;
@@ -96,6 +103,11 @@ struct DvlConfig {
   double dropout_probability = 0.02;
   double spike_probability = 0.005;
   double spike_mps = 0.3;
+  // Systematic velocity errors (sound speed, misalignment): v_measured = (1 + scale_error) v +
+  // bias.
+  double scale_error = 0;
+  Eigen::Vector3d bias_B_mps = Eigen::Vector3d::Zero();
+  std::vector<DvlSpike> spikes;
 };
 
 struct PressureConfig {

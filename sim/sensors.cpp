@@ -55,7 +55,9 @@ DvlSample measure_dvl(const DvlConfig& cfg, const NetGeometry& net, const BodySt
       ++returns;
     }
   }
-  Eigen::Vector3d v = b.T_world_body.linear().transpose() * b.velocity_world_mps;
+  Eigen::Vector3d v =
+      (1 + cfg.scale_error) * b.T_world_body.linear().transpose() * b.velocity_world_mps +
+      cfg.bias_B_mps;
   for (int i = 0; i < 3; ++i) v[i] += cfg.velocity_noise_mps * gauss(rng);
   if (uniform(rng) < cfg.spike_probability) {
     v[static_cast<int>(rng() % 3)] += (uniform(rng) < 0.5 ? -1 : 1) * cfg.spike_mps;
@@ -71,7 +73,11 @@ std::vector<DvlSample> simulate_dvl(const Scenario& s, const NetGeometry& net) {
   auto rng = stream(s, 1);
   std::vector<DvlSample> out;
   for_each_sample(s, s.dvl.rate_hz, [&](double t, int64_t ns) {
-    out.push_back(measure_dvl(s.dvl, net, body_state(s, t), ns, rng));
+    DvlSample d = measure_dvl(s.dvl, net, body_state(s, t), ns, rng);
+    for (const DvlSpike& spike : s.dvl.spikes)
+      if (d.valid && t >= spike.t_s - 1e-9 && t < spike.t_s + spike.duration_s - 1e-9)
+        d.velocity_B_mps += spike.velocity_B_mps;
+    out.push_back(d);
   });
   return out;
 }

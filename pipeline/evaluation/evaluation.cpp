@@ -113,10 +113,25 @@ std::string describe(const NetPoseAccuracy& a) {
   return buf;
 }
 
+double rho_drift_per_m(std::span<const double> t_s, std::span<const double> arc_error_m,
+                       double path_m, double window_s) {
+  if (t_s.empty() || t_s.size() != arc_error_m.size() || !(path_m > 0)) return kNaN;
+  double sum = 0;
+  int n = 0;
+  for (size_t i = 0; i < t_s.size(); ++i) {
+    if (t_s[i] >= t_s.back() - window_s) {
+      sum += arc_error_m[i];
+      ++n;
+    }
+  }
+  return std::abs(sum / n) / path_m;
+}
+
 GlobalPoseAccuracy score_global_pose(const Dataset& dataset, std::span<const EstimateRow> rows) {
   const auto truth = truth_by_time(dataset);
   GlobalPoseAccuracy a;
-  std::vector<double> r_err, z_err, rho_err, psi_err;
+  std::vector<double> r_err, z_err, rho_err, psi_err, t_s, arc_m;
+  const GroundTruthRow* prev_truth = nullptr;
   const EstimateRow* ref = nullptr;
   const GroundTruthRow* ref_truth = nullptr;
   for (const EstimateRow& r : rows) {
@@ -125,6 +140,8 @@ GlobalPoseAccuracy score_global_pose(const Dataset& dataset, std::span<const Est
     const GroundTruthRow& t = *it->second;
     const Eigen::Vector3d& p = t.p_world_body_m;
     ++a.frames;
+    if (ref && prev_truth) a.path_m += (p.head<2>() - prev_truth->p_world_body_m.head<2>()).norm();
+    if (ref) prev_truth = &t;
     if (std::isfinite(r.r_g_m)) {
       ++a.with_r_g;
       r_err.push_back(r.r_g_m - std::hypot(p.x(), p.y()));
@@ -139,33 +156,39 @@ GlobalPoseAccuracy score_global_pose(const Dataset& dataset, std::span<const Est
       ref = &r;
       ref_truth = &t;
       a.reference_timestamp_ns = r.timestamp_ns;
+      prev_truth = &t;
     }
     const Eigen::Vector3d& p0 = ref_truth->p_world_body_m;
     const double rho_true = wrap_angle(std::atan2(p.y(), p.x()) - std::atan2(p0.y(), p0.x()));
     const double psi_true = wrap_angle(t.yaw_rad - ref_truth->yaw_rad);
-    rho_err.push_back(wrap_angle(wrap_angle(r.rho_g_rad - ref->rho_g_rad) - rho_true) * kRadToDeg);
+    const double rho_err_rad = wrap_angle(wrap_angle(r.rho_g_rad - ref->rho_g_rad) - rho_true);
+    rho_err.push_back(rho_err_rad * kRadToDeg);
+    t_s.push_back(1e-9 * static_cast<double>(r.timestamp_ns - ref->timestamp_ns));
+    arc_m.push_back(rho_err_rad * std::hypot(p.x(), p.y()));
     psi_err.push_back(wrap_angle(wrap_angle(r.psi_g_rad - ref->psi_g_rad) - psi_true) * kRadToDeg);
   }
   a.r_g_m = error_stats(r_err);
   a.z_g_m = error_stats(z_err);
   a.rho_change_deg = error_stats(rho_err);
   a.psi_change_deg = error_stats(psi_err);
+  a.rho_drift_per_m = rho_drift_per_m(t_s, arc_m, a.path_m);
   return a;
 }
 
 std::string describe(const GlobalPoseAccuracy& a) {
-  char buf[640];
+  char buf[800];
   std::snprintf(buf, sizeof(buf),
                 "  frames scored %zu: with r_g %zu, with z_g %zu, with rho_g and psi_g %zu\n"
                 "  r_g error:          median %.1f mm, p95 %.1f mm, max %.1f mm\n"
                 "  z_g error:          median %.1f mm, p95 %.1f mm, max %.1f mm\n"
                 "  rho_g change error: median %.3f deg, p95 %.3f deg, max %.3f deg\n"
-                "  psi_g change error: median %.2f deg, p95 %.2f deg, max %.2f deg\n",
+                "  psi_g change error: median %.2f deg, p95 %.2f deg, max %.2f deg\n"
+                "  rho_g drift: %.3f%% of the %.2f m travelled (arc error over the last 5 s)\n",
                 a.frames, a.with_r_g, a.with_z_g, a.with_rho_psi, 1e3 * a.r_g_m.median,
                 1e3 * a.r_g_m.p95, 1e3 * a.r_g_m.max, 1e3 * a.z_g_m.median, 1e3 * a.z_g_m.p95,
                 1e3 * a.z_g_m.max, a.rho_change_deg.median, a.rho_change_deg.p95,
                 a.rho_change_deg.max, a.psi_change_deg.median, a.psi_change_deg.p95,
-                a.psi_change_deg.max);
+                a.psi_change_deg.max, 100 * a.rho_drift_per_m, a.path_m);
   return buf;
 }
 

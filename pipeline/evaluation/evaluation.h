@@ -8,6 +8,7 @@
 #include <string>
 
 #include "pipeline/dataset/dataset_reader.h"
+#include "pipeline/dataset/dataset_types.h"
 #include "pipeline/dataset/estimates_csv.h"
 
 namespace pensight {
@@ -66,7 +67,15 @@ struct GlobalPoseAccuracy {
   ErrorStats rho_change_deg;            // (rho_g - rho_g at ref) - (rho_true - rho_true at ref)
   ErrorStats psi_change_deg;            // same for psi_g against yaw
   int64_t reference_timestamp_ns = -1;  // -1: no frame with rho_g and psi_g
+  double path_m = 0;                    // horizontal path of the truth from the reference frame
+  double rho_drift_per_m = kNaN;        // rho_drift_per_m() over the scored frames
 };
+
+// rho_g drift per metre travelled (docs/global_pose.md): |mean arc error over the last window_s
+// seconds| / path_m, the arc error of a frame being its rho change error (rad) times the true r.
+// t_s and arc_error_m are per frame, in time order. NaN without frames or path.
+double rho_drift_per_m(std::span<const double> t_s, std::span<const double> arc_error_m,
+                       double path_m, double window_s = 5.0);
 
 // Throws pensight::Error when the dataset has no groundtruth0.
 GlobalPoseAccuracy score_global_pose(const Dataset& dataset, std::span<const EstimateRow> rows);

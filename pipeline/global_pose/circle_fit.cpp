@@ -6,6 +6,8 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -180,6 +182,15 @@ CircleFit fit_circle_known_radius(std::span<const Eigen::Vector2d> points,
   fit.centre_covariance = jc * cov_td * jc.transpose();
   fit.residual_rms_m = std::sqrt(r2sum / used);
   fit.inliers = used;
+  // Bearings from the observer: the points lie in front of it, so they do not wrap.
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (const auto& q : pts) {
+    if (std::abs((q.p - fit.centre).norm() - radius) >= o.outlier_threshold_m) continue;
+    const double bearing = std::atan2(q.p.y(), q.p.x());
+    lo = std::min(lo, bearing);
+    hi = std::max(hi, bearing);
+  }
+  fit.inlier_bearing_spread_rad = hi - lo;
   return fit;
 }
 

@@ -35,6 +35,9 @@ struct CircleFit {
   Eigen::Matrix2d centre_covariance = Eigen::Matrix2d::Constant(kNaN);
   double residual_rms_m = kNaN;  // over inliers
   int inliers = 0;
+  // Spread of the inliers' bearings seen from the origin (the observer): a fit over a narrow
+  // wedge (a few ROIs at the image edge) pins the centre poorly whatever its residuals say.
+  double inlier_bearing_spread_rad = 0;
   int iterations = 0;
 };
 

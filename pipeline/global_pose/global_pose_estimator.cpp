@@ -23,6 +23,7 @@ enum Warning : int {
   kWarnOutOfOrder,
   kWarnDuplicate,
   kWarnTooLate,
+  kWarnNotLockable,
 };
 
 const char* sensor_name(int s) {
@@ -58,6 +59,12 @@ std::string describe(const GlobalPoseCounters& c) {
                   name, s->received, s->accepted, s->rejected, s->relocked, s->invalid,
                   s->duplicates, s->out_of_order, s->too_late);
     out += line;
+    if (s == &c.vision_fix) {
+      std::snprintf(line, sizeof(line),
+                    "%-21s not trusted to lock %d, position re-initialised %d\n", "",
+                    s->not_lockable, s->reinitialised);
+      out += line;
+    }
   }
   return out;
 }
@@ -266,20 +273,31 @@ Eigen::Isometry3d GlobalPoseEstimator::T_pen_body(const StateVector& x, double r
 }
 
 template <int M, class H>
-void GlobalPoseEstimator::gated_update(int sensor, SensorCounters& c,
-                                       const Eigen::Matrix<double, M, 1>& z, H&& h,
-                                       const Eigen::Matrix<double, M, M>& R,
-                                       std::array<bool, M> angles,
-                                       std::span<const int> depends_on) {
+UpdateOutcome GlobalPoseEstimator::gated_update(int sensor, SensorCounters& c,
+                                                const Eigen::Matrix<double, M, 1>& z, H&& h,
+                                                const Eigen::Matrix<double, M, M>& R,
+                                                std::array<bool, M> angles,
+                                                std::span<const int> depends_on) {
   int& streak = state_.consecutive_rejections[static_cast<size_t>(sensor)];
-  const bool relock = streak >= cfg_.relock_after_rejections;
-  const double gate = relock ? 0.0 : cfg_.gate_scale * kGateChi2[M];
-  switch (state_.ekf.update<M>(z, std::forward<H>(h), R, angles, depends_on, gate)) {
+  const bool motion = sensor == kDvlVelocity || sensor == kAttitudeYaw;
+  const bool relock =
+      streak >= (motion ? cfg_.motion_relock_after_rejections : cfg_.relock_after_rejections);
+  const double gate = cfg_.gate_scale * kGateChi2[M];
+  // A motion sensor's sample is first tried with the gate: only one that still fails it after
+  // the streak means the motion changed.
+  bool ungated = relock && !motion;
+  UpdateOutcome outcome = state_.ekf.update<M>(z, h, R, angles, depends_on, ungated ? 0.0 : gate);
+  if (relock && motion && outcome == UpdateOutcome::kRejected) {
+    release_motion_states(sensor);
+    ungated = true;
+    outcome = state_.ekf.update<M>(z, h, R, angles, depends_on, 0.0);
+  }
+  switch (outcome) {
     case UpdateOutcome::kAccepted:
       ++c.accepted;
       if (sensor == kDvlVelocity || sensor == kAttitudeYaw)
         state_.last_rho_aid_ns = state_.ekf.t_ns;
-      if (relock) {
+      if (ungated) {
         ++c.relocked;
         warn_once(kWarnRelock, std::string(sensor_name(sensor)) +
                                    " rejected repeatedly; applied without the gate to re-lock");
@@ -295,6 +313,25 @@ void GlobalPoseEstimator::gated_update(int sensor, SensorCounters& c,
     case UpdateOutcome::kSkipped:
       ++c.invalid;
       break;
+  }
+  return outcome;
+}
+
+void GlobalPoseEstimator::release_motion_states(int sensor) {
+  // Standard deviations of the released states: above what a vehicle in a pen changes in one
+  // sample interval, so the measurement sets them.
+  struct Release {
+    int state;
+    double sigma;
+  };
+  static constexpr Release kDvlMotion[] = {{kU, 1.0}, {kV, 1.0}, {kW, 1.0}};
+  static constexpr Release kYawMotion[] = {{kPsi, 0.2}, {kPsiRate, 1.0}};
+  StateMatrix& P = state_.ekf.P;
+  for (const Release& r : sensor == kDvlVelocity ? std::span<const Release>(kDvlMotion)
+                                                 : std::span<const Release>(kYawMotion)) {
+    P.row(r.state).setZero();
+    P.col(r.state).setZero();
+    P(r.state, r.state) = r.sigma * r.sigma;
   }
 }
 
@@ -366,28 +403,71 @@ void GlobalPoseEstimator::apply_dvl(const DvlSample& s) {
           kVelocityStates);
     }
   }
-  if (!cfg_.use_dvl_plane || !cfg_.dvl_beams || !state_.initialised) return;
+  if (!cfg_.use_dvl_plane || !cfg_.dvl_beams) return;
   const DvlPlane measured = dvl_net_plane(*cfg_.dvl_beams, s.beam_range_m, roll, pitch);
   if (measured.beams == 0) return;  // no ranges in this sample
   SensorCounters& cp = state_.counts.dvl_plane;
+  ++cp.received;
   if (!measured.ok) {
     ++cp.invalid;
     return;
   }
-  // Predicted with the same beams and the same plane fit, so the chord-vs-curve difference of a
-  // plane through a curved wall is in the model, not in the innovation.
+  state_.plane_ns = s.timestamp_ns;
+  state_.plane_sample = s;
+  state_.plane_roll_rad = roll;
+  state_.plane_pitch_rad = pitch;
+  state_.plane = measured;
+  if (!state_.initialised) {
+    ++cp.accepted;  // kept to check the first fix against
+    return;
+  }
   const auto model = [&, roll = roll, pitch = pitch](const StateVector& x) {
-    auto ranges =
-        dvl_ranges_to_cylinder(*cfg_.dvl_beams, T_pen_body(x, roll, pitch), cfg_.pen_radius_m);
-    for (size_t i = 0; i < 4; ++i)
-      if (!std::isfinite(s.beam_range_m[i])) ranges[i] = kNaN;
-    const DvlPlane p = dvl_net_plane(*cfg_.dvl_beams, ranges, roll, pitch);
-    return Eigen::Vector2d(p.distance_m, p.heading_rad);
+    return predicted_plane(x, s, roll, pitch);
   };
   gated_update<2>(
       kDvlPlane, cp, Eigen::Vector2d(measured.distance_m, measured.heading_rad), model,
       diag<2>(Eigen::Vector2d(cfg_.noise.dvl_plane_distance_m, cfg_.noise.dvl_plane_heading_rad)),
       {false, true}, kPoseStates);
+}
+
+Eigen::Vector2d GlobalPoseEstimator::predicted_plane(const StateVector& x, const DvlSample& s,
+                                                     double roll, double pitch) const {
+  // The same beams and the same plane fit as the measurement, so the chord-vs-curve difference of
+  // a plane through a curved wall is in the model, not in the innovation.
+  auto ranges =
+      dvl_ranges_to_cylinder(*cfg_.dvl_beams, T_pen_body(x, roll, pitch), cfg_.pen_radius_m);
+  for (size_t i = 0; i < 4; ++i)
+    if (!std::isfinite(s.beam_range_m[i])) ranges[i] = kNaN;
+  const DvlPlane p = dvl_net_plane(*cfg_.dvl_beams, ranges, roll, pitch);
+  return {p.distance_m, p.heading_rad};
+}
+
+std::string GlobalPoseEstimator::lock_refusal_at(const PenFix& fix, double rho_rad,
+                                                 int64_t t_ns) const {
+  std::string why = lock_refusal(fix, cfg_.lock);
+  const bool recent_plane =
+      state_.plane_ns != kNever &&
+      1e-9 * static_cast<double>(std::abs(t_ns - state_.plane_ns)) <= cfg_.lock.max_plane_age_s;
+  if (!why.empty() || !recent_plane || !cfg_.dvl_beams) return why;
+  StateVector x = StateVector::Zero();
+  x(kX) = fix.r_g_m * std::cos(rho_rad);
+  x(kY) = fix.r_g_m * std::sin(rho_rad);
+  x(kPsi) = rho_rad + fix.psi_r_rad;
+  const Eigen::Vector2d p =
+      predicted_plane(x, state_.plane_sample, state_.plane_roll_rad, state_.plane_pitch_rad);
+  const double dd = p.x() - state_.plane.distance_m;
+  const double dh = wrap_angle(p.y() - state_.plane.heading_rad);
+  // The plane is up to max_plane_age_s older than the fix: allow for the motion since.
+  const double speed =
+      state_.last_velocity_L.allFinite() ? state_.last_velocity_L.head<2>().norm() : 0.0;
+  const double age_s = 1e-9 * static_cast<double>(std::abs(t_ns - state_.plane_ns));
+  if (!(std::abs(dd) <= cfg_.lock.plane_distance_tol_m + speed * age_s) ||
+      !(std::abs(dh) <= cfg_.lock.plane_heading_tol_rad)) {
+    char buf[128];
+    std::snprintf(buf, sizeof(buf), "DVL net plane disagrees by %.2f m, %.2f rad", dd, dh);
+    why = buf;
+  }
+  return why;
 }
 
 void GlobalPoseEstimator::apply_camera(const NetObservation& obs) {
@@ -399,25 +479,40 @@ void GlobalPoseEstimator::apply_camera(const NetObservation& obs) {
     ++cf.invalid;
     warn_once(kWarnFixFailed, "no circle fit on a camera frame (too few net points)");
   } else if (!state_.initialised) {
-    initialise(fix, obs.t_ns);
-    ++cf.accepted;
+    const std::string why = lock_refusal_at(fix, cfg_.initial_rho_rad, obs.t_ns);
+    if (why.empty()) {
+      initialise(fix, obs.t_ns);
+      ++cf.accepted;
+    } else {
+      ++cf.not_lockable;
+      warn_once(kWarnNotLockable,
+                "circle fit not trusted to initialise (" + why + "); waiting for a better one");
+    }
     return;
   } else {
     const MeasurementNoise& n = cfg_.noise;
     Eigen::Matrix2d R = n.fix_inflation * n.fix_inflation * fix.covariance;
     R(0, 0) += n.fix_r_floor_m * n.fix_r_floor_m;
     R(1, 1) += n.fix_psi_r_floor_rad * n.fix_psi_r_floor_rad;
-    gated_update<2>(
-        kVisionFix, cf, Eigen::Vector2d(fix.r_g_m, fix.psi_r_rad),
-        [](const StateVector& x) {
-          return Eigen::Vector2d(std::hypot(x(kX), x(kY)),
-                                 wrap_angle(x(kPsi) - std::atan2(x(kY), x(kX))));
-        },
-        R, {false, true}, kPoseStates);
+    const auto model = [](const StateVector& x) {
+      return Eigen::Vector2d(std::hypot(x(kX), x(kY)),
+                             wrap_angle(x(kPsi) - std::atan2(x(kY), x(kX))));
+    };
+    const Eigen::Vector2d z(fix.r_g_m, fix.psi_r_rad);
+    if (gated_update<2>(kVisionFix, cf, z, model, R, {false, true}, kPoseStates) ==
+        UpdateOutcome::kRejected) {
+      const Eigen::Vector2d h = model(state_.ekf.x);
+      consider_reinitialising(fix, Eigen::Vector2d(z.x() - h.x(), wrap_angle(z.y() - h.y())),
+                              obs.t_ns);
+    } else {
+      state_.rejected_fixes.clear();
+    }
   }
-  if (!cfg_.use_vision_relative || !state_.initialised) return;
+  if (!cfg_.use_vision_relative) return;
   if (!std::isfinite(obs.d_net_m) && !std::isfinite(obs.psi_net_rad)) return;
   SensorCounters& cr = state_.counts.vision_relative;
+  ++cr.received;
+  if (!state_.initialised) return;
   if (!(obs.d_net_m > 0) || !std::isfinite(obs.psi_net_rad)) {
     ++cr.invalid;
     return;
@@ -431,6 +526,93 @@ void GlobalPoseEstimator::apply_camera(const NetObservation& obs) {
       kVisionRel, cr, Eigen::Vector2d(obs.d_net_m, obs.psi_net_rad), model,
       diag<2>(Eigen::Vector2d(cfg_.noise.d_net_frac * obs.d_net_m, cfg_.noise.psi_net_rad)),
       {false, true}, kPoseStates);
+}
+
+void GlobalPoseEstimator::consider_reinitialising(const PenFix& fix,
+                                                  const Eigen::Vector2d& innovation, int64_t t_ns) {
+  auto& run = state_.rejected_fixes;
+  const size_t needed = static_cast<size_t>(std::max(0, cfg_.lock.reinit_after_rejected_fixes));
+  const double rho = std::atan2(state_.ekf.x(kY), state_.ekf.x(kX));
+  if (needed < 2 || !lock_refusal_at(fix, rho, t_ns).empty()) {
+    run.clear();
+    return;
+  }
+  run.push_back({t_ns, innovation});
+  if (run.size() > needed) run.erase(run.begin());
+  if (run.size() < needed) return;
+  // The fixes agree when their innovations lie on a line in time: a constant offset (the filter's
+  // position is wrong) plus a constant rate (its velocity is wrong too, e.g. after a reversal the
+  // constant-velocity model did not expect).
+  double t_mean = 0;
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  for (const auto& f : run) {
+    t_mean += 1e-9 * static_cast<double>(f.t_ns - t_ns);
+    mean += f.innovation;
+  }
+  t_mean /= static_cast<double>(run.size());
+  mean /= static_cast<double>(run.size());
+  double stt = 0;
+  Eigen::Vector2d sty = Eigen::Vector2d::Zero();
+  for (const auto& f : run) {
+    const double dt = 1e-9 * static_cast<double>(f.t_ns - t_ns) - t_mean;
+    stt += dt * dt;
+    sty += dt * (f.innovation - mean);
+  }
+  const Eigen::Vector2d rate = stt > 0 ? Eigen::Vector2d(sty / stt) : Eigen::Vector2d::Zero();
+  for (const auto& f : run) {
+    const double dt = 1e-9 * static_cast<double>(f.t_ns - t_ns) - t_mean;
+    const Eigen::Vector2d residual = f.innovation - mean - dt * rate;
+    if (std::abs(residual.x()) > cfg_.lock.agree_r_m ||
+        std::abs(residual.y()) > cfg_.lock.agree_psi_r_rad)
+      return;
+  }
+  char buf[240];
+  std::snprintf(buf, sizeof(buf),
+                "global pose: %zu vision fixes in a row gated out but agreeing (r_g off by %.2f m "
+                "changing %.2f m/s, psi_r by %.1f deg): position re-initialised at t = %lld ns",
+                run.size(), innovation.x(), rate.x(),
+                innovation.y() * 180.0 / 3.14159265358979323846, static_cast<long long>(t_ns));
+  log_warning(buf);
+  reinitialise_position(fix, rate.x(), t_ns);
+  ++state_.counts.vision_fix.reinitialised;
+  run.clear();
+}
+
+void GlobalPoseEstimator::reinitialise_position(const PenFix& fix, double radial_rate_mps,
+                                                int64_t t_ns) {
+  PenEkf& ekf = state_.ekf;
+  StateVector& x = ekf.x;
+  StateMatrix& P = ekf.P;
+  const double r_old = std::hypot(x(kX), x(kY));
+  const double rho = std::atan2(x(kY), x(kX));
+  const Eigen::Vector2d radial(std::cos(rho), std::sin(rho)), tangential(-radial.y(), radial.x());
+  // The azimuth keeps its uncertainty (the DVL and the attitude yaw carried it); the radial
+  // distance and the heading restart from the fix, uncorrelated with the rest.
+  const double rho_var = tangential.dot(P.topLeftCorner<2, 2>() * tangential) / (r_old * r_old);
+  for (const int i : {static_cast<int>(kX), static_cast<int>(kY), static_cast<int>(kPsi)}) {
+    P.row(i).setZero();
+    P.col(i).setZero();
+  }
+  x.head<2>() = fix.r_g_m * radial;
+  P.topLeftCorner<2, 2>() = fix.covariance(0, 0) * radial * radial.transpose() +
+                            fix.r_g_m * fix.r_g_m * rho_var * tangential * tangential.transpose();
+  x(kPsi) = wrap_angle(rho + fix.psi_r_rad);
+  P(kPsi, kPsi) = fix.covariance(1, 1) + std::pow(cfg_.noise.fix_psi_r_floor_rad, 2) + rho_var;
+  // The fixes' r changed faster than the filter's by radial_rate_mps: its velocity is off by that
+  // along the outward radial, whose bearing in the levelled frame is -psi_r. The DVL sets it
+  // from a wide prior.
+  const Eigen::Vector2d radial_L(std::cos(fix.psi_r_rad), -std::sin(fix.psi_r_rad));
+  x.segment<2>(kU) += radial_rate_mps * radial_L;
+  for (const int i : {static_cast<int>(kU), static_cast<int>(kV)}) {
+    P.row(i).setZero();
+    P.col(i).setZero();
+    P(i, i) = 0.3 * 0.3;
+  }
+  // The attitude yaw's offset was estimated against the wrong heading: set it again from the next
+  // attitude sample.
+  state_.yaw_bias_set = false;
+  state_.consecutive_rejections.fill(0);
+  ekf.t_ns = std::max(ekf.t_ns, t_ns);
 }
 
 void GlobalPoseEstimator::initialise(const PenFix& fix, int64_t t_ns) {
@@ -453,7 +635,19 @@ void GlobalPoseEstimator::initialise(const PenFix& fix, int64_t t_ns) {
   ekf.x.segment<3>(kU) = velocity ? state_.last_velocity_L : Eigen::Vector3d::Zero();
   ekf.P.block<3, 3>(kU, kU) =
       (velocity ? std::pow(cfg_.noise.dvl_velocity_mps, 2) : 0.25) * Eigen::Matrix3d::Identity();
-  ekf.P(kPsiRate, kPsiRate) = 0.1 * 0.1;
+  // The vehicle may be turning fast when the first fix comes (a sweep): take the yaw rate from
+  // the attitude sensor when it has samples around t.
+  const auto yaw_now = attitude_.at(t_ns, cfg_.max_attitude_gap_s);
+  const auto yaw_before = attitude_.at(t_ns - 100'000'000, cfg_.max_attitude_gap_s);
+  if (cfg_.use_attitude_yaw && yaw_now && yaw_before && std::isfinite(yaw_now->yaw_rad) &&
+      std::isfinite(yaw_before->yaw_rad) && yaw_now->timestamp_ns != yaw_before->timestamp_ns) {
+    ekf.x(kPsiRate) =
+        wrap_angle(yaw_now->yaw_rad - yaw_before->yaw_rad) /
+        (1e-9 * static_cast<double>(yaw_now->timestamp_ns - yaw_before->timestamp_ns));
+    ekf.P(kPsiRate, kPsiRate) = 0.1 * 0.1;
+  } else {
+    ekf.P(kPsiRate, kPsiRate) = 1.0;
+  }
   ekf.P(kYawBias, kYawBias) = 10.0;  // set from the first attitude sample
   ekf.P(kDvlBiasU, kDvlBiasU) = ekf.P(kDvlBiasV, kDvlBiasV) =
       std::pow(cfg_.noise.dvl_bias_prior_mps, 2);

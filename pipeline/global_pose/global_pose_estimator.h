@@ -11,9 +11,11 @@
 // arrival) rolls the filter back to a snapshot before it and re-applies what followed, within
 // `history_s`; older ones are dropped. Duplicates are dropped. All are counted, none is fatal.
 //
-// rho_g is 0 (or initial_rho_rad) at the first camera frame with a valid circle fit, which also
-// initialises the filter; before it r_g, rho_g and psi_g are NaN. A value whose standard deviation
-// exceeds its limit (e.g. rho_g with neither DVL nor attitude yaw) is reported as NaN.
+// rho_g is 0 (or initial_rho_rad) at the first camera frame whose circle fit passes the lock rule
+// (lock_rule.h), which also initialises the filter; before it r_g, rho_g and psi_g are NaN. Vision
+// fixes that are gated out in a row yet agree with each other re-initialise the position. A value
+// whose standard deviation exceeds its limit (e.g. rho_g with neither DVL nor attitude yaw) is
+// reported as NaN.
 #include <Eigen/Geometry>
 #include <deque>
 #include <optional>
@@ -23,6 +25,7 @@
 
 #include "pipeline/global_pose/attitude_series.h"
 #include "pipeline/global_pose/dvl_plane.h"
+#include "pipeline/global_pose/lock_rule.h"
 #include "pipeline/global_pose/measurements.h"
 #include "pipeline/global_pose/pen_ekf.h"
 #include "pipeline/global_pose/pen_fix.h"
@@ -64,6 +67,14 @@ struct GlobalPoseEstimatorConfig {
   // After this many rejections in a row a sensor's next sample is applied without the gate, so
   // the filter re-locks after a real jump instead of refusing it forever.
   int relock_after_rejections = 12;
+  // DVL velocity and attitude yaw measure the motion states directly, and a manoeuvre the
+  // constant-velocity model did not expect (a turn or a reversal) is gated out like a spike. A
+  // spike lasts one or two samples; after this many rejections in a row the motion states they
+  // measure (u, v, w; psi, psi_rate) are released to a wide prior and the sample is applied.
+  int motion_relock_after_rejections = 2;
+  // Which circle fits may initialise the filter, and when agreeing gated-out fixes re-initialise
+  // its position (lock_rule.h).
+  LockRule lock;
   double history_s = 2.0;
   double max_attitude_gap_s = 0.5;
   // Beyond these standard deviations a value is reported as NaN (not observable).
@@ -82,6 +93,10 @@ struct SensorCounters {
   int duplicates = 0;    // same sensor, same timestamp: dropped
   int out_of_order = 0;  // arrived after later samples were applied: re-applied in order
   int too_late = 0;      // older than history_s behind the filter: dropped
+  // Vision fix only: fixes that failed the lock rule before initialisation, and re-lockings of
+  // the position to agreeing gated-out fixes (LockRule).
+  int not_lockable = 0;
+  int reinitialised = 0;
 };
 
 struct GlobalPoseCounters {
@@ -129,6 +144,17 @@ class GlobalPoseEstimator {
     Eigen::Vector3d last_velocity_L = Eigen::Vector3d::Constant(kNaN);
     GlobalPoseCounters counts;  // applied-sample counters
     std::array<int, 6> consecutive_rejections = {};
+    // The latest valid DVL net plane, to check a fix against before it sets the position.
+    int64_t plane_ns = kNever;
+    DvlSample plane_sample;
+    double plane_roll_rad = 0, plane_pitch_rad = 0;
+    DvlPlane plane;
+    // The current run of gated-out lockable vision fixes: time and (r, psi_r) innovation.
+    struct RejectedFix {
+      int64_t t_ns;
+      Eigen::Vector2d innovation;
+    };
+    std::vector<RejectedFix> rejected_fixes;
   };
   struct Applied {
     Event event;
@@ -142,12 +168,26 @@ class GlobalPoseEstimator {
   void apply_dvl(const DvlSample& s);
   void apply_camera(const NetObservation& obs);
   void initialise(const PenFix& fix, int64_t t_ns);
+  // Releases the motion states a DVL velocity or attitude yaw measures (see
+  // motion_relock_after_rejections).
+  void release_motion_states(int sensor);
+  // Counts a gated-out vision fix towards the re-initialisation rule (LockRule).
+  void consider_reinitialising(const PenFix& fix, const Eigen::Vector2d& innovation, int64_t t_ns);
+  // Re-locks x, y, psi to `fix` at the current azimuth after agreeing gated-out fixes, and
+  // corrects the velocity by the rate at which their r innovations grew.
+  void reinitialise_position(const PenFix& fix, double radial_rate_mps, int64_t t_ns);
+  // lock_refusal plus the check against a recent DVL net plane, for the state the fix would set
+  // at azimuth rho_rad.
+  std::string lock_refusal_at(const PenFix& fix, double rho_rad, int64_t t_ns) const;
+  // The DVL net plane (distance, heading) a pose would give with the beams of `s`.
+  Eigen::Vector2d predicted_plane(const StateVector& x, const DvlSample& s, double roll,
+                                  double pitch) const;
   // Roll and pitch at t (0 with a one-time warning when there is no attitude near t).
   std::pair<double, double> level_at(int64_t t_ns);
   template <int M, class H>
-  void gated_update(int sensor, SensorCounters& c, const Eigen::Matrix<double, M, 1>& z, H&& h,
-                    const Eigen::Matrix<double, M, M>& R, std::array<bool, M> angles,
-                    std::span<const int> depends_on);
+  UpdateOutcome gated_update(int sensor, SensorCounters& c, const Eigen::Matrix<double, M, 1>& z,
+                             H&& h, const Eigen::Matrix<double, M, M>& R,
+                             std::array<bool, M> angles, std::span<const int> depends_on);
   Eigen::Isometry3d T_pen_body(const StateVector& x, double roll, double pitch) const;
   void warn_once(int id, const std::string& message);
 

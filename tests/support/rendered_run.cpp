@@ -6,9 +6,37 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "pipeline/dataset/global_pose_csv.h"
 #include "sim/generate.h"
 
 namespace pensight::testing {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path fresh_folder() {
+  const fs::path dir =
+      fs::temp_directory_path() / ("pensight_rendered_" + std::to_string(::getpid()) + "_" +
+                                   ::testing::UnitTest::GetInstance()->current_test_info()->name());
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+// Renders into dir/data; removes dir if that fails.
+Dataset render_into(const fs::path& dir, const sim::Scenario& s) {
+  try {
+    const auto renderer = sim::make_cpu_renderer(s, {});
+    sim::generate_dataset(s, *renderer, dir / "data");
+    return read_dataset(dir / "data");
+  } catch (...) {
+    std::error_code ec;
+    fs::remove_all(dir, ec);
+    throw;
+  }
+}
+
+}  // namespace
 
 sim::Scenario shipped_scenario(const std::string& file, double duration_s) {
   const char* root = std::getenv("PENSIGHT_SOURCE_DIR");
@@ -19,29 +47,30 @@ sim::Scenario shipped_scenario(const std::string& file, double duration_s) {
   return s;
 }
 
-RenderedRun render_and_run(const sim::Scenario& s) {
-  namespace fs = std::filesystem;
-  const fs::path dir =
-      fs::temp_directory_path() / ("pensight_rendered_" + std::to_string(::getpid()) + "_" +
-                                   ::testing::UnitTest::GetInstance()->current_test_info()->name());
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  struct Cleanup {
-    fs::path dir;
-    ~Cleanup() {
-      std::error_code ec;
-      fs::remove_all(dir, ec);
-    }
-  } cleanup{dir};
+RenderedDataset::RenderedDataset(const sim::Scenario& s)
+    : dir_(fresh_folder()), dataset_(render_into(dir_, s)) {}
 
-  const auto renderer = sim::make_cpu_renderer(s, {});
-  sim::generate_dataset(s, *renderer, dir / "data");
-  RenderedRun run{read_dataset(dir / "data"), {}, {}};
+RenderedDataset::~RenderedDataset() {
+  std::error_code ec;
+  fs::remove_all(dir_, ec);
+}
+
+RenderedRun RenderedDataset::run(const Dataset& d, const std::string& name,
+                                 std::vector<EstimateRow>* published_rows) const {
+  RenderedRun run{d, {}, {}};
   RunOptions options;
   options.detector.backend = Backend::kCpu;
-  run.summary = run_dataset(run.dataset, dir / "out", options);
-  run.rows = read_estimates_csv(dir / "out" / "estimates.csv");
+  options.write_published_global_pose = published_rows != nullptr;
+  run.summary = run_dataset(d, dir_ / name, options);
+  run.rows = read_estimates_csv(dir_ / name / "estimates.csv");
+  if (published_rows)
+    *published_rows = read_global_pose_csv(dir_ / name / kPublishedGlobalPoseFile);
   return run;
+}
+
+RenderedRun render_and_run(const sim::Scenario& s) {
+  const RenderedDataset rendered(s);
+  return rendered.run(rendered.dataset(), "out");
 }
 
 }  // namespace pensight::testing

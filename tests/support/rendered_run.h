@@ -25,4 +25,24 @@ struct RenderedRun {
 
 RenderedRun render_and_run(const sim::Scenario& s);
 
+// The rendered dataset alone, to run the pipeline on it several times (e.g. with sensor samples
+// changed in memory); its temporary folder lives as long as this does.
+class RenderedDataset {
+ public:
+  explicit RenderedDataset(const sim::Scenario& s);
+  ~RenderedDataset();
+  RenderedDataset(const RenderedDataset&) = delete;
+  RenderedDataset& operator=(const RenderedDataset&) = delete;
+
+  const Dataset& dataset() const { return dataset_; }
+  // `pensight run`'s pipeline (CPU backend) on `d` (this dataset or a changed copy of it), into
+  // the output folder `name`; the published node's rows come in `published_rows`.
+  RenderedRun run(const Dataset& d, const std::string& name,
+                  std::vector<EstimateRow>* published_rows = nullptr) const;
+
+ private:
+  std::filesystem::path dir_;
+  Dataset dataset_;
+};
+
 }  // namespace pensight::testing

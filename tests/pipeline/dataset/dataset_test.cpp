@@ -11,6 +11,7 @@
 #include "pipeline/dataset/dataset_reader.h"
 #include "pipeline/dataset/dataset_writer.h"
 #include "pipeline/dataset/estimates_csv.h"
+#include "pipeline/dataset/global_pose_csv.h"
 #include "runtime/error.h"
 #include "tests/support/vulkan_fixture.h"
 
@@ -301,6 +302,50 @@ TEST_F(DatasetTest, EstimatesCsvHasContractColumnsAndNan) {
   { EstimatesCsvWriter unfinished(dir_ / "other.csv"); }
   EXPECT_FALSE(fs::exists(dir_ / "other.csv"));
   EXPECT_EQ(std::distance(fs::directory_iterator(dir_), fs::directory_iterator()), 1);
+}
+
+// OUT/global_pose_published.csv: its columns, NaN, read back as EstimateRow with only the
+// global-pose fields, written whole, and a malformed file named in the error.
+TEST_F(DatasetTest, PublishedGlobalPoseCsvRoundTrip) {
+  const fs::path file = dir_ / kPublishedGlobalPoseFile;
+  {
+    GlobalPoseCsvWriter w(file);
+    EstimateRow r;
+    r.timestamp_ns = 7;
+    r.r_g_m = 11.25;
+    r.rho_g_rad = -0.5;
+    r.z_g_m = 3.5;
+    r.d_net_fft_m = 1.0;  // not a column of this file
+    w.write(r);
+    r.timestamp_ns = 8;
+    r.rho_g_rad = kNaN;
+    w.write(r);
+    EXPECT_FALSE(fs::exists(file));
+    w.finish();
+  }
+  std::ifstream in(file);
+  std::string header, row;
+  std::getline(in, header);
+  std::getline(in, row);
+  EXPECT_EQ(header, "#timestamp [ns],r_g [m],rho_g [rad],z_g [m],psi_g [rad]");
+  EXPECT_EQ(row, "7,11.25,-0.5,3.5,nan");
+  const auto rows = read_global_pose_csv(file);
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[1].timestamp_ns, 8);
+  EXPECT_DOUBLE_EQ(rows[0].r_g_m, 11.25);
+  EXPECT_DOUBLE_EQ(rows[0].rho_g_rad, -0.5);
+  EXPECT_TRUE(std::isnan(rows[1].rho_g_rad));
+  EXPECT_TRUE(std::isnan(rows[0].psi_g_rad));
+  EXPECT_TRUE(std::isnan(rows[0].d_net_fft_m));
+  { GlobalPoseCsvWriter unfinished(dir_ / "other.csv"); }
+  EXPECT_FALSE(fs::exists(dir_ / "other.csv"));
+  std::ofstream(dir_ / "short.csv") << "#header\n1,2,3,4\n";
+  try {
+    read_global_pose_csv(dir_ / "short.csv");
+    FAIL() << "a 4-column row was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("short.csv"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

@@ -121,6 +121,22 @@ TEST(ScoreGlobalPose, ErrorsAndChangesFromTheFirstFrameWithRhoAndPsi) {
   EXPECT_NEAR(a.psi_change_deg.max, 0.5, 1e-9);
   EXPECT_NEAR(a.psi_change_deg.median, 0.0, 1e-9);
   EXPECT_NE(describe(a).find("psi_g"), std::string::npos);
+  // Path from the reference frame: three 2 deg chords at r = 11.2 m; arc errors 0, 0 and
+  // 0.2 deg x 11.2 m, all within the last 5 s.
+  const double chord = 2 * 11.2 * std::sin(1 * kDeg);
+  EXPECT_NEAR(a.path_m, 3 * chord, 1e-9);
+  EXPECT_NEAR(a.rho_drift_per_m, (0.2 * kDeg * 11.2 / 3) / (3 * chord), 1e-9);
+  EXPECT_NE(describe(a).find("rho_g drift"), std::string::npos);
+}
+
+// |mean arc error over the last window_s| / path; NaN without frames or path.
+TEST(RhoDriftPerMetre, LastWindowOverPath) {
+  const std::vector<double> t = {0, 2, 4, 6, 8, 10};
+  const std::vector<double> arc = {5, 5, 5, -1, -2, -3};  // only t >= 5 counts
+  EXPECT_NEAR(rho_drift_per_m(t, arc, 4.0), 2.0 / 4.0, 1e-12);
+  EXPECT_NEAR(rho_drift_per_m(t, arc, 4.0, 20.0), 1.5 / 4.0, 1e-12);
+  EXPECT_TRUE(std::isnan(rho_drift_per_m({}, {}, 4.0)));
+  EXPECT_TRUE(std::isnan(rho_drift_per_m(t, arc, 0.0)));
 }
 
 TEST(ScoreGlobalPose, NoEstimates) {

@@ -8,6 +8,7 @@
 #include <random>
 #include <string>
 
+#include "pipeline/evaluation/evaluation.h"
 #include "pipeline/global_pose/published_global_pose.h"
 #include "runtime/error.h"
 #include "runtime/log.h"
@@ -26,18 +27,8 @@ struct Errors {
   double path_m = 0;
   int nan_rows = 0;
 
-  // Arc error per metre travelled: mean over the last 5 s over the horizontal path length.
-  double drift_per_m() const {
-    double sum = 0;
-    int n = 0;
-    for (size_t i = 0; i < t_s.size(); ++i) {
-      if (t_s[i] >= t_s.back() - 5.0) {
-        sum += arc_m[i];
-        ++n;
-      }
-    }
-    return std::abs(sum / n) / path_m;
-  }
+  // The definition `pensight evaluate` uses (evaluation.h).
+  double drift_per_m() const { return rho_drift_per_m(t_s, arc_m, path_m); }
 };
 
 class ErrorCollector {
@@ -400,6 +391,125 @@ TEST(GlobalPoseEstimator, OutOfOrderAndDuplicateSamples) {
   EXPECT_EQ(shuffled.counters().depth.too_late, 1);
   EXPECT_NEAR(shuffled.estimate(t_end).z_g_m, b.z_g_m, 1e-12);
   (void)e_ordered;
+}
+
+// Every sensor's counters count, including the DVL plane and the vision d_net / psi_net, which
+// ride on the DVL and camera samples.
+TEST(GlobalPoseEstimator, CountersCountEverySensor) {
+  std::mt19937_64 rng(testing::fresh_seed());
+  sim::Trajectory traj;
+  traj.duration_s = 10;
+  const sim::Sequence seq = sim::make_sequence(traj, {}, rng());
+  GlobalPoseEstimator est(estimator_config(12.0));
+  run_estimator(seq, est);
+  const GlobalPoseCounters c = est.counters();
+  std::printf("%s", describe(c).c_str());
+  const std::pair<const char*, const SensorCounters*> rows[] = {
+      {"DVL velocity", &c.dvl_velocity},
+      {"DVL plane", &c.dvl_plane},
+      {"depth", &c.depth},
+      {"attitude", &c.attitude},
+      {"vision fix", &c.vision_fix},
+      {"vision d_net/psi_net", &c.vision_relative}};
+  for (const auto& [name, n] : rows) {
+    SCOPED_TRACE(name);
+    EXPECT_GT(n->received, 0);
+    EXPECT_GT(n->accepted, 0);
+    EXPECT_EQ(n->received, n->accepted + n->rejected + n->invalid + n->not_lockable);
+  }
+  EXPECT_EQ(c.dvl_velocity.received, static_cast<int>(seq.dvl.size()));
+  EXPECT_EQ(c.vision_fix.received, static_cast<int>(seq.camera.size()));
+  // Each camera frame carries d_net / psi_net; the first initialises the filter instead.
+  EXPECT_EQ(c.vision_relative.received, static_cast<int>(seq.camera.size()) - 1);
+  EXPECT_NE(
+      describe(c).find("DVL plane             received " + std::to_string(c.dvl_plane.received)),
+      std::string::npos);
+}
+
+// Keeps only the ROIs of the last `columns` grid columns (5 x 6 grid, row-major): the net
+// entering the view from the side.
+void keep_columns(NetObservation& obs, int columns) {
+  for (size_t i = 0; i < obs.points_C.size(); ++i)
+    if (static_cast<int>(i % 6) < 6 - columns) obs.points_C[i].setConstant(kNaN);
+}
+
+// The first frames see the net only in two columns of ROIs, with their points 1 m too far (a
+// partial net fitted to a wrong circle): the lock rule refuses them, the filter starts on the
+// first full view and is accurate from there.
+TEST(GlobalPoseEstimator, PartialNetFixDoesNotInitialise) {
+  std::mt19937_64 rng(testing::fresh_seed());
+  sim::Trajectory traj;
+  traj.duration_s = 10;
+  sim::Sequence seq = sim::make_sequence(traj, {}, rng());
+  const size_t partial = 10;
+  for (size_t i = 0; i < partial; ++i) {
+    keep_columns(seq.camera[i], 2);
+    for (auto& p : seq.camera[i].points_C) p *= (p.norm() + 1.0) / p.norm();
+  }
+  GlobalPoseEstimator est(estimator_config(12.0));
+  const Errors e = run_estimator(seq, est);
+  const GlobalPoseCounters c = est.counters();
+  EXPECT_EQ(c.vision_fix.not_lockable, static_cast<int>(partial));
+  EXPECT_EQ(e.nan_rows, static_cast<int>(partial));
+  EXPECT_LE(*std::max_element(e.r_m.begin(), e.r_m.end()), 0.05);
+  // Without the rule the first partial fix starts the filter 1 m off.
+  GlobalPoseEstimatorConfig no_rule = estimator_config(12.0);
+  no_rule.lock.min_inliers = 3;
+  no_rule.lock.min_bearing_spread_rad = 0;
+  no_rule.lock.max_r_sigma_m = 1e9;
+  no_rule.lock.max_residual_rms_m = 1e9;
+  no_rule.lock.reinit_after_rejected_fixes = 0;
+  no_rule.use_dvl_plane = false;  // its check would refuse the wrong circle too
+  GlobalPoseEstimator naive(no_rule);
+  const Errors n = run_estimator(seq, naive);
+  EXPECT_GT(n.r_m.front(), 0.5);
+}
+
+// Frames 1-3 have all points moved 1.5 m along the optical axis (frame 0 sees nothing): a full,
+// self-consistent, wrong circle that passes the fix-only rule. Without the DVL plane to contradict
+// it the filter starts there, gates the good fixes out, and after reinit_after_rejected_fixes
+// agreeing ones re-locks its position (counted, logged) and is accurate again.
+TEST(GlobalPoseEstimator, AgreeingRejectedFixesReinitialise) {
+  std::mt19937_64 rng(testing::fresh_seed());
+  sim::Trajectory traj;
+  traj.duration_s = 10;
+  sim::Sequence seq = sim::make_sequence(traj, {}, rng());
+  const size_t bad_end = 4;
+  for (auto& p : seq.camera[0].points_C) p.setConstant(kNaN);
+  for (size_t i = 1; i < bad_end; ++i) {
+    for (auto& p : seq.camera[i].points_C) p.z() += 1.5;
+  }
+  GlobalPoseEstimatorConfig cfg = estimator_config(12.0);
+  cfg.use_dvl_plane = false;
+  cfg.use_vision_relative = false;
+  LogCapture log;
+  GlobalPoseEstimator est(cfg);
+  const Errors e = run_estimator(seq, est);
+  const GlobalPoseCounters c = est.counters();
+  EXPECT_EQ(c.vision_fix.reinitialised, 1);
+  EXPECT_NE(log.text().find("re-initialised"), std::string::npos);
+  EXPECT_GT(e.r_m.front(), 1.0);
+  // Re-locked within reinit_after_rejected_fixes + 2 frames (0.1 s each) of the last bad one.
+  const double t_locked =
+      0.1 *
+      static_cast<double>(bad_end + 2 + static_cast<size_t>(cfg.lock.reinit_after_rejected_fixes));
+  std::vector<double> r_after, psi_after;
+  for (size_t i = 0; i < e.t_s.size(); ++i) {
+    if (e.t_s[i] < t_locked - 1e-6) continue;
+    r_after.push_back(e.r_m[i]);
+    psi_after.push_back(e.psi_rad[i]);
+  }
+  ASSERT_FALSE(r_after.empty());
+  const double worst_after = *std::max_element(r_after.begin(), r_after.end());
+  std::printf("wrong start: r_g error %.2f m at first, <= %.4f m from %.1f s on\n", e.r_m.front(),
+              worst_after, t_locked);
+  EXPECT_LE(worst_after, 0.05);
+  EXPECT_LE(sim::median(psi_after) / kDeg, 1.5);
+  // The same wrong start is refused by the DVL plane check when the plane is on.
+  GlobalPoseEstimator with_plane(estimator_config(12.0));
+  run_estimator(seq, with_plane);
+  EXPECT_EQ(with_plane.counters().vision_fix.not_lockable, static_cast<int>(bad_end - 1));
+  EXPECT_EQ(with_plane.counters().vision_fix.reinitialised, 0);
 }
 
 TEST(GlobalPoseEstimator, BadConfigurationAndInputAreErrors) {

@@ -173,5 +173,36 @@ TEST_F(GenerateTest, SensorsFollowTheTrajectory) {
               4 * s.pressure.noise_m / std::sqrt(static_cast<double>(p.size())));
 }
 
+// Scale error, offset and the injected spikes land where the scenario says, on nothing else.
+TEST_F(GenerateTest, DvlScaleErrorOffsetAndInjectedSpike) {
+  Scenario s = small_sweep(8.0);
+  s.waypoints = {Waypoint{.t_s = 0, .along_m = 0, .net_distance_m = 1.0, .depth_m = 3},
+                 Waypoint{.t_s = 8, .along_m = 2.4, .net_distance_m = 1.0, .depth_m = 3}};
+  s.dvl.velocity_noise_mps = 0;
+  s.dvl.dropout_probability = 0;
+  s.dvl.spike_probability = 0;
+  s.dvl.scale_error = 0.01;
+  s.dvl.bias_B_mps = {0.004, -0.002, 0.001};
+  s.dvl.spikes = {DvlSpike{.t_s = 3.0, .duration_s = 0.5, .velocity_B_mps = {0, 2.0, 0}}};
+  validate(s);
+  const NetGeometry net(s.pen, s.net);
+  int spiked = 0, valid = 0;
+  for (const DvlSample& d : simulate_dvl(s, net)) {
+    if (!d.valid) continue;
+    ++valid;
+    const double t = static_cast<double>(d.timestamp_ns - s.start_time_ns) * 1e-9;
+    const BodyState b = body_state(s, t);
+    Eigen::Vector3d v =
+        1.01 * (b.T_world_body.linear().transpose() * b.velocity_world_mps) + s.dvl.bias_B_mps;
+    if (t >= 3.0 - 1e-6 && t < 3.5 - 1e-6) {
+      v += Eigen::Vector3d(0, 2.0, 0);
+      ++spiked;
+    }
+    EXPECT_LT((d.velocity_B_mps - v).norm(), 1e-9) << "at " << t << " s";
+  }
+  EXPECT_EQ(spiked, 2);  // 4 Hz: 3.0 and 3.25 s
+  EXPECT_GT(valid, 30);
+}
+
 }  // namespace
 }  // namespace pensight::sim

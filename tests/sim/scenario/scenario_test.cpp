@@ -31,7 +31,8 @@ const char* kMinimal =
     "    - {t_s: 2, net_distance_m: 1.5, depth_m: 3}\n";
 
 TEST(Scenario, ShippedScenariosLoad) {
-  for (const char* name : {"sweep", "follow", "lawnmower", "lowlight", "turbid", "tank"}) {
+  for (const char* name :
+       {"sweep", "follow", "lawnmower", "lowlight", "turbid", "tank", "follow_drift"}) {
     SCOPED_TRACE(name);
     const Scenario s = load_scenario(source_dir() + "/scenarios/" + name + ".yaml");
     EXPECT_EQ(s.name, name);
@@ -82,6 +83,25 @@ TEST(Scenario, ImpossibleValuesAreRefused) {
   EXPECT_NE(e.find("'trajectory': missing"), std::string::npos) << e;
   e = error_of(std::string(kMinimal) + "pen: {shape: sphere}\n");
   EXPECT_NE(e.find("'cylinder' or 'plane'"), std::string::npos) << e;
+}
+
+TEST(Scenario, DvlErrorsAndSpikesParse) {
+  const Scenario s = parse_scenario(
+      std::string(kMinimal) +
+          "dvl: {scale_error: 0.01, bias_mps: [0.004, 0.003, 0], spikes: [{t_s: 2, duration_s: "
+          "0.5, velocity_mps: [0, 2, 0]}]}\n",
+      "ok.yaml");
+  EXPECT_DOUBLE_EQ(s.dvl.scale_error, 0.01);
+  EXPECT_DOUBLE_EQ(s.dvl.bias_B_mps.y(), 0.003);
+  ASSERT_EQ(s.dvl.spikes.size(), 1u);
+  EXPECT_DOUBLE_EQ(s.dvl.spikes[0].t_s, 2.0);
+  EXPECT_DOUBLE_EQ(s.dvl.spikes[0].velocity_B_mps.y(), 2.0);
+  std::string e = error_of(std::string(kMinimal) + "dvl: {spikes: [{t_s: 2, duration_s: -1}]}\n");
+  EXPECT_NE(e.find("duration_s"), std::string::npos) << e;
+  e = error_of(std::string(kMinimal) + "dvl: {spikes: [{t_s: 2, speed: 1}]}\n");
+  EXPECT_NE(e.find("speed"), std::string::npos) << e;
+  e = error_of(std::string(kMinimal) + "dvl: {scale_error: 2}\n");
+  EXPECT_NE(e.find("dvl.scale_error"), std::string::npos) << e;
 }
 
 TEST(Scenario, MissingFileIsNamed) {
