@@ -169,7 +169,7 @@ BENCHMARK(BM_Spectra_Vulkan)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // The stage's pieces on the CPU: resample + normalise + window alone.
 void BM_Prepare_Cpu(benchmark::State& state) {
-  kernels::FftRoiCpu cpu({}, {}, 1, false);
+  kernels::FftRoiCpu cpu({}, {}, static_cast<int>(state.range(0)), false);
   const ImageU8 img = frame();
   std::vector<float> out(grid().size() * kNN);
   for (auto _ : state) {
@@ -177,7 +177,36 @@ void BM_Prepare_Cpu(benchmark::State& state) {
     benchmark::DoNotOptimize(out.data());
   }
 }
-BENCHMARK(BM_Prepare_Cpu)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_Prepare_Cpu)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// Peak search alone on the 30 spectra of the same frame.
+void BM_Peaks_Cpu(benchmark::State& state) {
+  kernels::FftRoiCpu cpu({}, {}, 1);
+  std::vector<std::complex<float>> spectra(grid().size() * kNC);
+  cpu.transform(samples(), spectra);
+  for (auto _ : state) {
+    for (size_t r = 0; r < grid().size(); ++r) {
+      benchmark::DoNotOptimize(kernels::analyze_spectrum(
+          std::span<const std::complex<float>>(spectra).subspan(r * kNC, kNC), {}, {}));
+    }
+  }
+}
+BENCHMARK(BM_Peaks_Cpu)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// Net points + relative pose alone, from the frame's 30 lattices.
+void BM_Pose_Cpu(benchmark::State& state) {
+  kernels::FftRoiCpu cpu({}, {}, 1);
+  const auto lattices = cpu.run(frame(), grid());
+  const PinholeCamera camera;
+  for (auto _ : state) {
+    std::vector<RoiNetPoint> points;
+    for (size_t i = 0; i < grid().size(); ++i) {
+      points.push_back(roi_net_point(lattices[i], grid()[i], 300, camera, 0.030));
+    }
+    benchmark::DoNotOptimize(relative_pose_fft(points));
+  }
+}
+BENCHMARK(BM_Pose_Cpu)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_FftStage_Cpu(benchmark::State& state) {
   kernels::FftRoiCpu cpu({}, {}, static_cast<int>(state.range(0)));
