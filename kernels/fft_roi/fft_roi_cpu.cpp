@@ -83,10 +83,12 @@ double lane_sum(const float* x, int n, F f) {
 // Must match the 16 x 16 blocks of shaders/fft_roi/extract.comp (one per invocation).
 constexpr int kCentroidBlocks = 16;
 
-// The stage per call: (1) every image row a ROI covers is resampled horizontally once per
-// distinct ROI x origin (the 5 ROI rows of the default grid overlap, so each image row serves up
-// to 5 ROIs); (2) per ROI, the vertical taps blend four of those rows into each sample row,
-// then normalisation, window and the centroid's block sums in one more pass; FFT; peaks.
+// The stage per call, one task per distinct ROI x origin ("column"; 6 in the default grid, spread
+// over the threads): (1) every image row the column's ROIs cover is resampled horizontally once
+// (the 5 ROI rows of the default grid overlap, so each image row serves up to 5 ROIs); (2) per
+// ROI of the column, the vertical taps blend four of those rows into each sample row, then
+// normalisation, window and the centroid's block sums in one more pass; FFT; peaks. Tasks share
+// nothing, so no thread waits for another before the end.
 struct FftRoiCpu::Impl {
   FftRoiShape shape;
   PeakParams params;
@@ -99,21 +101,22 @@ struct FftRoiCpu::Impl {
   std::vector<float> window;
   fftwf_plan plan = nullptr;
 
-  // Horizontal pass of the current call: per distinct ROI x origin, the rows [y_begin, y_end)
-  // resampled to n columns, stored for all image rows (row y at (column * height + y) * n).
+  // The current call's columns: ROIs order[first .. first + count) have x origin x0 and need
+  // image rows [y_begin, y_end). Kept between calls (no allocation per frame).
   struct Column {
-    int x0, y_begin, y_end;
+    int x0, y_begin, y_end, first, count;
   };
   std::vector<Column> columns;
-  std::vector<int> roi_column;  // per ROI: its entry in columns
-  std::vector<float> resampled;
+  std::vector<int> roi_column, order;
 
-  // Per-thread scratch: one ROI of samples and its spectrum, a padded line, block sums.
+  // Per-thread scratch: one ROI of samples and its spectrum, a padded line, block sums, and the
+  // column's resampled image rows (row y at y * n).
   struct Scratch {
     FftwArray<float> in;
     FftwArray<fftwf_complex> out;
     std::vector<float> line;             // roi + 2 * kPad pixels, then its prefiltered values
     std::vector<float> col_sum, col_sq;  // per column, over the rows of one block row
+    std::vector<float> resampled;
   };
   std::vector<Scratch> scratch;
 
@@ -124,7 +127,6 @@ struct FftRoiCpu::Impl {
     }
   }
 
-  // Groups the ROIs by x origin and sizes the horizontal pass's buffer (kept between calls).
   void plan_columns(std::span<const RoiOrigin> rois) {
     columns.clear();
     roi_column.clear();
@@ -132,32 +134,41 @@ struct FftRoiCpu::Impl {
       auto it = std::find_if(columns.begin(), columns.end(),
                              [&](const Column& c) { return c.x0 == o.x; });
       if (it == columns.end()) {
-        columns.push_back({o.x, o.y, o.y + shape.roi_size});
+        columns.push_back({o.x, o.y, o.y + shape.roi_size, 0, 0});
         it = columns.end() - 1;
       }
       it->y_begin = std::min(it->y_begin, o.y);
       it->y_end = std::max(it->y_end, o.y + shape.roi_size);
+      ++it->count;
       roi_column.push_back(static_cast<int>(it - columns.begin()));
     }
-    const size_t need = columns.size() * static_cast<size_t>(shape.height) * shape.fft_size;
-    if (resampled.size() < need) resampled.resize(need);
+    int first = 0;
+    for (Column& c : columns) c.first = first, first += c.count, c.count = 0;
+    order.resize(rois.size());
+    for (size_t r = 0; r < rois.size(); ++r) {
+      Column& c = columns[roi_column[r]];
+      order[c.first + c.count++] = static_cast<int>(r);
+    }
   }
 
-  float* resampled_row(int column, int y) {
-    return resampled.data() +
-           (static_cast<size_t>(column) * shape.height + y) * static_cast<size_t>(shape.fft_size);
+  // Step (1) for one column into the thread's scratch.
+  void resample_column(const ImageU8& image, const Column& c, Scratch& s) const {
+    const size_t n = static_cast<size_t>(shape.fft_size);
+    for (int y = c.y_begin; y < c.y_end; ++y) {
+      resample_line(&image.at(c.x0, y), s.resampled.data() + y * n, s.line.data());
+    }
   }
 
-  // Step (1) for all columns; call inside an OpenMP parallel region (work-shared loop).
-  void resample_columns(const ImageU8& image) {
-    const int height = shape.height;
-    const int items = static_cast<int>(columns.size()) * height;
-#pragma omp for schedule(static)
-    for (int item = 0; item < items; ++item) {
-      const int c = item / height, y = item % height;
-      if (y < columns[c].y_begin || y >= columns[c].y_end) continue;
-      resample_line(&image.at(columns[c].x0, y), resampled_row(c, y),
-                    scratch[omp_get_thread_num()].line.data());
+  // Runs f(roi index, scratch) for every ROI, after its column's rows are resampled.
+  template <class F>
+  void for_each_roi(const ImageU8& image, std::span<const RoiOrigin> rois, F f) {
+    plan_columns(rois);
+    const int count = static_cast<int>(columns.size());
+#pragma omp parallel for num_threads(threads) schedule(dynamic)
+    for (int c = 0; c < count; ++c) {
+      Scratch& s = scratch[omp_get_thread_num()];
+      resample_column(image, columns[c], s);
+      for (int i = 0; i < columns[c].count; ++i) f(order[columns[c].first + i], s);
     }
   }
 
@@ -183,18 +194,18 @@ struct FftRoiCpu::Impl {
 
   // Step (2) into dst (n^2 floats): vertical taps, zero mean / unit variance, window.
   // Returns the energy centroid of the result, in image pixels from the ROI centre.
-  std::pair<float, float> finish_roi(int roi, RoiOrigin o, float* __restrict dst, Scratch& s) {
+  std::pair<float, float> finish_roi(RoiOrigin o, float* __restrict dst, Scratch& s) const {
     const int n = shape.fft_size;
-    const int c = roi_column[roi];
+    auto resampled_row = [&](int y) { return s.resampled.data() + static_cast<size_t>(y) * n; };
     // Sums about a pivot inside the data range: the variance does not cancel against the mean.
-    const float pivot = resampled_row(c, o.y + rows[0].index[0])[0];
+    const float pivot = resampled_row(o.y + rows[0].index[0])[0];
     double sum = 0, sq = 0;
     for (int v = 0; v < n; ++v) {
       const RowTaps& t = rows[v];
-      const float* __restrict r0 = resampled_row(c, o.y + t.index[0]);
-      const float* __restrict r1 = resampled_row(c, o.y + t.index[1]);
-      const float* __restrict r2 = resampled_row(c, o.y + t.index[2]);
-      const float* __restrict r3 = resampled_row(c, o.y + t.index[3]);
+      const float* __restrict r0 = resampled_row(o.y + t.index[0]);
+      const float* __restrict r1 = resampled_row(o.y + t.index[1]);
+      const float* __restrict r2 = resampled_row(o.y + t.index[2]);
+      const float* __restrict r3 = resampled_row(o.y + t.index[3]);
       float* __restrict row = dst + static_cast<size_t>(v) * n;
       const float w0 = t.weight[0], w1 = t.weight[1], w2 = t.weight[2], w3 = t.weight[3];
       for (int u = 0; u < n; ++u) row[u] = w0 * r0[u] + w1 * r1[u] + w2 * r2[u] + w3 * r3[u];
@@ -290,7 +301,8 @@ FftRoiCpu::FftRoiCpu(const FftRoiShape& shape, const PeakParams& params, int thr
   for (int t = 0; t < threads; ++t) {
     m.scratch.push_back({fftw_array<float>(m.nn), fftw_array<fftwf_complex>(m.nc),
                          std::vector<float>(roi + 2 * kPad), std::vector<float>(n),
-                         std::vector<float>(n)});
+                         std::vector<float>(n),
+                         std::vector<float>(static_cast<size_t>(shape.height) * n)});
   }
   std::lock_guard lock(planner_mutex());
   m.plan = fftwf_plan_dft_r2c_2d(n, n, m.scratch[0].in.get(), m.scratch[0].out.get(),
@@ -333,16 +345,9 @@ void FftRoiCpu::prepare(const ImageU8& image, std::span<const RoiOrigin> rois,
     throw Error("FftRoiCpu::prepare: samples hold " + std::to_string(samples.size()) + " floats, " +
                 std::to_string(rois.size() * m.nn) + " needed");
   }
-  m.plan_columns(rois);
-  const int count = static_cast<int>(rois.size());
-#pragma omp parallel num_threads(m.threads)
-  {
-    m.resample_columns(image);
-#pragma omp for schedule(static)
-    for (int r = 0; r < count; ++r) {
-      m.finish_roi(r, rois[r], samples.data() + r * m.nn, m.scratch[omp_get_thread_num()]);
-    }
-  }
+  m.for_each_roi(image, rois, [&](int r, Impl::Scratch& s) {
+    m.finish_roi(rois[r], samples.data() + r * m.nn, s);
+  });
 }
 
 void FftRoiCpu::transform(std::span<const float> samples, std::span<std::complex<float>> spectra) {
@@ -368,21 +373,13 @@ std::vector<RoiLattice> FftRoiCpu::run(const ImageU8& image, std::span<const Roi
   Impl& m = *impl_;
   check_image(m.shape, image, rois);
   std::vector<RoiLattice> lattices(rois.size());
-  m.plan_columns(rois);
-  const int count = static_cast<int>(rois.size());
-#pragma omp parallel num_threads(m.threads)
-  {
-    m.resample_columns(image);
-#pragma omp for schedule(dynamic)
-    for (int r = 0; r < count; ++r) {
-      Impl::Scratch& s = m.scratch[omp_get_thread_num()];
-      const auto [dx, dy] = m.finish_roi(r, rois[r], s.in.get(), s);
-      fftwf_execute_dft_r2c(m.plan, s.in.get(), s.out.get());
-      lattices[r] = analyze_spectrum(m.spectrum(s), m.shape, m.params);
-      lattices[r].centroid_dx = dx;
-      lattices[r].centroid_dy = dy;
-    }
-  }
+  m.for_each_roi(image, rois, [&](int r, Impl::Scratch& s) {
+    const auto [dx, dy] = m.finish_roi(rois[r], s.in.get(), s);
+    fftwf_execute_dft_r2c(m.plan, s.in.get(), s.out.get());
+    lattices[r] = analyze_spectrum(m.spectrum(s), m.shape, m.params);
+    lattices[r].centroid_dx = dx;
+    lattices[r].centroid_dy = dy;
+  });
   return lattices;
 }
 
