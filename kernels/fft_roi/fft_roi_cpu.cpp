@@ -4,10 +4,13 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
 #include <mutex>
 #include <string>
 
 #include "kernels/fft_roi/fft_roi.h"
+#include "runtime/cache_dir.h"
 #include "runtime/error.h"
 
 namespace pensight::kernels {
@@ -17,6 +20,29 @@ namespace {
 std::mutex& planner_mutex() {
   static std::mutex m;
   return m;
+}
+
+// FFTW_PATIENT finds a 256^2 r2c plan ~20 % faster than FFTW_MEASURE's on the CI machine but
+// searches for ~2 s. Its wisdom stays in the process, and in the cache directory for the next
+// process. Call with planner_mutex() held.
+fftwf_plan patient_plan(int n, float* in, fftwf_complex* out) {
+  static bool imported = false;
+  const std::filesystem::path dir = cache_dir();
+  const std::filesystem::path file = dir.empty() || dir == "-" ? dir : dir / "fftw3f.wisdom";
+  if (!imported && !file.empty() && file != "-") {
+    const std::string wisdom = read_cache_file(file);
+    if (!wisdom.empty()) fftwf_import_wisdom_from_string(wisdom.c_str());
+  }
+  imported = true;
+  if (fftwf_plan p = fftwf_plan_dft_r2c_2d(n, n, in, out, FFTW_PATIENT | FFTW_WISDOM_ONLY)) {
+    return p;
+  }
+  fftwf_plan p = fftwf_plan_dft_r2c_2d(n, n, in, out, FFTW_PATIENT);
+  if (p && !file.empty() && file != "-") {
+    std::unique_ptr<char, decltype(&std::free)> wisdom(fftwf_export_wisdom_to_string(), &std::free);
+    if (wisdom) write_cache_file(file, wisdom.get());
+  }
+  return p;
 }
 
 struct FftwFree {
@@ -305,8 +331,9 @@ FftRoiCpu::FftRoiCpu(const FftRoiShape& shape, const PeakParams& params, int thr
                          std::vector<float>(static_cast<size_t>(shape.height) * n)});
   }
   std::lock_guard lock(planner_mutex());
-  m.plan = fftwf_plan_dft_r2c_2d(n, n, m.scratch[0].in.get(), m.scratch[0].out.get(),
-                                 measure ? FFTW_MEASURE : FFTW_ESTIMATE);
+  m.plan = measure ? patient_plan(n, m.scratch[0].in.get(), m.scratch[0].out.get())
+                   : fftwf_plan_dft_r2c_2d(n, n, m.scratch[0].in.get(), m.scratch[0].out.get(),
+                                           FFTW_ESTIMATE);
   if (!m.plan) throw Error("FftRoiCpu: FFTW could not plan a " + std::to_string(n) + "^2 r2c FFT");
 }
 
