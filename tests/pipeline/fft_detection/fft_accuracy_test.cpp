@@ -156,49 +156,22 @@ TEST(FftAccuracy, DISABLED_Ablation) {
   }
 }
 
-}  // namespace
-}  // namespace pensight
-
-namespace pensight {
-namespace {
-TEST(FftAccuracy, DISABLED_HalfNetDiagnostics) {
+// Plane slopes alone vs fused with the per-ROI tilts (docs/fft_detection.md), on 48 full-net and
+// 48 half-net frames (the net ends at the optical axis), fixed seeds.
+TEST(FftAccuracy, DISABLED_TiltFusion) {
   const PinholeCamera cam;
   for (double edge : {1e9, 0.0}) {
-    const auto scenes = testing::sweep_scenes(16, 8, {.noise_sigma = 3, .edge_m = edge});
-    NetDetector detector(cam, {.backend = Backend::kCpu});
-    std::vector<std::vector<double>> col_err(6);
-    std::vector<int> col_valid(6, 0), col_partial(6, 0);
-    for (const auto& s : scenes) {
-      const auto img = testing::render_net(cam, s);
-      const NetDetection d = detector.detect(img);
-      const double a = std::tan(s.psi_rad), b = std::tan(s.pitch_rad);
-      std::printf("d %.2f psi %5.1f pitch %5.1f -> psi err %+.2f |", s.distance_m,
-                  s.psi_rad * 180 / M_PI, s.pitch_rad * 180 / M_PI,
-                  (d.pose.psi_net_rad - s.psi_rad) * 180 / M_PI);
-      for (size_t i = 0; i < d.points.size(); ++i) {
-        const auto& p = d.points[i];
-        const int col = static_cast<int>(i % 6);
-        if (p.status == RoiStatus::kPartial) ++col_partial[col];
-        if (!p.valid()) continue;
-        ++col_valid[col];
-        const Eigen::Vector3d r = p.p_C / p.p_C.z();
-        const double z_true = s.distance_m / (1 - a * r.x() - b * r.y());
-        const double e = p.p_C.z() / z_true - 1;
-        col_err[col].push_back(e);
-        std::printf(" %d:%+.2f%%(%.0f)", static_cast<int>(i), 100 * e, p.centre_px.x());
-      }
-      std::printf("\n");
-    }
-    for (int c = 0; c < 6; ++c) {
-      double m = 0, sq = 0;
-      for (double e : col_err[c]) m += e;
-      m /= std::max(1.0, static_cast<double>(col_err[c].size()));
-      for (double e : col_err[c]) sq += (e - m) * (e - m);
-      std::printf("edge %g col %d: valid %d partial %d, z err mean %+.3f%% sd %.3f%%\n", edge, c,
-                  col_valid[c], col_partial[c], 100 * m,
-                  100 * std::sqrt(sq / std::max(1.0, static_cast<double>(col_err[c].size()))));
+    const auto scenes = testing::sweep_scenes(48, 8, {.noise_sigma = 3, .edge_m = edge});
+    const auto frames = render_all(cam, scenes);
+    for (bool fuse : {false, true}) {
+      NetDetectorConfig config{.backend = Backend::kCpu};
+      config.pose.fuse_roi_tilt = fuse;
+      NetDetector detector(cam, config);
+      const std::string label = std::string(edge > 1 ? "full" : "half") + (fuse ? ", fused" : "");
+      testing::print_errors(label.c_str(), testing::run_sweep(frames, scenes, detector));
     }
   }
 }
+
 }  // namespace
 }  // namespace pensight
