@@ -12,6 +12,7 @@
 #include "kernels/fft_roi/fft_roi.h"
 #include "runtime/cache_dir.h"
 #include "runtime/error.h"
+#include "runtime/simd_clones.h"
 
 namespace pensight::kernels {
 namespace {
@@ -198,8 +199,8 @@ struct FftRoiCpu::Impl {
     }
   }
 
-  void resample_line(const uint8_t* __restrict src, float* __restrict dst,
-                     float* __restrict line) const {
+  PENSIGHT_SIMD_CLONES void resample_line(const uint8_t* __restrict src, float* __restrict dst,
+                                          float* __restrict line) const {
     const int n = shape.fft_size, roi = shape.roi_size;
     if (!prefilter) {
       for (int u = 0; u < n; ++u) dst[u] = src[u];
@@ -220,7 +221,8 @@ struct FftRoiCpu::Impl {
 
   // Step (2) into dst (n^2 floats): vertical taps, zero mean / unit variance, window.
   // Returns the energy centroid of the result, in image pixels from the ROI centre.
-  std::pair<float, float> finish_roi(RoiOrigin o, float* __restrict dst, Scratch& s) const {
+  PENSIGHT_SIMD_CLONES std::pair<float, float> finish_roi(RoiOrigin o, float* __restrict dst,
+                                                          Scratch& s) const {
     const int n = shape.fft_size;
     auto resampled_row = [&](int y) { return s.resampled.data() + static_cast<size_t>(y) * n; };
     // Sums about a pivot inside the data range: the variance does not cancel against the mean.

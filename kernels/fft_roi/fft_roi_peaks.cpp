@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "kernels/fft_roi/fft_roi.h"
+#include "runtime/simd_clones.h"
 
 namespace pensight::kernels {
 namespace {
@@ -76,7 +77,7 @@ void for_each_in_band(const Spectrum& s, const Band& band, F f) {
 }
 
 // Adds the powers of c[0 .. len) to 8 float lanes (vectorisable) and returns their maximum.
-float add_powers(const std::complex<float>* c, int len, float (&lanes)[8]) {
+PENSIGHT_SIMD_CLONES float add_powers(const std::complex<float>* c, int len, float (&lanes)[8]) {
   const float* x = reinterpret_cast<const float*>(c);
   float top[8] = {};
   int i = 0;
