@@ -23,14 +23,15 @@ std::mutex& planner_mutex() {
   return m;
 }
 
-// FFTW_PATIENT finds a 256^2 r2c plan ~20 % faster than FFTW_MEASURE's on the CI machine but
-// searches for ~2 s. Its wisdom stays in the process, and in the cache directory for the next
-// process. Call with planner_mutex() held.
+// FFTW_PATIENT found a 256^2 r2c plan up to ~20 % faster than FFTW_MEASURE's on the CI machine
+// (docs/performance.md) but searches for ~2 s. Its wisdom stays in the process, and in the cache
+// directory (runtime/cache_dir.h) for the next process. Call with planner_mutex() held.
 fftwf_plan patient_plan(int n, float* in, fftwf_complex* out) {
   static bool imported = false;
   const std::filesystem::path dir = cache_dir();
-  const std::filesystem::path file = dir.empty() || dir == "-" ? dir : dir / "fftw3f.wisdom";
-  if (!imported && !file.empty() && file != "-") {
+  const std::filesystem::path file =
+      dir.empty() || dir == "-" ? std::filesystem::path() : dir / "fftw3f.wisdom";
+  if (!imported && !file.empty()) {
     const std::string wisdom = read_cache_file(file);
     if (!wisdom.empty()) fftwf_import_wisdom_from_string(wisdom.c_str());
   }
@@ -39,7 +40,7 @@ fftwf_plan patient_plan(int n, float* in, fftwf_complex* out) {
     return p;
   }
   fftwf_plan p = fftwf_plan_dft_r2c_2d(n, n, in, out, FFTW_PATIENT);
-  if (p && !file.empty() && file != "-") {
+  if (p && !file.empty()) {
     std::unique_ptr<char, decltype(&std::free)> wisdom(fftwf_export_wisdom_to_string(), &std::free);
     if (wisdom) write_cache_file(file, wisdom.get());
   }
