@@ -4,12 +4,16 @@
 //    with 1 and 2 threads, and Vulkan (upload, one submission, download of 30 x 24 bytes);
 //  - the stage plus net geometry and relative pose (the CPU budget: <= 10 ms per frame);
 //  - the spectra alone on the same windowed samples: FFTW plan_many (the peer), OpenCV cv::dft,
-//    our FFTW-per-ROI path, our Vulkan radix-2 shaders.
+//    our FFTW-per-ROI path, our Vulkan radix-2 shaders;
+//  - the CPU stage's pieces: prepare (resample + normalise + window), peaks, net points + pose.
+// "cpu_ms" is the process CPU time per iteration over all threads (getrusage), the cost on a
+// shared machine; the CPU column of Google Benchmark counts the main thread only.
 // Floor: 30 real 256^2 FFTs = 30 * 5 N log2 N / 2 flops with N = 256^2 points (the complex count
 // halved for real input) = 78.6 MFlop; "x_fftw" is each spectra time over FFTW plan_many's in this
 // run.
 #include <benchmark/benchmark.h>
 #include <fftw3.h>
+#include <sys/resource.h>
 
 #include <algorithm>
 #include <cmath>
@@ -70,13 +74,13 @@ struct FftwMany {
   float* in;
   fftwf_complex* out;
   fftwf_plan plan;
-  FftwMany() {
+  explicit FftwMany(unsigned flags) {
     in = fftwf_alloc_real(grid().size() * kNN);
     out = fftwf_alloc_complex(grid().size() * kNC);
     const int n[2] = {kN, kN};
     plan = fftwf_plan_many_dft_r2c(2, n, static_cast<int>(grid().size()), in, nullptr, 1,
                                    static_cast<int>(kNN), out, nullptr, 1, static_cast<int>(kNC),
-                                   FFTW_MEASURE);
+                                   flags);
     std::copy(samples().begin(), samples().end(), in);
   }
   ~FftwMany() {
@@ -86,10 +90,11 @@ struct FftwMany {
   }
 };
 
-// FFTW plan_many time for this run, measured once (median of 31), for the x_fftw ratios.
+// FFTW plan_many time for this run (FFTW_PATIENT, as FftRoiCpu plans), measured once (median of
+// 31), for the x_fftw ratios.
 double fftw_ms() {
   static const double ms = [] {
-    FftwMany f;
+    FftwMany f(FFTW_PATIENT);
     std::vector<double> t;
     for (int i = 0; i < 31; ++i) {
       Stopwatch sw;
@@ -102,6 +107,16 @@ double fftw_ms() {
   return ms;
 }
 
+// Process CPU time (all threads, user + system), ms.
+double process_cpu_ms() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  const auto ms = [](const timeval& t) {
+    return static_cast<double>(t.tv_sec) * 1e3 + static_cast<double>(t.tv_usec) / 1e3;
+  };
+  return ms(u.ru_utime) + ms(u.ru_stime);
+}
+
 void spectra_counters(benchmark::State& state, double total_ms) {
   const double ms = total_ms / static_cast<double>(state.iterations());
   state.counters["MFlop"] = flops() / 1e6;
@@ -109,8 +124,9 @@ void spectra_counters(benchmark::State& state, double total_ms) {
   state.counters["x_fftw"] = ms / fftw_ms();
 }
 
+// Arg 0: FFTW_MEASURE; 1: FFTW_PATIENT (~15 s of planning, once per process).
 void BM_Spectra_FftwPlanMany(benchmark::State& state) {
-  FftwMany f;
+  FftwMany f(state.range(0) ? FFTW_PATIENT : FFTW_MEASURE);
   Stopwatch sw;
   for (auto _ : state) {
     fftwf_execute(f.plan);
@@ -118,7 +134,7 @@ void BM_Spectra_FftwPlanMany(benchmark::State& state) {
   }
   spectra_counters(state, sw.elapsed_ms());
 }
-BENCHMARK(BM_Spectra_FftwPlanMany)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_Spectra_FftwPlanMany)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_Spectra_CvDft(benchmark::State& state) {
   cv::setNumThreads(1);
@@ -169,20 +185,53 @@ BENCHMARK(BM_Spectra_Vulkan)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // The stage's pieces on the CPU: resample + normalise + window alone.
 void BM_Prepare_Cpu(benchmark::State& state) {
-  kernels::FftRoiCpu cpu({}, {}, 1, false);
+  kernels::FftRoiCpu cpu({}, {}, static_cast<int>(state.range(0)), false);
   const ImageU8 img = frame();
   std::vector<float> out(grid().size() * kNN);
+  const double cpu0 = process_cpu_ms();
   for (auto _ : state) {
     cpu.prepare(img, grid(), out);
     benchmark::DoNotOptimize(out.data());
   }
+  state.counters["cpu_ms"] = (process_cpu_ms() - cpu0) / static_cast<double>(state.iterations());
 }
-BENCHMARK(BM_Prepare_Cpu)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_Prepare_Cpu)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// Peak search alone on the 30 spectra of the same frame.
+void BM_Peaks_Cpu(benchmark::State& state) {
+  kernels::FftRoiCpu cpu({}, {}, 1);
+  std::vector<std::complex<float>> spectra(grid().size() * kNC);
+  cpu.transform(samples(), spectra);
+  for (auto _ : state) {
+    for (size_t r = 0; r < grid().size(); ++r) {
+      benchmark::DoNotOptimize(kernels::analyze_spectrum(
+          std::span<const std::complex<float>>(spectra).subspan(r * kNC, kNC), {}, {}));
+    }
+  }
+}
+BENCHMARK(BM_Peaks_Cpu)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// Net points + relative pose alone, from the frame's 30 lattices.
+void BM_Pose_Cpu(benchmark::State& state) {
+  kernels::FftRoiCpu cpu({}, {}, 1);
+  const auto lattices = cpu.run(frame(), grid());
+  const PinholeCamera camera;
+  for (auto _ : state) {
+    std::vector<RoiNetPoint> points;
+    for (size_t i = 0; i < grid().size(); ++i) {
+      points.push_back(roi_net_point(lattices[i], grid()[i], 300, camera, 0.030));
+    }
+    benchmark::DoNotOptimize(relative_pose_fft(points));
+  }
+}
+BENCHMARK(BM_Pose_Cpu)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_FftStage_Cpu(benchmark::State& state) {
   kernels::FftRoiCpu cpu({}, {}, static_cast<int>(state.range(0)));
   const ImageU8 img = frame();
+  const double cpu0 = process_cpu_ms();
   for (auto _ : state) benchmark::DoNotOptimize(cpu.run(img, grid()));
+  state.counters["cpu_ms"] = (process_cpu_ms() - cpu0) / static_cast<double>(state.iterations());
   state.counters["rois"] = static_cast<double>(grid().size());
 }
 BENCHMARK(BM_FftStage_Cpu)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
@@ -224,6 +273,7 @@ void BM_FftStagePlusPose_Cpu(benchmark::State& state) {
                        {.backend = Backend::kCpu, .cpu_threads = static_cast<int>(state.range(0))});
   const ImageU8 img = frame();
   double fft = 0, pose = 0;
+  const double cpu0 = process_cpu_ms();
   for (auto _ : state) {
     const NetDetection d = detector.detect(img);
     fft += d.fft_ms;
@@ -231,6 +281,7 @@ void BM_FftStagePlusPose_Cpu(benchmark::State& state) {
     if (!d.pose.valid()) state.SkipWithError(d.pose.reason.c_str());
   }
   const auto iters = static_cast<double>(state.iterations());
+  state.counters["cpu_ms"] = (process_cpu_ms() - cpu0) / iters;
   state.counters["fft_ms"] = fft / iters;
   state.counters["pose_ms"] = pose / iters;
 }

@@ -93,6 +93,52 @@ std::vector<int> consensus(const std::vector<Sample>& s, double rel) {
   return inliers<3>(s, best_plane, plane_basis, rel);
 }
 
+// Plane slopes (a, b) fused with the inliers' per-ROI slopes; see RelativePoseFftParams.
+void fuse_roi_tilt(Eigen::Vector3d& plane, const std::vector<Sample>& s, const std::vector<int>& in,
+                   std::span<const RoiNetPoint> rois) {
+  // The plane's slope variances: residual variance per unit weight times (A^T W A)^-1.
+  Eigen::Matrix3d ata = Eigen::Matrix3d::Zero();
+  double wr2 = 0;
+  for (int i : in) {
+    const Eigen::Vector3d phi = plane_basis(s[i].p);
+    ata += s[i].w * phi * phi.transpose();
+    wr2 += s[i].w * std::pow(residual<3>(plane, s[i].p, plane_basis), 2);
+  }
+  const double dof = static_cast<double>(in.size()) - 3;
+  if (dof < 1) return;
+  const Eigen::Matrix3d cov = (wr2 / dof) * ata.inverse();
+  // Each inlier's slopes from its normal candidate nearer the plane's normal.
+  const Eigen::Vector3d normal = Eigen::Vector3d(plane(1), plane(2), -1).normalized();
+  Eigen::Vector2d sum = Eigen::Vector2d::Zero(), sq = Eigen::Vector2d::Zero();
+  double weight = 0;
+  for (int i : in) {
+    const auto& n = rois[s[i].roi].normals_C;
+    const Eigen::Vector3d& m =
+        std::abs(n[0].dot(normal)) >= std::abs(n[1].dot(normal)) ? n[0] : n[1];
+    if (!(m.z() > 0)) continue;  // no normal (a point not from roi_net_point)
+    const Eigen::Vector2d slope(-m.x() / m.z(), -m.y() / m.z());
+    sum += s[i].w * slope;
+    sq += s[i].w * slope.cwiseProduct(slope);
+    weight += s[i].w;
+  }
+  if (!(weight > 0)) return;
+  const Eigen::Vector2d mean = sum / weight;
+  for (int k = 0; k < 2; ++k) {
+    const double var_plane = cov(k + 1, k + 1);
+    // The floor keeps identical per-ROI slopes (a synthetic corner case) from taking over.
+    const double var_rois = std::max(sq(k) / weight - mean(k) * mean(k), 1e-8);
+    if (!(var_plane > 0)) continue;
+    plane(k + 1) = (plane(k + 1) / var_plane + mean(k) / var_rois) / (1 / var_plane + 1 / var_rois);
+  }
+  // The offset that best fits the points with the fused slopes.
+  double offset = 0, total = 0;
+  for (int i : in) {
+    offset += s[i].w * (s[i].p.z() - plane(1) * s[i].p.x() - plane(2) * s[i].p.y());
+    total += s[i].w;
+  }
+  plane(0) = offset / total;
+}
+
 }  // namespace
 
 FftRelativePose relative_pose_fft(std::span<const RoiNetPoint> rois,
@@ -122,6 +168,7 @@ FftRelativePose relative_pose_fft(std::span<const RoiNetPoint> rois,
                    "the refitted plane keeps fewer than " + std::to_string(need) + " net points");
   }
   plane = fit<3>(s, in, plane_basis);
+  if (params.fuse_roi_tilt) fuse_roi_tilt(plane, s, in, rois);
 
   const double psi = std::atan(plane(1)), pitch = std::atan(plane(2));
   if (std::abs(psi) > params.max_obliquity_rad || std::abs(pitch) > params.max_obliquity_rad) {

@@ -9,6 +9,7 @@
 
 #include <unistd.h>
 
+#include "runtime/cache_dir.h"
 #include "runtime/error.h"
 #include "runtime/log.h"
 #include "runtime/vk_detail.h"
@@ -245,16 +246,6 @@ VkInstance create_instance(bool validation, bool sync_validation, Context::Impl*
   return instance;
 }
 
-std::filesystem::path default_cache_dir() {
-  const std::string dir = env_or("PENSIGHT_CACHE_DIR", "");
-  if (!dir.empty()) return dir;
-  const std::string xdg = env_or("XDG_CACHE_HOME", "");
-  if (!xdg.empty()) return std::filesystem::path(xdg) / "pensight";
-  const std::string home = env_or("HOME", "");
-  if (!home.empty()) return std::filesystem::path(home) / ".cache" / "pensight";
-  return {};
-}
-
 // The cache file is keyed by device and driver so a driver update never loads stale binaries
 // (the driver would reject them anyway, but a mismatched file would be rewritten every run).
 std::filesystem::path cache_file(const std::filesystem::path& dir, VkPhysicalDevice pd) {
@@ -316,7 +307,7 @@ Context::Context(ContextOptions options) : impl_(std::make_unique<Impl>()) {
   Impl& d = *impl_;
   if (options.device.empty()) options.device = env_or("PENSIGHT_VK_DEVICE", "");
   if (!options.validation) options.validation = env_or("PENSIGHT_VK_VALIDATION", "0") == "1";
-  if (options.cache_dir.empty()) options.cache_dir = default_cache_dir();
+  if (options.cache_dir.empty()) options.cache_dir = cache_dir();
   d.options = options;
 
   d.instance = create_instance(options.validation, options.sync_validation, &d, &d.messenger);

@@ -75,8 +75,10 @@ void validate(const FftRoiShape& shape, bool needs_power_of_two);
 RoiLattice analyze_spectrum(std::span<const std::complex<float>> spectrum, const FftRoiShape& shape,
                             const PeakParams& params);
 
-// CPU reference on FFTW: planned once per shape (FFTW_MEASURE unless `measure` is off), ROIs spread
-// over `threads` OpenMP threads. Not thread-safe itself (owns its work buffers).
+// CPU reference on FFTW: planned once per shape (FFTW_PATIENT unless `measure` is off: ~2 s the
+// first time on a machine, then read from the FFTW wisdom in runtime/cache_dir.h's directory),
+// the ROIs' columns (distinct x origins) spread over `threads` OpenMP threads. Not thread-safe
+// itself (owns its work buffers).
 class FftRoiCpu {
  public:
   FftRoiCpu(const FftRoiShape& shape, const PeakParams& params = {}, int threads = 1,

@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "kernels/fft_roi/fft_roi.h"
+#include "runtime/simd_clones.h"
 
 namespace pensight::kernels {
 namespace {
@@ -44,14 +45,23 @@ struct Band {
 };
 
 // In-band kx range [lo, hi] of a row of the half plane (kx > 0, or kx == 0 and ky > 0); lo > hi
-// when the row has none. The same bins, in the same order, as the shader's per-bin test.
+// when the row has none. The same bins, in the same order, as the shader's per-bin test: the
+// square roots only give the starting guesses, the float tests decide.
 std::pair<int, int> band_row(const Band& band, int ky, int w) {
   const int ky2 = ky * ky;
-  int lo = ky > 0 ? 0 : 1;
-  while (lo < w && static_cast<float>(lo * lo + ky2) < band.r2_min) ++lo;
-  int hi = lo - 1;
-  while (hi + 1 < w && static_cast<float>((hi + 1) * (hi + 1) + ky2) <= band.r2_max) ++hi;
-  return {lo, hi};
+  auto r2 = [ky2](int kx) { return static_cast<float>(kx * kx + ky2); };
+  const int first = ky > 0 ? 0 : 1;
+  int lo = std::max(first, static_cast<int>(std::sqrt(std::max(0.0f, band.r2_min - r2(0)))));
+  while (lo > first && r2(lo - 1) >= band.r2_min) --lo;
+  while (lo < w && r2(lo) < band.r2_min) ++lo;
+  int hi = std::min(w - 1, static_cast<int>(std::sqrt(std::max(0.0f, band.r2_max - r2(0)))));
+  while (hi + 1 < w && r2(hi + 1) <= band.r2_max) ++hi;
+  while (hi >= lo && r2(hi) > band.r2_max) --hi;
+  return {lo, std::max(hi, lo - 1)};
+}
+
+float power_of(std::complex<float> c) {
+  return c.real() * c.real() + c.imag() * c.imag();
 }
 
 // Calls f(kx, ky, power) for every in-band bin, rows in storage order, kx ascending.
@@ -62,11 +72,28 @@ void for_each_in_band(const Spectrum& s, const Band& band, F f) {
     const int ky = r < n / 2 ? r : r - n;
     const auto [lo, hi] = band_row(band, ky, s.w());
     const std::complex<float>* row = s.row(ky);
-    for (int kx = lo; kx <= hi; ++kx) {
-      const std::complex<float> c = row[kx];
-      f(kx, ky, c.real() * c.real() + c.imag() * c.imag());
+    for (int kx = lo; kx <= hi; ++kx) f(kx, ky, power_of(row[kx]));
+  }
+}
+
+// Adds the powers of c[0 .. len) to 8 float lanes (vectorisable) and returns their maximum.
+PENSIGHT_SIMD_CLONES float add_powers(const std::complex<float>* c, int len, float (&lanes)[8]) {
+  const float* x = reinterpret_cast<const float*>(c);
+  float top[8] = {};
+  int i = 0;
+  for (; i + 8 <= len; i += 8) {
+    for (int j = 0; j < 8; ++j) {
+      const float p = x[2 * (i + j)] * x[2 * (i + j)] + x[2 * (i + j) + 1] * x[2 * (i + j) + 1];
+      lanes[j] += p;
+      top[j] = std::max(top[j], p);
     }
   }
+  for (; i < len; ++i) {
+    const float p = power_of(c[i]);
+    lanes[i & 7] += p;
+    top[0] = std::max(top[0], p);
+  }
+  return *std::max_element(top, top + 8);
 }
 
 // If the spectrum at half the peak's frequency is strong, the peak was a harmonic.
@@ -115,24 +142,31 @@ RoiLattice analyze_spectrum(std::span<const std::complex<float>> spectrum, const
   const Band band{params.min_cycles * params.min_cycles, r_max * r_max};
 
   // Pass 1: in-band energy and the strongest bin (ties: the first in row-major order).
-  // Energy in 8 float lanes (vectorisable; the row sums are short), totals in double.
-  // The kTop strongest bins are kept in (power desc, visit order) order, which is the full
-  // scan's order: pass 2 usually finds its answer among them.
+  // Energy in 8 float lanes (vectorised per row), totals in double. The kTop strongest bins are
+  // kept in (power desc, visit order) order, which is the full scan's order: pass 2 usually
+  // finds its answer among them. Once kTop are kept, a row whose maximum does not beat the
+  // weakest kept bin cannot change them and is not scanned bin by bin.
   double energy = 0;
   int count = 0;
   float lanes[8] = {};
-  int lane = 0;
   std::array<Bin, kTop> top{};
   int num_top = 0;
-  for_each_in_band(s, band, [&](int kx, int ky, float v) {
-    lanes[lane] += v;
-    lane = (lane + 1) & 7;
-    ++count;
-    if (num_top == kTop && !(v > top[kTop - 1].power)) return;
-    int i = num_top < kTop ? num_top++ : kTop - 1;
-    for (; i > 0 && v > top[i - 1].power; --i) top[i] = top[i - 1];
-    top[i] = {kx, ky, v};
-  });
+  for (int r = 0; r < n; ++r) {
+    const int ky = r < n / 2 ? r : r - n;
+    const auto [lo, hi] = band_row(band, ky, s.w());
+    if (lo > hi) continue;
+    const std::complex<float>* row = s.row(ky);
+    count += hi - lo + 1;
+    const float row_max = add_powers(row + lo, hi - lo + 1, lanes);
+    if (num_top == kTop && !(row_max > top[kTop - 1].power)) continue;
+    for (int kx = lo; kx <= hi; ++kx) {
+      const float v = power_of(row[kx]);
+      if (num_top == kTop && !(v > top[kTop - 1].power)) continue;
+      int i = num_top < kTop ? num_top++ : kTop - 1;
+      for (; i > 0 && v > top[i - 1].power; --i) top[i] = top[i - 1];
+      top[i] = {kx, ky, v};
+    }
+  }
   for (float l : lanes) energy += l;
   RoiLattice out;
   if (num_top == 0 || top[0].power <= 0) return out;

@@ -96,6 +96,8 @@ TEST(FftRoiCpu, FindsSinusoidalLatticeFrequencies) {
   std::mt19937_64 rng(testing::fresh_seed());
   std::uniform_real_distribution<double> period(6, 30), angle(-kPi, kPi), skew(70, 110),
       ratio(0.8, 1.25);
+  double worst = 0, worst_period = 0;
+  float min_quality = 1;
   for (int fft_size : {256, 300}) {
     FftRoiCpu cpu({.fft_size = fft_size}, {}, 1, false);
     for (int trial = 0; trial < 4; ++trial) {
@@ -104,11 +106,17 @@ TEST(FftRoiCpu, FindsSinusoidalLatticeFrequencies) {
       const Freq f1{std::cos(a1) / p1, std::sin(a1) / p1}, f2{std::cos(a2) / p2, std::sin(a2) / p2};
       const auto got = cpu.run(sinusoid_lattice(720, 540, f1, f2), roi_grid(720, 540, {}));
       for (const RoiLattice& l : got) {
-        EXPECT_LE(lattice_error(l, f1, f2), kSubbinTol) << "period " << p1 << " size " << fft_size;
+        const double e = lattice_error(l, f1, f2);
+        if (e > worst) worst = e, worst_period = p1;
+        EXPECT_LE(e, kSubbinTol) << "period " << p1 << " / " << p2 << " px, angles " << a1 << " / "
+                                 << a2 << " rad, size " << fft_size;
         EXPECT_GT(l.quality, 0.5f);
+        min_quality = std::min(min_quality, l.quality);
       }
     }
   }
+  std::printf("worst error %.4f cycles per ROI (tolerance %.2f), period %.1f px; quality >= %.2f\n",
+              worst, kSubbinTol, worst_period, min_quality);
 }
 
 TEST(FftRoiCpu, NoiseAndFlatFramesHaveNoLattice) {

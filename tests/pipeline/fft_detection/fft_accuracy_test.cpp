@@ -156,5 +156,26 @@ TEST(FftAccuracy, DISABLED_Ablation) {
   }
 }
 
+// Plane slopes alone vs fused with the per-ROI tilts (docs/fft_detection.md), on 48 full-net and
+// 48 half-net frames (the net ends at the optical axis), fixed seeds.
+TEST(FftAccuracy, DISABLED_TiltFusion) {
+  const PinholeCamera cam;
+  for (double edge : {1e9, 0.0}) {
+    const auto scenes = testing::sweep_scenes(48, 8, {.noise_sigma = 3, .edge_m = edge});
+    const auto frames = render_all(cam, scenes);
+    for (bool fuse : {false, true}) {
+      NetDetectorConfig config{.backend = Backend::kCpu};
+      config.pose.fuse_roi_tilt = fuse;
+      NetDetector detector(cam, config);
+      const std::string label = std::string(edge > 1 ? "full" : "half") + (fuse ? ", fused" : "");
+      const auto e = testing::run_sweep(frames, scenes, detector);
+      testing::print_errors(label.c_str(), e);
+      std::printf("%-28s > 20 %% off: %ld of %d\n", "",
+                  std::count_if(e.d_rel.begin(), e.d_rel.end(), [](double d) { return d > 0.2; }),
+                  e.frames);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace pensight
