@@ -1,6 +1,6 @@
 #pragma once
-// The vehicle's motion: waypoints in net coordinates (see Waypoint) interpolated linearly in
-// time and turned into body poses in the pen frame P.
+// The vehicle's motion: waypoints in net coordinates (see Waypoint) interpolated in time by a
+// shape-preserving cubic (continuous velocity) and turned into body poses in the pen frame P.
 #include <Eigen/Geometry>
 
 #include "sim/scenario.h"

@@ -1,6 +1,8 @@
 // Scenario parsing: the shipped scenarios load, and bad ones are refused with the key and file.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 
@@ -49,6 +51,32 @@ TEST(Scenario, MinimalScenarioGetsDefaults) {
   const BodyState b = body_state(s, 1.0);
   EXPECT_NEAR(b.T_world_body.translation().x(), 12 - 1.25, 1e-12);
   EXPECT_NEAR(b.velocity_world_mps.x(), -0.25, 1e-9);
+}
+
+// The sweep reverses distance and heading at its waypoints: the body velocity must change
+// smoothly through them (a linear interpolation jumps by up to 2.6 m/s), the camera must not
+// overshoot the waypoints' distance range, and a constant-rate segment stays linear (above).
+TEST(Scenario, TrajectoryVelocityIsContinuousWithoutOvershoot) {
+  const Scenario s = load_scenario(source_dir() + "/scenarios/sweep.yaml");
+  double lo = 1e9, hi = -1e9;
+  for (const Waypoint& w : s.waypoints) {
+    lo = std::min(lo, w.net_distance_m);
+    hi = std::max(hi, w.net_distance_m);
+  }
+  const double t0 = s.waypoints.front().t_s;
+  for (size_t k = 1; k + 1 < s.waypoints.size(); ++k) {
+    SCOPED_TRACE("waypoint " + std::to_string(k));
+    const double t = s.waypoints[k].t_s - t0;
+    const Eigen::Vector3d before = body_state(s, t - 1e-3).velocity_world_mps;
+    const Eigen::Vector3d after = body_state(s, t + 1e-3).velocity_world_mps;
+    EXPECT_LT((after - before).norm(), 0.02);
+  }
+  for (double t = 0; t <= s.waypoints.back().t_s - t0; t += 0.01) {
+    const Eigen::Vector3d p = body_state(s, t).T_world_body.translation();
+    const double net_distance_m = s.pen.radius_m - std::hypot(p.x(), p.y());
+    EXPECT_GE(net_distance_m, lo - 1e-9);
+    EXPECT_LE(net_distance_m, hi + 1e-9);
+  }
 }
 
 TEST(Scenario, StartTimeKeepsEveryNanosecond) {
