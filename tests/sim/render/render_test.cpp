@@ -26,14 +26,15 @@ Gpu run_vulkan(const vk::Context& ctx, const Scenario& s, const FrameState& f,
                const RenderOptions& o) {
   const RenderVk r(ctx, s, o);
   const size_t n = static_cast<size_t>(r.width()) * r.height();
-  vk::Buffer params(ctx, RenderVk::params_bytes());
-  const auto bytes = r.params(f);
-  params.upload(bytes.data(), bytes.size());
+  const auto data = r.frame_data(f);
+  vk::Buffer frame(ctx, data.frame.size()), tiles(ctx, data.tiles.size() * sizeof(uint32_t));
+  frame.upload(data.frame.data(), data.frame.size());
+  tiles.upload(data.tiles.data(), data.tiles.size() * sizeof(uint32_t));
   vk::TypedBuffer<float> image(ctx, n), depth(ctx, n);
   image.fill(pensight::testing::kPoison);
   depth.fill(pensight::testing::kPoison);
   vk::CommandStream stream(ctx);
-  r.record(stream, params, image.raw(), depth.raw());
+  r.record(stream, frame, tiles, image.raw(), depth.raw());
   stream.submit_and_wait();
   return {image.to_vector(), depth.to_vector()};
 }
