@@ -40,7 +40,7 @@ double value_noise(double u, double v, double scale_u, double scale_v, int wrap_
   const auto i0 = static_cast<int32_t>(fx);
   const uint32_t ix = column(i0), ix1 = column(i0 + 1);
   const auto iy = static_cast<uint32_t>(static_cast<int32_t>(fy));
-  auto lattice = [&](uint32_t i, uint32_t j) { return unit_float(hash3(i, j, seed)); };
+  auto lattice = [&](uint32_t i, uint32_t j) { return unit_float(hash2(i, j, seed)); };
   const double tx = x - fx, ty = y - fy;
   const double sx = tx * tx * (3 - 2 * tx), sy = ty * ty * (3 - 2 * ty);
   const double a = lattice(ix, iy) + sx * (lattice(ix1, iy) - lattice(ix, iy));
@@ -260,6 +260,7 @@ RenderedFrame render_cpu(const Scenario& s, const NetGeometry& net, const FrameS
       }
     }
   }
+  const uint32_t frame_key = hash3(static_cast<uint32_t>(f.frame), tracer.seed(), kStreamNoise);
   auto render_row = [&](int y) {
     for (int x = 0; x < cam.width_px; ++x) {
       double L = 0, depth = 0, sample_depth = 0;
@@ -280,12 +281,11 @@ RenderedFrame render_cpu(const Scenario& s, const NetGeometry& net, const FrameS
       double grey = gain * L;
       if (options.noise) {
         const auto pixel = static_cast<uint32_t>(y * cam.width_px + x);
-        const auto frame = static_cast<uint32_t>(f.frame);
         const double sigma =
             std::sqrt(s.camera.read_noise * s.camera.read_noise +
                       s.camera.shot_noise * s.camera.shot_noise * std::max(grey, 0.0));
-        grey += sigma * gaussian(hash3(pixel, frame, tracer.seed() ^ kStreamNoise),
-                                 hash3(pixel, frame, ~(tracer.seed() ^ kStreamNoise)));
+        const uint32_t h = hash2(pixel, frame_key, 0);
+        grey += sigma * gaussian(h, hash32(h));
       }
       out.image.at(x, y) = static_cast<uint8_t>(std::clamp(std::floor(grey + 0.5), 0.0, 255.0));
     }

@@ -376,8 +376,8 @@ float value_noise(float u, float v, float scale_u, int wrap_u, uint seed) {
   uint ix = wrap_cell(int(fx), wrap_u), ix1 = wrap_cell(int(fx) + 1, wrap_u), iy = uint(int(fy));
   float tx = x - fx, ty = y - fy;
   float sx = tx * tx * (3.0 - 2.0 * tx), sy = ty * ty * (3.0 - 2.0 * ty);
-  float l00 = unit_float(hash3(ix, iy, seed)), l10 = unit_float(hash3(ix1, iy, seed));
-  float l01 = unit_float(hash3(ix, iy + 1u, seed)), l11 = unit_float(hash3(ix1, iy + 1u, seed));
+  float l00 = unit_float(hash2(ix, iy, seed)), l10 = unit_float(hash2(ix1, iy, seed));
+  float l01 = unit_float(hash2(ix, iy + 1u, seed)), l11 = unit_float(hash2(ix1, iy + 1u, seed));
   float a = l00 + sx * (l10 - l00);
   float b = l01 + sx * (l11 - l01);
   return a + sy * (b - a);
@@ -510,6 +510,7 @@ void main() {
   }
   uvec4 frame = info;
   background = uintBitsToFloat(frame.y);
+  uint frame_key = hash3(frame.x, SEED, kStreamNoise);
   uint tile = (y0 / ROWS) * frame.z + x / 8u;
   uint spot_begin = 0u, spot_end = 0u;
   if (has(kFeatureSnow)) {
@@ -547,9 +548,9 @@ void main() {
     L *= pow(1.0 / length(D0), 4.0 * VIGNETTING);
     float grey = GAIN * L;
     if (has(kFeatureNoise)) {
-      uint stream = SEED ^ kStreamNoise;
       float sigma = sqrt(READ_NOISE * READ_NOISE + SHOT_NOISE * SHOT_NOISE * max(grey, 0.0));
-      grey += sigma * gaussian(hash3(i, frame.x, stream), hash3(i, frame.x, ~stream));
+      uint h = hash2(i, frame_key, 0u);
+      grey += sigma * gaussian(h, hash32(h));
     }
     image[i] = clamp(floor(grey + 0.5), 0.0, 255.0);
   }
