@@ -67,11 +67,20 @@ std::vector<SnowSpot> snow_spots(const Scenario& s, const FrameState& f) {
   const Eigen::Vector3i c_hi = (box_hi / kCell_m).array().floor().cast<int>();
 
   const Eigen::Isometry3d T_camera_world = f.T_world_camera.inverse();
-  const double ambient_at_camera =
-      s.light.ambient *
-      std::exp(-w.diffuse_attenuation_per_m * std::max(f.T_world_camera.translation().z(), 0.0));
-  double light = 0.5 * ambient_at_camera;
-  for (const LampPose& l : f.lamps) light += l.intensity;
+  // Light scattered by a particle at p: the ambient light from above (half of it, the
+  // particle's lower half is dark) and the lamps' beams, as the renderers light surfaces.
+  auto light_at = [&](const Eigen::Vector3d& p) {
+    double e = 0.5 * s.light.ambient * std::exp(-w.diffuse_attenuation_per_m * p.z());
+    for (const LampPose& l : f.lamps) {
+      const Eigen::Vector3d v = p - l.position_m;
+      const double r2 = v.squaredNorm(), r = std::sqrt(r2);
+      const double ca = v.dot(l.direction) / r;
+      if (ca <= 0) continue;
+      e += l.intensity * std::exp(l.exponent * std::log(ca) - w.attenuation_per_m * r) /
+           std::max(r2, 0.01);
+    }
+    return e;
+  };
   const uint32_t stream = fold_seed(s.seed) ^ kStreamSnow;
   for (int cz = c_lo.z(); cz <= c_hi.z(); ++cz) {
     for (int cy = c_lo.y(); cy <= c_hi.y(); ++cy) {
@@ -104,7 +113,7 @@ std::vector<SnowSpot> snow_spots(const Scenario& s, const FrameState& f) {
           const double energy =
               sigma < kMinSigma_px ? (sigma / kMinSigma_px) * (sigma / kMinSigma_px) : 1.0;
           spot.sigma_px = std::clamp(sigma, kMinSigma_px, kMaxSigma_px);
-          spot.peak = w.snow_brightness * light * shade * energy *
+          spot.peak = w.snow_brightness * light_at(p_world) * shade * energy *
                       std::exp(-w.attenuation_per_m * p_c.norm());
           const double reach = kSnowCutoffSigmas * spot.sigma_px;
           if (spot.x_px < -reach || spot.y_px < -reach || spot.x_px > cam.width_px - 1 + reach ||

@@ -9,8 +9,9 @@
 
 namespace pensight::sim {
 
-// A particle seen by the camera: a Gaussian spot of radiance `peak` at its centre, already lit
-// and attenuated by the water between it and the camera.
+// A particle seen by the camera: a Gaussian spot of radiance `peak` at its centre, lit by the
+// ambient light and the lamps (so the nearest particles glow) and attenuated by the water
+// between it and the camera.
 struct SnowSpot {
   double x_px = 0, y_px = 0, sigma_px = 1, peak = 0;
 };
@@ -19,8 +20,8 @@ struct SnowSpot {
 // there, so they agree pixel for pixel.
 inline constexpr double kSnowCutoffSigmas = 4;
 // Particles are drawn between these distances from the camera: nearer ones would be blurred
-// blobs filling the lens, farther ones are sub-pixel and faded.
-inline constexpr double kSnowNear_m = 0.2, kSnowFar_m = 3.0;
+// blobs filling the lens, farther ones are sub-pixel, dimly lit and faded.
+inline constexpr double kSnowNear_m = 0.15, kSnowFar_m = 2.0;
 
 // The spots of frame f (empty when the scenario has no marine snow). The particle field is a
 // function of the seed alone, cells of water moving with current_mps * f.t_s.
