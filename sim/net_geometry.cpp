@@ -18,7 +18,8 @@ double wrapped_along_offset(double along_m, double centre_m, double circumferenc
   return d - circumference_m * std::round(d / circumference_m);
 }
 
-NetGeometry::NetGeometry(const PenConfig& pen, const NetConfig& net) : pen_(pen), net_(net) {
+NetGeometry::NetGeometry(const PenConfig& pen, const NetConfig& net)
+    : pen_(pen), net_(net), fouling_cell_u_(net.fouling_scale_m) {
   const double c = circumference(pen);
   if (c > 0) {
     // Both twine families of a square mesh at mesh_angle_rad advance along u by
@@ -29,6 +30,7 @@ NetGeometry::NetGeometry(const PenConfig& pen, const NetConfig& net) : pen_(pen)
     lattice_scale_ = std::max(1.0, std::round(c / step)) * step / c;
     fouling_cells_ =
         static_cast<int>(std::max(1.0, std::round(c * lattice_scale_ / net.fouling_scale_m)));
+    fouling_cell_u_ = c * lattice_scale_ / fouling_cells_;
   }
 }
 

@@ -53,6 +53,8 @@ class NetGeometry {
   // 30 mm mesh it is 1 - 1.1e-4.
   double lattice_scale() const { return lattice_scale_; }
   int fouling_cells_around() const { return fouling_cells_; }
+  // Fouling cell size along u on the wall (fouling_scale_m, stretched to close the ring).
+  double fouling_cell_u() const { return fouling_cell_u_; }
 
   const PenConfig& pen() const { return pen_; }
   const NetConfig& net() const { return net_; }
@@ -64,6 +66,7 @@ class NetGeometry {
   NetConfig net_;
   double lattice_scale_ = 1;
   int fouling_cells_ = 0;  // 0: no wrap (plane)
+  double fouling_cell_u_ = 0;
 };
 
 // Along-distance from a bulge centre, wrapped onto the shorter way round on a cylinder of

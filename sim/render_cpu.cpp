@@ -199,8 +199,7 @@ class Tracer {
       // Around the wall the cells are stretched to a whole number (net_geometry.h).
       const bool wall = hit->part == NetPart::kWall;
       const int wrap = wall ? net_.fouling_cells_around() : 0;
-      const double scale_u =
-          wall ? 2 * M_PI * s_.pen.radius_m * net_.lattice_scale() / wrap : s_.net.fouling_scale_m;
+      const double scale_u = wall ? net_.fouling_cell_u() : s_.net.fouling_scale_m;
       albedo *=
           1 - s_.net.fouling * value_noise(hit->u_m, hit->v_m, scale_u, s_.net.fouling_scale_m,
                                            wrap, seed_ ^ kStreamFouling);

@@ -75,8 +75,6 @@ std::vector<uint32_t> specialization(const Scenario& s, const RenderOptions& o) 
   const WaterConfig& w = s.water;
   const CameraConfig& c = s.camera;
   const int cells = geometry.fouling_cells_around();
-  const double fouling_wall_u =
-      cells > 0 ? 2 * M_PI * pen.radius_m * geometry.lattice_scale() / cells : net.fouling_scale_m;
   std::vector<uint32_t> v = {static_cast<uint32_t>(k.width_px),
                              static_cast<uint32_t>(k.height_px),
                              static_cast<uint32_t>(c.samples_per_axis),
@@ -103,7 +101,7 @@ std::vector<uint32_t> specialization(const Scenario& s, const RenderOptions& o) 
                              bits(net.knot_size_m),
                              bits(net.albedo),
                              bits(net.fouling),
-                             bits(fouling_wall_u),
+                             bits(geometry.fouling_cell_u()),
                              bits(net.fouling_scale_m),
                              bits(std::cos(net.mesh_angle_rad)),
                              bits(std::sin(net.mesh_angle_rad)),
