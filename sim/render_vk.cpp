@@ -257,9 +257,15 @@ RenderVk::FrameData RenderVk::frame_data(const FrameState& f) const {
 void RenderVk::record(vk::CommandStream& stream, const vk::Buffer& frame, const vk::Buffer& tiles,
                       const vk::Buffer& image, const vk::Buffer& depth) const {
   const size_t pixels = static_cast<size_t>(width()) * height();
-  if (frame.size_bytes() < sizeof(FrameHeader) || image.size_bytes() < pixels * sizeof(float) ||
-      depth.size_bytes() < pixels * sizeof(float)) {
-    throw Error("RenderVk::record: a buffer is smaller than the image size needs");
+  const size_t tile_offsets =
+      static_cast<size_t>(tile_columns(width())) *
+          ((static_cast<size_t>(height()) + kRowsPerInvocation - 1) / kRowsPerInvocation) +
+      1;
+  if (frame.size_bytes() < sizeof(FrameHeader) || tiles.size_bytes() < tile_offsets * 4 ||
+      image.size_bytes() < pixels * sizeof(float) || depth.size_bytes() < pixels * sizeof(float)) {
+    throw Error(
+        "RenderVk::record: a buffer is smaller than the image size needs (frame_data() "
+        "gives the frame and tile sizes)");
   }
   const uint32_t columns = static_cast<uint32_t>(width());
   const uint32_t rows =
