@@ -29,7 +29,8 @@ int cmd_render(const Args& args) {
   cli.add_option("--duration", duration, "render only the first S seconds")
       ->check(CLI::Range(0.0, 1e7));
   cli.add_option("--renderer", renderer_name,
-                 "auto (vulkan on a GPU, else the CPU reference), vulkan or cpu")
+                 "auto (vulkan where a device opens, lavapipe included; else the CPU reference), "
+                 "vulkan or cpu")
       ->capture_default_str();
   cli.add_flag("!--no-noise", options.noise, "no sensor noise in the images");
   cli.add_flag("--quiet", quiet, "no progress bar");

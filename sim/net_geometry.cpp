@@ -4,21 +4,52 @@
 
 namespace pensight::sim {
 
-NetGeometry::NetGeometry(const PenConfig& pen, const NetConfig& net) : pen_(pen), net_(net) {}
+namespace {
+
+double circumference(const PenConfig& pen) {
+  return pen.shape == NetShape::kCylinder ? 2 * M_PI * pen.radius_m : 0;
+}
+
+}  // namespace
+
+double wrapped_along_offset(double along_m, double centre_m, double circumference_m) {
+  const double d = along_m - centre_m;
+  if (circumference_m <= 0) return d;
+  return d - circumference_m * std::round(d / circumference_m);
+}
+
+NetGeometry::NetGeometry(const PenConfig& pen, const NetConfig& net)
+    : pen_(pen), net_(net), fouling_cell_u_(net.fouling_scale_m) {
+  const double c = circumference(pen);
+  if (c > 0) {
+    // Both twine families of a square mesh at mesh_angle_rad advance along u by
+    // mesh / max(|cos|, |sin|) per mesh; a whole number of those around the pen closes the
+    // lattice exactly for 0 and pi/4 (other angles keep a sub-mesh seam in one family).
+    const double a = net.mesh_angle_rad;
+    const double step = net.mesh_m / std::max(std::abs(std::cos(a)), std::abs(std::sin(a)));
+    lattice_scale_ = std::max(1.0, std::round(c / step)) * step / c;
+    fouling_cells_ =
+        static_cast<int>(std::max(1.0, std::round(c * lattice_scale_ / net.fouling_scale_m)));
+    fouling_cell_u_ = c * lattice_scale_ / fouling_cells_;
+  }
+}
 
 double NetGeometry::displacement(double along_m, double depth_m) const {
+  const double c = circumference(pen_);
   double sum = 0;
   for (const Bulge& b : net_.bulges) {
-    const double da = along_m - b.along_m, dz = depth_m - b.depth_m;
+    const double da = wrapped_along_offset(along_m, b.along_m, c), dz = depth_m - b.depth_m;
     sum += b.amplitude_m * std::exp(-(da * da + dz * dz) / (2 * b.radius_m * b.radius_m));
   }
   return sum;
 }
 
 Eigen::Vector2d NetGeometry::displacement_gradient(double along_m, double depth_m) const {
+  const double c = circumference(pen_);
   Eigen::Vector2d g = Eigen::Vector2d::Zero();
   for (const Bulge& b : net_.bulges) {
-    const double da = along_m - b.along_m, dz = depth_m - b.depth_m, s2 = b.radius_m * b.radius_m;
+    const double da = wrapped_along_offset(along_m, b.along_m, c), dz = depth_m - b.depth_m,
+                 s2 = b.radius_m * b.radius_m;
     const double e = b.amplitude_m * std::exp(-(da * da + dz * dz) / (2 * s2));
     g += Eigen::Vector2d(-da / s2 * e, -dz / s2 * e);
   }
@@ -66,7 +97,7 @@ std::optional<NetHit> NetGeometry::intersect_wall_or_plane(const Eigen::Vector3d
   h.t = t;
   h.point = p;
   const Eigen::Vector2d g = displacement_gradient(along, p.z());
-  h.u_m = along;
+  h.u_m = along * lattice_scale_;
   h.v_m = p.z();
   h.tangent_v = Eigen::Vector3d::UnitZ();
   if (pen_.shape == NetShape::kPlane) {
@@ -78,7 +109,7 @@ std::optional<NetHit> NetGeometry::intersect_wall_or_plane(const Eigen::Vector3d
     const Eigen::Vector3d e_r = Eigen::Vector3d(p.x(), p.y(), 0).normalized();
     const Eigen::Vector3d e_t(-e_r.y(), e_r.x(), 0);
     const double k = (R - disp) / R;
-    h.tangent_u = e_t;
+    h.tangent_u = lattice_scale_ * e_t;
     // Cross product of the surface's along and depth derivatives (see docs/sim.md).
     h.normal = (k * e_r + g.x() * e_t + k * g.y() * Eigen::Vector3d::UnitZ()).normalized();
   }

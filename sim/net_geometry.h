@@ -16,7 +16,9 @@ struct NetHit {
   Eigen::Vector3d point;    // in P
   Eigen::Vector3d normal;   // unit, pointing out of the pen (away from a camera inside it)
   double u_m = 0, v_m = 0;  // net surface coordinates: twine lines at multiples of mesh_m
-  Eigen::Vector3d tangent_u, tangent_v;  // unit directions of increasing u, v in P
+  // Directions of increasing u, v in P; |tangent| = du/ds per metre on the surface (1, except
+  // the cylinder wall's u, which is stretched by NetGeometry::lattice_scale()).
+  Eigen::Vector3d tangent_u, tangent_v;
   NetPart part = NetPart::kWall;
 };
 
@@ -45,6 +47,15 @@ class NetGeometry {
   double clearance(const Eigen::Vector3d& p) const;
   double along_of(const Eigen::Vector3d& p) const;
 
+  // The cylinder wall's u = along * lattice_scale(): the circumference holds a whole number of
+  // meshes (and of fouling cells, fouling_cells_around()), so the twine pattern and the fouling
+  // continue across the azimuth +-pi where along wraps. 1 on the plane; on a 12 m pen with a
+  // 30 mm mesh it is 1 - 1.1e-4.
+  double lattice_scale() const { return lattice_scale_; }
+  int fouling_cells_around() const { return fouling_cells_; }
+  // Fouling cell size along u on the wall (fouling_scale_m, stretched to close the ring).
+  double fouling_cell_u() const { return fouling_cell_u_; }
+
   const PenConfig& pen() const { return pen_; }
   const NetConfig& net() const { return net_; }
 
@@ -53,6 +64,13 @@ class NetGeometry {
                                                 const Eigen::Vector3d& d) const;
   PenConfig pen_;
   NetConfig net_;
+  double lattice_scale_ = 1;
+  int fouling_cells_ = 0;  // 0: no wrap (plane)
+  double fouling_cell_u_ = 0;
 };
+
+// Along-distance from a bulge centre, wrapped onto the shorter way round on a cylinder of
+// circumference `circumference_m` (0: plane, no wrap).
+double wrapped_along_offset(double along_m, double centre_m, double circumference_m);
 
 }  // namespace pensight::sim

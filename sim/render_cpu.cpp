@@ -5,13 +5,13 @@
 #include <limits>
 #include <thread>
 
+#include "sim/marine_snow.h"
 #include "sim/sim_hash.h"
 
 namespace pensight::sim {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr int kSnowCellPx = 24;
 
 // Box-filtered share of [x - h/2, x + h/2] covered by pulses [offset, offset + width) repeating
 // with `period`: the exact integral of the pulse train, so the twine pattern fades to its mean
@@ -28,17 +28,23 @@ double pulse_coverage(double x, double h, double period, double width, double of
   return (integral(x + h / 2) - integral(x - h / 2)) / h;
 }
 
-// Smooth value noise in [0, 1] on a lattice of `scale` metres.
-double value_noise(double u, double v, double scale, uint32_t seed) {
-  const double x = u / scale, y = v / scale;
+// Smooth value noise in [0, 1] on a lattice of cells scale_u x scale_v; with wrap_u > 0 the
+// lattice repeats every wrap_u cells along u (around the cylinder).
+double value_noise(double u, double v, double scale_u, double scale_v, int wrap_u, uint32_t seed) {
+  const double x = u / scale_u, y = v / scale_v;
   const double fx = std::floor(x), fy = std::floor(y);
-  const auto ix = static_cast<uint32_t>(static_cast<int32_t>(fx));
+  auto column = [&](int32_t i) {
+    if (wrap_u > 0) i = ((i % wrap_u) + wrap_u) % wrap_u;
+    return static_cast<uint32_t>(i);
+  };
+  const auto i0 = static_cast<int32_t>(fx);
+  const uint32_t ix = column(i0), ix1 = column(i0 + 1);
   const auto iy = static_cast<uint32_t>(static_cast<int32_t>(fy));
-  auto lattice = [&](uint32_t i, uint32_t j) { return unit_float(hash3(i, j, seed)); };
+  auto lattice = [&](uint32_t i, uint32_t j) { return unit_float(hash2(i, j, seed)); };
   const double tx = x - fx, ty = y - fy;
   const double sx = tx * tx * (3 - 2 * tx), sy = ty * ty * (3 - 2 * ty);
-  const double a = lattice(ix, iy) + sx * (lattice(ix + 1, iy) - lattice(ix, iy));
-  const double b = lattice(ix, iy + 1) + sx * (lattice(ix + 1, iy + 1) - lattice(ix, iy + 1));
+  const double a = lattice(ix, iy) + sx * (lattice(ix1, iy) - lattice(ix, iy));
+  const double b = lattice(ix, iy + 1) + sx * (lattice(ix1, iy + 1) - lattice(ix, iy + 1));
   return a + sy * (b - a);
 }
 
@@ -190,38 +196,18 @@ class Tracer {
     const double cover = net_coverage(*hit, D_w, hit->t / len);
     double albedo = s_.net.albedo;
     if (s_.net.fouling > 0) {
-      albedo *= 1 - s_.net.fouling * value_noise(hit->u_m, hit->v_m, s_.net.fouling_scale_m,
-                                                 seed_ ^ kStreamFouling);
+      // Around the wall the cells are stretched to a whole number (net_geometry.h).
+      const bool wall = hit->part == NetPart::kWall;
+      const int wrap = wall ? net_.fouling_cells_around() : 0;
+      const double scale_u = wall ? net_.fouling_cell_u() : s_.net.fouling_scale_m;
+      albedo *=
+          1 - s_.net.fouling * value_noise(hit->u_m, hit->v_m, scale_u, s_.net.fouling_scale_m,
+                                           wrap, seed_ ^ kStreamFouling);
     }
     const double T = std::exp(-c_ * hit->t);
     const double twine =
         albedo * irradiance(hit->point, hit->normal, true) * T + background_ * (1 - T);
     return cover * twine + (1 - cover) * opaque.radiance + lamp_backscatter(d, T);
-  }
-
-  double snow(int x, int y) const {
-    // The 2x2 cells nearest to the pixel: particles in the others are >= 12 px away, where a
-    // spot of radius <= 3.2 px has faded below 0.1 %.
-    const int cx = (x + kSnowCellPx / 2) / kSnowCellPx - 1;
-    const int cy = (y + kSnowCellPx / 2) / kSnowCellPx - 1;
-    double light = 0.5 * ambient(o_.z());
-    for (const LampPose& l : f_.lamps) light += l.intensity;
-    double sum = 0;
-    for (int dy = 0; dy <= 1; ++dy) {
-      for (int dx = 0; dx <= 1; ++dx) {
-        const auto cell = static_cast<uint32_t>(cx + dx) + (static_cast<uint32_t>(cy + dy) << 16);
-        uint32_t h = hash3(cell, static_cast<uint32_t>(f_.frame), seed_ ^ kStreamSnow);
-        if (unit_float(h) >= s_.water.marine_snow) continue;
-        const double px = (cx + dx + unit_float(h = hash32(h))) * kSnowCellPx;
-        const double py = (cy + dy + unit_float(h = hash32(h))) * kSnowCellPx;
-        const double u = unit_float(h = hash32(h));
-        const double radius = 0.7 + 2.5 * u * u;
-        const double bright = 0.4 + 0.6 * unit_float(hash32(h));
-        const double d2 = (x - px) * (x - px) + (y - py) * (y - py);
-        sum += bright * std::exp(-d2 / (2 * radius * radius));
-      }
-    }
-    return s_.water.snow_brightness * light * sum;
   }
 
   uint32_t seed() const { return seed_; }
@@ -258,6 +244,22 @@ RenderedFrame render_cpu(const Scenario& s, const NetGeometry& net, const FrameS
   RenderedFrame out{ImageU8(cam.width_px, cam.height_px), ImageF32(cam.width_px, cam.height_px)};
   const int n = tracer.samples_per_axis();
   const double gain = 255.0 * s.camera.exposure;
+  ImageF32 snow(cam.width_px, cam.height_px);  // radiance of the marine snow, splatted spot by spot
+  if (options.marine_snow) {
+    for (const SnowSpot& spot : snow_spots(s, f)) {
+      const double reach = kSnowCutoffSigmas * spot.sigma_px;
+      const int x0 = std::max(0, static_cast<int>(std::ceil(spot.x_px - reach)));
+      const int x1 = std::min(cam.width_px - 1, static_cast<int>(std::floor(spot.x_px + reach)));
+      const int y0 = std::max(0, static_cast<int>(std::ceil(spot.y_px - reach)));
+      const int y1 = std::min(cam.height_px - 1, static_cast<int>(std::floor(spot.y_px + reach)));
+      for (int y = y0; y <= y1; ++y) {
+        for (int x = x0; x <= x1; ++x) {
+          snow.at(x, y) += static_cast<float>(snow_radiance(spot, x, y));
+        }
+      }
+    }
+  }
+  const uint32_t frame_key = hash3(static_cast<uint32_t>(f.frame), tracer.seed(), kStreamNoise);
   auto render_row = [&](int y) {
     for (int x = 0; x < cam.width_px; ++x) {
       double L = 0, depth = 0, sample_depth = 0;
@@ -273,17 +275,16 @@ RenderedFrame render_cpu(const Scenario& s, const NetGeometry& net, const FrameS
       const Eigen::Vector3d D0 = cam.ray({static_cast<double>(x), static_cast<double>(y)});
       if (n % 2 == 0) tracer.radiance(D0, depth);
       out.depth_m.at(x, y) = static_cast<float>(depth);
-      if (options.marine_snow) L += tracer.snow(x, y);
+      L += snow.at(x, y);
       L *= std::pow(1 / D0.norm(), 4 * s.camera.vignetting);
       double grey = gain * L;
       if (options.noise) {
         const auto pixel = static_cast<uint32_t>(y * cam.width_px + x);
-        const auto frame = static_cast<uint32_t>(f.frame);
         const double sigma =
             std::sqrt(s.camera.read_noise * s.camera.read_noise +
                       s.camera.shot_noise * s.camera.shot_noise * std::max(grey, 0.0));
-        grey += sigma * gaussian(hash3(pixel, frame, tracer.seed() ^ kStreamNoise),
-                                 hash3(pixel, frame, ~(tracer.seed() ^ kStreamNoise)));
+        const uint32_t h = hash2(pixel, frame_key, 0);
+        grey += sigma * gaussian(h, hash32(h));
       }
       out.image.at(x, y) = static_cast<uint8_t>(std::clamp(std::floor(grey + 0.5), 0.0, 255.0));
     }

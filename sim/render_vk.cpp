@@ -5,24 +5,26 @@
 #include <cstring>
 
 #include "runtime/error.h"
+#include "sim/marine_snow.h"
+#include "sim/net_geometry.h"
 #include "sim/sim_hash.h"
 
 namespace pensight::sim {
 namespace {
 
 using Vec4 = std::array<float, 4>;
-using UVec4 = std::array<uint32_t, 4>;
 
-// std430 mirror of `Params` in shaders/sim/render.comp (every member 16-byte aligned).
-struct GpuParams {
-  Vec4 cam, dist, rot[3], origin, pen, plane, net, net2, water, light, camera;
-  UVec4 counts;
-  Vec4 bulge[kMaxBulges], lamp_pos[kMaxLamps], lamp_dir[kMaxLamps];
-  Vec4 fish_c[kMaxFish], fish_a[kMaxFish], fish_t[kMaxFish];
+// std430 mirror of the fixed part of FrameBuf in shaders/sim/render.comp; the spots follow.
+struct FrameHeader {
+  Vec4 rot[3];
+  std::array<uint32_t, 4> info;
+  Vec4 fish_c[kMaxFish], fish_a[kMaxFish];
 };
-static_assert(sizeof(GpuParams) == 54 * 16);
+static_assert(sizeof(FrameHeader) == 20 * 16);
 
-constexpr uint32_t kWorkgroup = 8;  // local_size_x/y in render.comp
+// render.comp: local_size_x/y, and the rows each invocation renders (ROWS). A tile of the snow
+// lists is kTilePx x kRowsPerInvocation pixels: one invocation's column of pixels.
+constexpr uint32_t kGroupX = 8, kGroupY = 4, kRowsPerInvocation = 8, kTilePx = 8;
 // FEATURES bits of render.comp.
 constexpr uint32_t kFeatureNoise = 1, kFeatureSnow = 2, kFeaturePlane = 4, kFeatureBottom = 8,
                    kFeatureWall = 16, kFeatureFouling = 32, kFeatureDistortion = 64;
@@ -40,38 +42,171 @@ uint32_t features(const Scenario& s, const RenderOptions& o) {
   return f;
 }
 
+uint32_t bits(double v) {
+  return std::bit_cast<uint32_t>(static_cast<float>(v));
+}
+
 Vec4 v4(double a, double b, double c, double d) {
   return {static_cast<float>(a), static_cast<float>(b), static_cast<float>(c),
           static_cast<float>(d)};
 }
-Vec4 v4(const Eigen::Vector3d& v, double w) {
-  return v4(v.x(), v.y(), v.z(), w);
+
+// The lamps in the camera frame (fixed to the body, like the camera).
+std::vector<LampPose> lamps_in_camera(const Scenario& s) {
+  const Eigen::Isometry3d T_camera_body = s.camera.calibration.T_BS.inverse();
+  std::vector<LampPose> out;
+  for (const Lamp& l : s.light.lamps) {
+    LampPose p;
+    p.position_m = T_camera_body * l.position_B_m;
+    p.direction = T_camera_body.linear() * l.direction_B;
+    p.intensity = l.intensity * s.light.lamp_level;
+    p.exponent = std::log(0.5) / std::log(std::cos(l.half_angle_rad));
+    out.push_back(p);
+  }
+  return out;
+}
+
+// The specialization constants of render.comp, in constant_id order.
+std::vector<uint32_t> specialization(const Scenario& s, const RenderOptions& o) {
+  const PinholeCamera& k = s.camera.calibration.camera;
+  const NetGeometry geometry(s.pen, s.net);
+  const PenConfig& pen = s.pen;
+  const NetConfig& net = s.net;
+  const WaterConfig& w = s.water;
+  const CameraConfig& c = s.camera;
+  const int cells = geometry.fouling_cells_around();
+  std::vector<uint32_t> v = {static_cast<uint32_t>(k.width_px),
+                             static_cast<uint32_t>(k.height_px),
+                             static_cast<uint32_t>(c.samples_per_axis),
+                             static_cast<uint32_t>(net.bulges.size()),
+                             static_cast<uint32_t>(s.light.lamps.size()),
+                             static_cast<uint32_t>(s.fish.size()),
+                             features(s, o),
+                             bits(k.fx_px),
+                             bits(k.fy_px),
+                             bits(k.cx_px),
+                             bits(k.cy_px),
+                             bits(k.k1),
+                             bits(k.k2),
+                             bits(k.p1),
+                             bits(k.p2),
+                             bits(pen.radius_m),
+                             bits(pen.depth_m),
+                             bits(pen.width_m),
+                             bits(pen.top_m),
+                             bits(pen.height_m),
+                             bits(pen.wall_gap_m),
+                             bits(net.mesh_m),
+                             bits(net.twine_width_m),
+                             bits(net.knot_size_m),
+                             bits(net.albedo),
+                             bits(net.fouling),
+                             bits(geometry.fouling_cell_u()),
+                             bits(net.fouling_scale_m),
+                             bits(std::cos(net.mesh_angle_rad)),
+                             bits(std::sin(net.mesh_angle_rad)),
+                             bits(geometry.lattice_scale()),
+                             static_cast<uint32_t>(cells),
+                             bits(w.attenuation_per_m),
+                             bits(w.diffuse_attenuation_per_m),
+                             bits(w.lamp_backscatter),
+                             bits(s.light.ambient),
+                             bits(s.light.surface_brightness),
+                             bits(pen.wall_albedo),
+                             bits(255.0 * c.exposure),
+                             bits(c.vignetting),
+                             bits(c.read_noise),
+                             bits(c.shot_noise),
+                             fold_seed(s.seed),
+                             bits(net_visible_range_m(w))};
+  for (size_t i = 0; i < kMaxBulges; ++i) {
+    const Bulge b = i < net.bulges.size() ? net.bulges[i] : Bulge{};
+    for (double x : {b.along_m, b.depth_m, b.amplitude_m, b.radius_m}) v.push_back(bits(x));
+  }
+  const std::vector<LampPose> lamps = lamps_in_camera(s);
+  for (size_t i = 0; i < kMaxLamps; ++i) {
+    LampPose l;
+    l.position_m.setZero();
+    l.direction = Eigen::Vector3d::UnitZ();
+    if (i < lamps.size()) l = lamps[i];
+    for (int j = 0; j < 3; ++j) v.push_back(bits(l.position_m[j]));
+    for (int j = 0; j < 3; ++j) v.push_back(bits(l.direction[j]));
+    v.push_back(bits(l.intensity));
+    v.push_back(bits(l.exponent));
+  }
+  for (size_t i = 0; i < kMaxFish; ++i) {
+    const Fish f = i < s.fish.size() ? s.fish[i] : Fish{};
+    for (double x : {f.length_m / 2, f.thickness_m / 2, f.albedo}) v.push_back(bits(x));
+  }
+  return v;
+}
+
+uint32_t tile_columns(int width) {
+  return (static_cast<uint32_t>(width) + kTilePx - 1) / kTilePx;
+}
+
+// Spot indices per tile, for the shader's tile lists: offsets (tiles + 1, absolute positions in
+// the returned array), then the indices.
+std::vector<uint32_t> bin_spots(const std::vector<SnowSpot>& spots, int width, int height) {
+  const uint32_t cols = tile_columns(width);
+  const uint32_t rows =
+      (static_cast<uint32_t>(height) + kRowsPerInvocation - 1) / kRowsPerInvocation;
+  const size_t tiles = static_cast<size_t>(cols) * rows;
+  struct Range {
+    uint32_t x0, x1, y0, y1;
+  };
+  std::vector<Range> ranges;
+  std::vector<uint32_t> count(tiles, 0);
+  for (const SnowSpot& s : spots) {
+    const double reach = kSnowCutoffSigmas * s.sigma_px;
+    auto tile_of = [](double px, double lo, double hi, uint32_t size) {
+      return static_cast<uint32_t>(std::clamp(px, lo, hi)) / size;
+    };
+    const Range r{tile_of(std::ceil(s.x_px - reach), 0, width - 1, kTilePx),
+                  tile_of(std::floor(s.x_px + reach), 0, width - 1, kTilePx),
+                  tile_of(std::ceil(s.y_px - reach), 0, height - 1, kRowsPerInvocation),
+                  tile_of(std::floor(s.y_px + reach), 0, height - 1, kRowsPerInvocation)};
+    for (uint32_t ty = r.y0; ty <= r.y1; ++ty) {
+      for (uint32_t tx = r.x0; tx <= r.x1; ++tx) ++count[ty * cols + tx];
+    }
+    ranges.push_back(r);
+  }
+  std::vector<uint32_t> out(tiles + 1);
+  out[0] = static_cast<uint32_t>(tiles + 1);
+  for (size_t t = 0; t < tiles; ++t) out[t + 1] = out[t] + count[t];
+  out.resize(out[tiles]);
+  std::vector<uint32_t> next(out.begin(), out.begin() + static_cast<std::ptrdiff_t>(tiles));
+  for (uint32_t i = 0; i < ranges.size(); ++i) {
+    const Range& r = ranges[i];
+    for (uint32_t ty = r.y0; ty <= r.y1; ++ty) {
+      for (uint32_t tx = r.x0; tx <= r.x1; ++tx) out[next[ty * cols + tx]++] = i;
+    }
+  }
+  return out;
 }
 
 }  // namespace
 
 struct RenderVk::Resources {
-  vk::Buffer params;
+  vk::Buffer frame, tiles;
   vk::TypedBuffer<float> image, depth;
   vk::CommandStream stream;
-  Resources(const vk::Context& ctx, size_t pixels)
-      : params(ctx, sizeof(GpuParams)), image(ctx, pixels), depth(ctx, pixels), stream(ctx) {}
+  Resources(const vk::Context& ctx, size_t frame_bytes, size_t tile_bytes, size_t pixels)
+      : frame(ctx, frame_bytes),
+        tiles(ctx, tile_bytes),
+        image(ctx, pixels),
+        depth(ctx, pixels),
+        stream(ctx) {}
 };
 
 RenderVk::RenderVk(const vk::Context& ctx, const Scenario& s, const RenderOptions& options)
     : ctx_(&ctx),
       s_(s),
       options_(options),
-      pipeline_(ctx,
-                {.shader = "sim/render",
-                 .num_buffers = 3,
-                 .push_constant_bytes = 0,
-                 .specialization = {static_cast<uint32_t>(s.camera.calibration.camera.width_px),
-                                    static_cast<uint32_t>(s.camera.calibration.camera.height_px),
-                                    static_cast<uint32_t>(s.camera.samples_per_axis),
-                                    static_cast<uint32_t>(s.net.bulges.size()),
-                                    static_cast<uint32_t>(s.light.lamps.size()),
-                                    static_cast<uint32_t>(s.fish.size()), features(s, options)}}) {}
+      pipeline_(ctx, {.shader = "sim/render",
+                      .num_buffers = 4,
+                      .push_constant_bytes = 0,
+                      .specialization = specialization(s, options)}) {}
 
 int RenderVk::width() const {
   return s_.camera.calibration.camera.width_px;
@@ -80,81 +215,77 @@ int RenderVk::height() const {
   return s_.camera.calibration.camera.height_px;
 }
 
-size_t RenderVk::params_bytes() {
-  return sizeof(GpuParams);
-}
-
-std::vector<uint8_t> RenderVk::params(const FrameState& f) const {
-  GpuParams g{};
-  const PinholeCamera& k = s_.camera.calibration.camera;
-  g.cam = v4(k.fx_px, k.fy_px, k.cx_px, k.cy_px);
-  g.dist = v4(k.k1, k.k2, k.p1, k.p2);
-  const Eigen::Matrix3d R = f.T_world_camera.linear();
-  for (int r = 0; r < 3; ++r) g.rot[r] = v4(R(r, 0), R(r, 1), R(r, 2), 0);
-  const Eigen::Vector3d o = f.T_world_camera.translation();
-  g.origin = v4(o, net_visible_range_m(s_.water));
-  const PenConfig& pen = s_.pen;
-  g.pen = v4(pen.radius_m, pen.depth_m, pen.bottom ? 1 : 0, pen.shape == NetShape::kPlane ? 1 : 0);
-  g.plane = v4(pen.width_m, pen.top_m, pen.height_m, pen.wall_gap_m);
-  const NetConfig& net = s_.net;
-  g.net = v4(net.mesh_m, net.twine_width_m, net.knot_size_m, net.albedo);
-  g.net2 = v4(net.fouling, net.fouling_scale_m, std::cos(net.mesh_angle_rad),
-              std::sin(net.mesh_angle_rad));
-  const WaterConfig& w = s_.water;
-  const double ambient_at_camera =
-      s_.light.ambient * std::exp(-w.diffuse_attenuation_per_m * std::max(o.z(), 0.0));
-  g.water = v4(w.attenuation_per_m, w.diffuse_attenuation_per_m, w.backscatter * ambient_at_camera,
-               w.lamp_backscatter);
-  double snow_light = 0.5 * ambient_at_camera;
-  for (const LampPose& l : f.lamps) snow_light += l.intensity;
-  g.light = v4(s_.light.ambient, s_.light.surface_brightness, pen.wall_albedo,
-               w.snow_brightness * snow_light);
-  const CameraConfig& c = s_.camera;
-  g.camera = v4(255.0 * c.exposure, c.vignetting, c.read_noise, c.shot_noise);
-  g.counts = {static_cast<uint32_t>(f.frame), fold_seed(s_.seed),
-              std::bit_cast<uint32_t>(static_cast<float>(w.marine_snow)), 0};
+RenderVk::FrameData RenderVk::frame_data(const FrameState& f) const {
   if (f.lamps.size() != s_.light.lamps.size() || f.fish.size() != s_.fish.size()) {
-    throw Error("RenderVk::params: the frame does not belong to the scenario it was built for");
+    throw Error("RenderVk: the frame does not belong to the scenario the renderer was built for");
   }
-  for (size_t i = 0; i < net.bulges.size(); ++i) {
-    const Bulge& b = net.bulges[i];
-    g.bulge[i] = v4(b.along_m, b.depth_m, b.amplitude_m, b.radius_m);
+  // The shader holds the lamps in the camera frame as constants: they must ride with the body.
+  const std::vector<LampPose> lamps = lamps_in_camera(s_);
+  for (size_t i = 0; i < lamps.size(); ++i) {
+    if ((f.T_world_camera * lamps[i].position_m - f.lamps[i].position_m).norm() > 1e-6 ||
+        (f.T_world_camera.linear() * lamps[i].direction - f.lamps[i].direction).norm() > 1e-6) {
+      throw Error("RenderVk: lamp " + std::to_string(i) +
+                  " is not fixed to the vehicle as the scenario describes it");
+    }
   }
-  for (size_t i = 0; i < f.lamps.size(); ++i) {
-    g.lamp_pos[i] = v4(f.lamps[i].position_m, f.lamps[i].intensity);
-    g.lamp_dir[i] = v4(f.lamps[i].direction, f.lamps[i].exponent);
-  }
+  FrameHeader h{};
+  const Eigen::Matrix3d R = f.T_world_camera.linear();
+  const Eigen::Vector3d o = f.T_world_camera.translation();
+  for (int r = 0; r < 3; ++r) h.rot[r] = v4(R(r, 0), R(r, 1), R(r, 2), o[r]);
+  const WaterConfig& w = s_.water;
+  const double background = w.backscatter * s_.light.ambient *
+                            std::exp(-w.diffuse_attenuation_per_m * std::max(o.z(), 0.0));
+  h.info = {static_cast<uint32_t>(f.frame), bits(background), tile_columns(width()), 0};
   for (size_t i = 0; i < f.fish.size(); ++i) {
-    g.fish_c[i] = v4(f.fish[i].centre_m, f.fish[i].albedo);
-    g.fish_a[i] = v4(f.fish[i].axis, f.fish[i].half_length_m);
-    g.fish_t[i] = v4(f.fish[i].half_thickness_m, 0, 0, 0);
+    h.fish_c[i] = v4(f.fish[i].centre_m.x(), f.fish[i].centre_m.y(), f.fish[i].centre_m.z(), 0);
+    h.fish_a[i] = v4(f.fish[i].axis.x(), f.fish[i].axis.y(), f.fish[i].axis.z(), 0);
   }
-  std::vector<uint8_t> bytes(sizeof g);
-  std::memcpy(bytes.data(), &g, sizeof g);
-  return bytes;
+  std::vector<SnowSpot> spots;
+  if (options_.marine_snow) spots = snow_spots(s_, f);
+  FrameData d;
+  d.frame.resize(sizeof h + spots.size() * sizeof(Vec4));
+  std::memcpy(d.frame.data(), &h, sizeof h);
+  for (size_t i = 0; i < spots.size(); ++i) {
+    const SnowSpot& s = spots[i];
+    const Vec4 v = v4(s.x_px, s.y_px, 1 / (s.sigma_px * s.sigma_px), s.peak);
+    std::memcpy(d.frame.data() + sizeof h + i * sizeof v, &v, sizeof v);
+  }
+  d.tiles = bin_spots(spots, width(), height());
+  return d;
 }
 
-void RenderVk::record(vk::CommandStream& stream, const vk::Buffer& params, const vk::Buffer& image,
-                      const vk::Buffer& depth) const {
+void RenderVk::record(vk::CommandStream& stream, const vk::Buffer& frame, const vk::Buffer& tiles,
+                      const vk::Buffer& image, const vk::Buffer& depth) const {
   const size_t pixels = static_cast<size_t>(width()) * height();
-  if (params.size_bytes() < sizeof(GpuParams) || image.size_bytes() < pixels * sizeof(float) ||
-      depth.size_bytes() < pixels * sizeof(float)) {
-    throw Error("RenderVk::record: a buffer is smaller than the image size needs");
+  const size_t tile_offsets =
+      static_cast<size_t>(tile_columns(width())) *
+          ((static_cast<size_t>(height()) + kRowsPerInvocation - 1) / kRowsPerInvocation) +
+      1;
+  if (frame.size_bytes() < sizeof(FrameHeader) || tiles.size_bytes() < tile_offsets * 4 ||
+      image.size_bytes() < pixels * sizeof(float) || depth.size_bytes() < pixels * sizeof(float)) {
+    throw Error(
+        "RenderVk::record: a buffer is smaller than the image size needs (frame_data() "
+        "gives the frame and tile sizes)");
   }
-  stream.dispatch(pipeline_, {vk::in(params), vk::out(image), vk::out(depth)},
-                  {(static_cast<uint32_t>(width()) + kWorkgroup - 1) / kWorkgroup,
-                   (static_cast<uint32_t>(height()) + kWorkgroup - 1) / kWorkgroup, 1},
-                  nullptr, 0, "sim_render");
+  const uint32_t columns = static_cast<uint32_t>(width());
+  const uint32_t rows =
+      (static_cast<uint32_t>(height()) + kRowsPerInvocation - 1) / kRowsPerInvocation;
+  stream.dispatch(pipeline_, {vk::in(frame), vk::in(tiles), vk::out(image), vk::out(depth)},
+                  {(columns + kGroupX - 1) / kGroupX, (rows + kGroupY - 1) / kGroupY, 1}, nullptr,
+                  0, "sim_render");
 }
 
 RenderedFrame RenderVk::render(const FrameState& f) {
   const size_t pixels = static_cast<size_t>(width()) * height();
-  if (!res_) {
-    res_ = std::make_shared<Resources>(*ctx_, pixels);
-    record(res_->stream, res_->params, res_->image.raw(), res_->depth.raw());
+  const FrameData d = frame_data(f);
+  const size_t tile_bytes = d.tiles.size() * sizeof(uint32_t);
+  if (!res_ || res_->frame.size_bytes() < d.frame.size() || res_->tiles.size_bytes() < tile_bytes) {
+    // Room for twice this frame's snow, so the buffers rarely grow again.
+    res_ = std::make_shared<Resources>(*ctx_, 2 * d.frame.size(), 2 * tile_bytes, pixels);
+    record(res_->stream, res_->frame, res_->tiles, res_->image.raw(), res_->depth.raw());
   }
-  const auto bytes = params(f);
-  res_->params.upload(bytes.data(), bytes.size());
+  res_->frame.upload(d.frame.data(), d.frame.size());
+  res_->tiles.upload(d.tiles.data(), tile_bytes);
   res_->stream.submit_and_wait();
   RenderedFrame out{ImageU8(width(), height()), ImageF32(width(), height())};
   const std::vector<float> grey = res_->image.to_vector();

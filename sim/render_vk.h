@@ -1,7 +1,8 @@
 #pragma once
-// The Vulkan renderer: shaders/sim/render.comp, one invocation per pixel, the same model as
-// render_cpu (the reference it is tested against). Built once per scenario (image size and
-// supersampling are specialization constants); per frame only a small parameter block changes.
+// The Vulkan renderer: shaders/sim/render.comp, the same model as render_cpu (the reference it
+// is tested against). Built once per scenario: the image size, supersampling and everything the
+// scenario fixes (net, water, light, lamps in the camera frame, ...) are specialization
+// constants; per frame only a small block (camera pose, fish, marine snow spots) changes.
 #include <memory>
 
 #include "runtime/vk_buffer.h"
@@ -16,16 +17,23 @@ class RenderVk {
  public:
   RenderVk(const vk::Context& ctx, const Scenario& s, const RenderOptions& options = {});
 
-  // Bytes of the parameter block that params(f) fills.
-  static size_t params_bytes();
-  // Parameter block of frame f (upload it into the buffer passed to record()).
-  std::vector<uint8_t> params(const FrameState& f) const;
-  // params: params_bytes(); image: float[w*h] grey levels 0..255 (quantised, noise included);
-  // depth: float[w*h] net z-depth in metres, 0 = no net.
-  void record(vk::CommandStream& stream, const vk::Buffer& params, const vk::Buffer& image,
-              const vk::Buffer& depth) const;
+  // The per-frame inputs of the shader: `frame` for the frame buffer (camera pose, fish, snow
+  // spots), `tiles` for the tile buffer (the spots of each 8x8 pixel tile). Their sizes vary
+  // with the number of snow spots in view.
+  struct FrameData {
+    std::vector<uint8_t> frame;
+    std::vector<uint32_t> tiles;
+  };
+  FrameData frame_data(const FrameState& f) const;
 
-  // Convenience with buffers and a recorded stream kept between calls: upload, run, download.
+  // frame, tiles: at least as large as a FrameData's upload (uploaded before each submission);
+  // image: float[w*h] grey levels 0..255 (quantised, noise included); depth: float[w*h] net
+  // z-depth in metres, 0 = no net.
+  void record(vk::CommandStream& stream, const vk::Buffer& frame, const vk::Buffer& tiles,
+              const vk::Buffer& image, const vk::Buffer& depth) const;
+
+  // Convenience with buffers and a recorded stream kept between calls (grown and re-recorded
+  // when a frame has more snow than any before): upload, run, download.
   RenderedFrame render(const FrameState& f);
 
   int width() const;

@@ -152,6 +152,8 @@ WaterConfig parse_water(const YamlMap& y) {
   w.lamp_backscatter = ranged(y, "lamp_backscatter", w.lamp_backscatter, 0, 10);
   w.marine_snow = ranged(y, "marine_snow", w.marine_snow, 0, 1);
   w.snow_brightness = ranged(y, "snow_brightness", w.snow_brightness, 0, 10);
+  w.current_mps = vec3(y, "current_mps", w.current_mps);
+  if (!(w.current_mps.norm() <= 3)) y.fail("current_mps", "a water current of at most 3 m/s");
   y.reject_unknown_keys();
   return w;
 }

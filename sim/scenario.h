@@ -49,8 +49,11 @@ struct WaterConfig {
   double diffuse_attenuation_per_m = 0.12;  // Kd: ambient light falls off as exp(-Kd z)
   double backscatter = 0.2;                 // veiling light, as a share of the ambient light
   double lamp_backscatter = 0.03;           // veiling light from the lamps, per unit intensity
-  double marine_snow = 0.04;                // particles per 24 px cell and frame
+  // Marine snow: particles fixed in the water, which drifts with `current_mps` (in P); the
+  // density is given as the expected number in view per 24x24 px of a 720x540, fx = 462 image.
+  double marine_snow = 0.04;
   double snow_brightness = 0.3;
+  Eigen::Vector3d current_mps{0.04, 0.02, 0.003};
 };
 
 struct Lamp {

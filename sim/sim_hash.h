@@ -20,6 +20,12 @@ constexpr uint32_t hash3(uint32_t a, uint32_t b, uint32_t c) {
   return hash32(a ^ hash32(b ^ hash32(c + 0x9e3779b9u)));
 }
 
+// One finaliser round over a linear mix of a 2-D lattice point: enough for value noise and
+// per-pixel noise, and a third of hash3's work (the renderer draws these per sample).
+constexpr uint32_t hash2(uint32_t a, uint32_t b, uint32_t key) {
+  return hash32(a * 0x9e3779b1u + b * 0x85ebca77u + key);
+}
+
 // Uniform in [0, 1) with 24 bits, exactly representable in float.
 constexpr double unit_float(uint32_t h) {
   return static_cast<double>(h >> 8) * (1.0 / 16777216.0);

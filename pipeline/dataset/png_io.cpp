@@ -34,8 +34,11 @@ Image<T> to_image(const cv::Mat& m) {
 
 void write_mat(const std::filesystem::path& file, const cv::Mat& m) {
   std::vector<uchar> bytes;
-  // Fast zlib level: the images are rewritten every run and PNG size matters less than time.
-  if (!cv::imencode(".png", m, bytes, {cv::IMWRITE_PNG_COMPRESSION, 1})) {
+  // Fast zlib level, run-length matching only: on rendered frames and depth maps it is ~20 %
+  // faster than the default strategy and the files are smaller (docs/performance.md).
+  if (!cv::imencode(".png", m, bytes,
+                    {cv::IMWRITE_PNG_COMPRESSION, 1, cv::IMWRITE_PNG_STRATEGY,
+                     cv::IMWRITE_PNG_STRATEGY_RLE})) {
     throw Error("cannot encode '" + file.string() + "' as PNG");
   }
   write_file_atomically(

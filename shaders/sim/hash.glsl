@@ -12,6 +12,10 @@ uint hash3(uint a, uint b, uint c) {
   return hash32(a ^ hash32(b ^ hash32(c + 0x9e3779b9u)));
 }
 
+uint hash2(uint a, uint b, uint key) {
+  return hash32(a * 0x9e3779b1u + b * 0x85ebca77u + key);
+}
+
 float unit_float(uint h) {
   return float(h >> 8) * (1.0 / 16777216.0);
 }

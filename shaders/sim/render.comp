@@ -1,43 +1,196 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// One invocation per pixel: the camera image (grey levels, already quantised) and the net's
-// z-depth, exactly the model of sim/render_cpu.cpp in float. Parameters: sim/render_vk.cpp.
+// The camera image (grey levels, already quantised) and the net's z-depth, exactly the model of
+// sim/render_cpu.cpp in float. One invocation renders ROWS pixels of one column, so its 8 x ROWS
+// pixel tile shares one list of marine snow spots. Parameters: sim/render_vk.cpp.
+//
+// Speed on lavapipe (docs/performance.md): every storage-buffer read there is a per-lane loop,
+// hundreds of cycles, so everything fixed for the scenario is a specialization constant (folded
+// into the code, dead features compiled away) and the per-frame block is read once per
+// invocation, not per sample.
 
-layout(local_size_x = 8, local_size_y = 8) in;
+layout(local_size_x = 8, local_size_y = 4) in;
 layout(constant_id = 0) const uint WIDTH = 720;
 layout(constant_id = 1) const uint HEIGHT = 540;
-layout(constant_id = 2) const uint SAMPLES = 2;  // per axis
-// The scene's structure is fixed per scenario: as constants, loops unroll with constant indices
-// and unused features compile away (llvmpipe pays for every dynamically indexed read).
+layout(constant_id = 2) const uint SAMPLES = 1;  // per axis
 layout(constant_id = 3) const uint NUM_BULGES = 0;
 layout(constant_id = 4) const uint NUM_LAMPS = 2;
 layout(constant_id = 5) const uint NUM_FISH = 0;
 layout(constant_id = 6) const uint FEATURES = 0;  // kFeature* bits below
+// Camera.
+layout(constant_id = 7) const float FX = 462.0;
+layout(constant_id = 8) const float FY = 462.0;
+layout(constant_id = 9) const float CX = 359.5;
+layout(constant_id = 10) const float CY = 269.5;
+layout(constant_id = 11) const float K1 = 0.0;
+layout(constant_id = 12) const float K2 = 0.0;
+layout(constant_id = 13) const float P1 = 0.0;
+layout(constant_id = 14) const float P2 = 0.0;
+// Pen (plane: the net is x = PEN_R, a rectangle; a basin wall WALL_GAP behind it).
+layout(constant_id = 15) const float PEN_R = 12.0;
+layout(constant_id = 16) const float PEN_DEPTH = 15.0;
+layout(constant_id = 17) const float PLANE_WIDTH = 4.9;
+layout(constant_id = 18) const float PLANE_TOP = 0.5;
+layout(constant_id = 19) const float PLANE_HEIGHT = 1.5;
+layout(constant_id = 20) const float WALL_GAP = 1.0;
+// Net.
+layout(constant_id = 21) const float MESH = 0.03;
+layout(constant_id = 22) const float TWINE = 0.0035;
+layout(constant_id = 23) const float KNOT = 0.006;
+layout(constant_id = 24) const float ALBEDO = 0.7;
+layout(constant_id = 25) const float FOULING = 0.0;
+layout(constant_id = 26) const float FOULING_WALL_U = 0.6;  // fouling cell along u on the wall
+layout(constant_id = 27) const float FOULING_SCALE = 0.6;
+layout(constant_id = 28) const float MESH_COS = 1.0;
+layout(constant_id = 29) const float MESH_SIN = 0.0;
+layout(constant_id = 30) const float LATTICE_SCALE = 1.0;  // NetGeometry::lattice_scale()
+layout(constant_id = 31) const int FOULING_CELLS = 0;      // NetGeometry::fouling_cells_around()
+// Water, light, sensor.
+layout(constant_id = 32) const float ATTENUATION = 0.25;
+layout(constant_id = 33) const float KD = 0.12;
+layout(constant_id = 34) const float LAMP_BACKSCATTER = 0.03;
+layout(constant_id = 35) const float AMBIENT = 1.0;
+layout(constant_id = 36) const float SURFACE_BRIGHTNESS = 1.5;
+layout(constant_id = 37) const float WALL_ALBEDO = 0.3;
+layout(constant_id = 38) const float GAIN = 331.5;  // 255 * exposure
+layout(constant_id = 39) const float VIGNETTING = 0.3;
+layout(constant_id = 40) const float READ_NOISE = 1.5;
+layout(constant_id = 41) const float SHOT_NOISE = 0.3;
+layout(constant_id = 42) const uint SEED = 0;
+layout(constant_id = 43) const float VISIBLE_RANGE = 15.6;
+// Bulges: along, depth, amplitude, radius.
+layout(constant_id = 44) const float B0A = 0.0;
+layout(constant_id = 45) const float B0D = 0.0;
+layout(constant_id = 46) const float B0M = 0.0;
+layout(constant_id = 47) const float B0R = 1.0;
+layout(constant_id = 48) const float B1A = 0.0;
+layout(constant_id = 49) const float B1D = 0.0;
+layout(constant_id = 50) const float B1M = 0.0;
+layout(constant_id = 51) const float B1R = 1.0;
+layout(constant_id = 52) const float B2A = 0.0;
+layout(constant_id = 53) const float B2D = 0.0;
+layout(constant_id = 54) const float B2M = 0.0;
+layout(constant_id = 55) const float B2R = 1.0;
+layout(constant_id = 56) const float B3A = 0.0;
+layout(constant_id = 57) const float B3D = 0.0;
+layout(constant_id = 58) const float B3M = 0.0;
+layout(constant_id = 59) const float B3R = 1.0;
+layout(constant_id = 60) const float B4A = 0.0;
+layout(constant_id = 61) const float B4D = 0.0;
+layout(constant_id = 62) const float B4M = 0.0;
+layout(constant_id = 63) const float B4R = 1.0;
+layout(constant_id = 64) const float B5A = 0.0;
+layout(constant_id = 65) const float B5D = 0.0;
+layout(constant_id = 66) const float B5M = 0.0;
+layout(constant_id = 67) const float B5R = 1.0;
+layout(constant_id = 68) const float B6A = 0.0;
+layout(constant_id = 69) const float B6D = 0.0;
+layout(constant_id = 70) const float B6M = 0.0;
+layout(constant_id = 71) const float B6R = 1.0;
+layout(constant_id = 72) const float B7A = 0.0;
+layout(constant_id = 73) const float B7D = 0.0;
+layout(constant_id = 74) const float B7M = 0.0;
+layout(constant_id = 75) const float B7R = 1.0;
+// Lamps, fixed to the body, so constant in the camera frame: position, direction, intensity,
+// cos exponent.
+layout(constant_id = 76) const float L0PX = 0.0;
+layout(constant_id = 77) const float L0PY = 0.0;
+layout(constant_id = 78) const float L0PZ = 0.0;
+layout(constant_id = 79) const float L0DX = 0.0;
+layout(constant_id = 80) const float L0DY = 0.0;
+layout(constant_id = 81) const float L0DZ = 1.0;
+layout(constant_id = 82) const float L0I = 0.0;
+layout(constant_id = 83) const float L0E = 1.0;
+layout(constant_id = 84) const float L1PX = 0.0;
+layout(constant_id = 85) const float L1PY = 0.0;
+layout(constant_id = 86) const float L1PZ = 0.0;
+layout(constant_id = 87) const float L1DX = 0.0;
+layout(constant_id = 88) const float L1DY = 0.0;
+layout(constant_id = 89) const float L1DZ = 1.0;
+layout(constant_id = 90) const float L1I = 0.0;
+layout(constant_id = 91) const float L1E = 1.0;
+layout(constant_id = 92) const float L2PX = 0.0;
+layout(constant_id = 93) const float L2PY = 0.0;
+layout(constant_id = 94) const float L2PZ = 0.0;
+layout(constant_id = 95) const float L2DX = 0.0;
+layout(constant_id = 96) const float L2DY = 0.0;
+layout(constant_id = 97) const float L2DZ = 1.0;
+layout(constant_id = 98) const float L2I = 0.0;
+layout(constant_id = 99) const float L2E = 1.0;
+layout(constant_id = 100) const float L3PX = 0.0;
+layout(constant_id = 101) const float L3PY = 0.0;
+layout(constant_id = 102) const float L3PZ = 0.0;
+layout(constant_id = 103) const float L3DX = 0.0;
+layout(constant_id = 104) const float L3DY = 0.0;
+layout(constant_id = 105) const float L3DZ = 1.0;
+layout(constant_id = 106) const float L3I = 0.0;
+layout(constant_id = 107) const float L3E = 1.0;
+// Fish: half length, half thickness, albedo (their poses change per frame: FrameBuf).
+layout(constant_id = 108) const float F0L = 1.0;
+layout(constant_id = 109) const float F0T = 1.0;
+layout(constant_id = 110) const float F0A = 0.0;
+layout(constant_id = 111) const float F1L = 1.0;
+layout(constant_id = 112) const float F1T = 1.0;
+layout(constant_id = 113) const float F1A = 0.0;
+layout(constant_id = 114) const float F2L = 1.0;
+layout(constant_id = 115) const float F2T = 1.0;
+layout(constant_id = 116) const float F2A = 0.0;
+layout(constant_id = 117) const float F3L = 1.0;
+layout(constant_id = 118) const float F3T = 1.0;
+layout(constant_id = 119) const float F3A = 0.0;
+layout(constant_id = 120) const float F4L = 1.0;
+layout(constant_id = 121) const float F4T = 1.0;
+layout(constant_id = 122) const float F4A = 0.0;
+layout(constant_id = 123) const float F5L = 1.0;
+layout(constant_id = 124) const float F5T = 1.0;
+layout(constant_id = 125) const float F5A = 0.0;
+layout(constant_id = 126) const float F6L = 1.0;
+layout(constant_id = 127) const float F6T = 1.0;
+layout(constant_id = 128) const float F6A = 0.0;
+layout(constant_id = 129) const float F7L = 1.0;
+layout(constant_id = 130) const float F7T = 1.0;
+layout(constant_id = 131) const float F7A = 0.0;
 
-struct Params {
-  vec4 cam;         // fx, fy, cx, cy
-  vec4 dist;        // k1, k2, p1, p2
-  vec4 rot[3];      // rows of R_world_camera
-  vec4 origin;      // camera centre in P, w: net visible range
-  vec4 pen;         // radius, depth, bottom (0/1), shape (0 cylinder, 1 plane)
-  vec4 plane;       // width, top, height, wall gap
-  vec4 net;         // mesh, twine width, knot size, albedo
-  vec4 net2;        // fouling, fouling scale, cos(mesh angle), sin(mesh angle)
-  vec4 water;       // attenuation c, Kd, background radiance, lamp backscatter
-  vec4 light;       // ambient E0, surface brightness, wall albedo, snow brightness * light
-  vec4 camera;      // 255 * exposure, vignetting, read noise, shot noise
-  uvec4 counts;     // frame, seed, marine snow density as float bits, unused
-  vec4 bulge[8];    // along, depth, amplitude, radius
-  vec4 lamp_pos[4]; // position, intensity
-  vec4 lamp_dir[4]; // direction, cos exponent
-  vec4 fish_c[8];   // centre, albedo
-  vec4 fish_a[8];   // axis, half length
-  vec4 fish_t[8];   // half thickness
+const uint ROWS = 8;  // pixels per invocation (render_vk.cpp: kRowsPerInvocation)
+
+// Indexed by unrolled loop counters, so these fold to the constants.
+vec4 BULGE(uint i) {
+  return i == 0u ? vec4(B0A, B0D, B0M, B0R) : i == 1u ? vec4(B1A, B1D, B1M, B1R)
+       : i == 2u ? vec4(B2A, B2D, B2M, B2R) : i == 3u ? vec4(B3A, B3D, B3M, B3R)
+       : i == 4u ? vec4(B4A, B4D, B4M, B4R) : i == 5u ? vec4(B5A, B5D, B5M, B5R)
+       : i == 6u ? vec4(B6A, B6D, B6M, B6R) : vec4(B7A, B7D, B7M, B7R);
+}
+vec3 LAMP_POS(uint i) {
+  return i == 0u ? vec3(L0PX, L0PY, L0PZ) : i == 1u ? vec3(L1PX, L1PY, L1PZ)
+       : i == 2u ? vec3(L2PX, L2PY, L2PZ) : vec3(L3PX, L3PY, L3PZ);
+}
+vec3 LAMP_DIR(uint i) {
+  return i == 0u ? vec3(L0DX, L0DY, L0DZ) : i == 1u ? vec3(L1DX, L1DY, L1DZ)
+       : i == 2u ? vec3(L2DX, L2DY, L2DZ) : vec3(L3DX, L3DY, L3DZ);
+}
+vec2 LAMP_IE(uint i) {  // intensity, cos exponent
+  return i == 0u ? vec2(L0I, L0E) : i == 1u ? vec2(L1I, L1E) : i == 2u ? vec2(L2I, L2E)
+                                                                       : vec2(L3I, L3E);
+}
+vec3 FISH(uint i) {  // half length, half thickness, albedo
+  return i == 0u ? vec3(F0L, F0T, F0A) : i == 1u ? vec3(F1L, F1T, F1A)
+       : i == 2u ? vec3(F2L, F2T, F2A) : i == 3u ? vec3(F3L, F3T, F3A)
+       : i == 4u ? vec3(F4L, F4T, F4A) : i == 5u ? vec3(F5L, F5T, F5A)
+       : i == 6u ? vec3(F6L, F6T, F6A) : vec3(F7L, F7T, F7A);
+}
+
+// What changes per frame (render_vk.cpp: FrameHeader), then the marine snow spots.
+layout(std430, binding = 0) readonly buffer FrameBuf {
+  vec4 rot[3];     // rows of R_world_camera; w: camera centre in P
+  uvec4 info;      // frame, background radiance (float bits), spot tile columns, unused
+  vec4 fish_c[8];  // centre in P
+  vec4 fish_a[8];  // unit axis in P
+  vec4 spots[];    // x, y, 1 / sigma^2, peak radiance
 };
-
-layout(std430, binding = 0) readonly buffer ParamBuf { Params p; };
-layout(std430, binding = 1) writeonly buffer ImageBuf { float image[]; };
-layout(std430, binding = 2) writeonly buffer DepthBuf { float depth[]; };
+// Per 8 x ROWS tile: begin and end into the spot index list that follows the offsets.
+layout(std430, binding = 1) readonly buffer TileBuf { uint tiles[]; };
+layout(std430, binding = 2) writeonly buffer ImageBuf { float image[]; };
+layout(std430, binding = 3) writeonly buffer DepthBuf { float depth[]; };
 
 #include "hash.glsl"
 
@@ -47,18 +200,25 @@ const uint kFeatureNoise = 1u, kFeatureSnow = 2u, kFeaturePlane = 4u, kFeatureBo
 bool has(uint feature) { return (FEATURES & feature) != 0u; }
 const int kBulgeIterations = 6;  // sim/net_geometry.h
 const float kBulgeTolerance = 1e-5;
-const int kSnowCellPx = 24;
+float circumference() { return 6.283185307179586 * PEN_R; }
+const float kSnowCutoff2 = 16.0;  // sim/marine_snow.h: kSnowCutoffSigmas^2
+
+// The frame's block, read once per invocation.
+mat3 R_wc;  // columns: camera axes in P (GLSL is column-major; rows are uploaded)
+vec3 origin;
+vec3 fish_centre[8], fish_axis[8];
+float background;
 
 // ---- camera ----
 vec2 distort(vec2 xn) {
   float x = xn.x, y = xn.y, r2 = x * x + y * y;
-  float radial = 1.0 + p.dist.x * r2 + p.dist.y * r2 * r2;
-  return vec2(x * radial + 2.0 * p.dist.z * x * y + p.dist.w * (r2 + 2.0 * x * x),
-              y * radial + p.dist.z * (r2 + 2.0 * y * y) + 2.0 * p.dist.w * x * y);
+  float radial = 1.0 + K1 * r2 + K2 * r2 * r2;
+  return vec2(x * radial + 2.0 * P1 * x * y + P2 * (r2 + 2.0 * x * x),
+              y * radial + P1 * (r2 + 2.0 * y * y) + 2.0 * P2 * x * y);
 }
 
 vec3 camera_ray(vec2 px) {  // z = 1, as PinholeCamera::ray
-  vec2 xd = vec2((px.x - p.cam.z) / p.cam.x, (px.y - p.cam.w) / p.cam.y);
+  vec2 xd = vec2((px.x - CX) / FX, (px.y - CY) / FY);
   vec2 xn = xd;
   if (has(kFeatureDistortion)) {
     for (int i = 0; i < 20; ++i) xn = xd - (distort(xn) - xn);
@@ -66,16 +226,16 @@ vec3 camera_ray(vec2 px) {  // z = 1, as PinholeCamera::ray
   return vec3(xn, 1.0);
 }
 
-vec3 to_world(vec3 v) {
-  return vec3(dot(p.rot[0].xyz, v), dot(p.rot[1].xyz, v), dot(p.rot[2].xyz, v));
+// ---- net geometry (sim/net_geometry.cpp) ----
+float wrap_along(float da) {
+  return has(kFeaturePlane) ? da : da - circumference() * round(da / circumference());
 }
 
-// ---- net geometry (sim/net_geometry.cpp) ----
 float displacement(float along, float z) {
   float s = 0.0;
   for (uint i = 0u; i < NUM_BULGES; ++i) {
-    vec4 b = p.bulge[i];
-    float da = along - b.x, dz = z - b.y;
+    vec4 b = BULGE(i);
+    float da = wrap_along(along - b.x), dz = z - b.y;
     s += b.z * exp(-(da * da + dz * dz) / (2.0 * b.w * b.w));
   }
   return s;
@@ -84,32 +244,31 @@ float displacement(float along, float z) {
 vec2 displacement_gradient(float along, float z) {
   vec2 g = vec2(0.0);
   for (uint i = 0u; i < NUM_BULGES; ++i) {
-    vec4 b = p.bulge[i];
-    float da = along - b.x, dz = z - b.y, s2 = b.w * b.w;
+    vec4 b = BULGE(i);
+    float da = wrap_along(along - b.x), dz = z - b.y, s2 = b.w * b.w;
     float e = b.z * exp(-(da * da + dz * dz) / (2.0 * s2));
     g += vec2(-da / s2 * e, -dz / s2 * e);
   }
   return g;
 }
 
-bool is_plane() { return has(kFeaturePlane); }
-
 float along_of(vec3 q) {
-  return is_plane() ? q.y : p.pen.x * atan(q.y, q.x);
+  return has(kFeaturePlane) ? q.y : PEN_R * atan(q.y, q.x);
 }
 
 struct Hit {
   float t;
   vec3 point, normal, tu, tv;
   float u, v;
+  bool wall;
 };
 
 bool intersect_wall_or_plane(vec3 o, vec3 d, out Hit h) {
-  float R = p.pen.x, offset = 0.0, t = -1.0, along = 0.0, disp = 0.0;
+  float offset = 0.0, t = -1.0, along = 0.0, disp = 0.0;
   vec3 q = o;
   for (int i = 0; i < kBulgeIterations; ++i) {
-    float r = R - offset;
-    if (is_plane()) {
+    float r = PEN_R - offset;
+    if (has(kFeaturePlane)) {
       if (!(d.x > 0.0)) return false;
       t = (r - o.x) / d.x;
     } else {
@@ -132,16 +291,17 @@ bool intersect_wall_or_plane(vec3 o, vec3 d, out Hit h) {
   h.t = t;
   h.point = q;
   vec2 g = displacement_gradient(along, q.z);
-  h.u = along;
+  h.u = along * LATTICE_SCALE;
   h.v = q.z;
   h.tv = vec3(0.0, 0.0, 1.0);
-  if (is_plane()) {
+  h.wall = !has(kFeaturePlane);
+  if (has(kFeaturePlane)) {
     h.tu = vec3(0.0, 1.0, 0.0);
     h.normal = normalize(vec3(1.0, g.x, g.y));
   } else {
     vec3 er = vec3(normalize(q.xy), 0.0), et = vec3(-er.y, er.x, 0.0);
-    float k = (R - disp) / R;
-    h.tu = et;
+    float k = (PEN_R - disp) / PEN_R;
+    h.tu = LATTICE_SCALE * et;
     h.normal = normalize(k * er + g.x * et + k * g.y * vec3(0.0, 0.0, 1.0));
   }
   return true;
@@ -149,38 +309,39 @@ bool intersect_wall_or_plane(vec3 o, vec3 d, out Hit h) {
 
 bool intersect_net(vec3 o, vec3 d, out Hit h) {
   bool hit = intersect_wall_or_plane(o, d, h);
-  if (is_plane()) {
-    return hit && abs(h.point.y) <= p.plane.x / 2.0 && h.point.z >= p.plane.y &&
-           h.point.z <= p.plane.y + p.plane.z;
+  if (has(kFeaturePlane)) {
+    return hit && abs(h.point.y) <= PLANE_WIDTH / 2.0 && h.point.z >= PLANE_TOP &&
+           h.point.z <= PLANE_TOP + PLANE_HEIGHT;
   }
-  if (hit && h.point.z <= p.pen.y) return true;
+  if (hit && h.point.z <= PEN_DEPTH) return true;
   if (!has(kFeatureBottom) || !(d.z > 0.0)) return false;
-  float t = (p.pen.y - o.z) / d.z;
+  float t = (PEN_DEPTH - o.z) / d.z;
   if (!(t > 0.0)) return false;
   h.t = t;
   h.point = o + t * d;
-  if (length(h.point.xy) > p.pen.x) return false;
+  if (length(h.point.xy) > PEN_R) return false;
   h.normal = vec3(0.0, 0.0, 1.0);
   h.u = h.point.x;
   h.v = h.point.y;
   h.tu = vec3(1.0, 0.0, 0.0);
   h.tv = vec3(0.0, 1.0, 0.0);
+  h.wall = false;
   return true;
 }
 
 float intersect_back_wall(vec3 o, vec3 d) {
   if (!has(kFeatureWall) || !(d.x > 0.0)) return kInf;
-  float t = (p.pen.x + p.plane.w - o.x) / d.x;
+  float t = (PEN_R + WALL_GAP - o.x) / d.x;
   return t > 0.0 ? t : kInf;
 }
 
 float intersect_fish(uint i, vec3 o, vec3 d) {
-  vec3 axis = p.fish_a[i].xyz;
-  vec3 q = o - p.fish_c[i].xyz;
+  vec3 axis = fish_axis[i];
+  vec3 q = o - fish_centre[i];
   float qa = dot(q, axis), da = dot(d, axis);
   vec3 qp = q - qa * axis, dp = d - da * axis;
-  float ia = 1.0 / (p.fish_a[i].w * p.fish_a[i].w);
-  float ib = 1.0 / (p.fish_t[i].x * p.fish_t[i].x);
+  float ia = 1.0 / (FISH(i).x * FISH(i).x);
+  float ib = 1.0 / (FISH(i).y * FISH(i).y);
   float A = dot(dp, dp) * ib + da * da * ia;
   float B = dot(qp, dp) * ib + qa * da * ia;
   float C = dot(qp, qp) * ib + qa * qa * ia - 1.0;
@@ -205,145 +366,132 @@ float pulse_coverage(float x, float h, float period, float width, float offset) 
          h;
 }
 
-float value_noise(float u, float v, float scale, uint seed) {
-  float x = u / scale, y = v / scale;
+uint wrap_cell(int i, int n) {
+  return uint(n > 0 ? ((i % n) + n) % n : i);
+}
+
+float value_noise(float u, float v, float scale_u, int wrap_u, uint seed) {
+  float x = u / scale_u, y = v / FOULING_SCALE;
   float fx = floor(x), fy = floor(y);
-  uint ix = uint(int(fx)), iy = uint(int(fy));
+  uint ix = wrap_cell(int(fx), wrap_u), ix1 = wrap_cell(int(fx) + 1, wrap_u), iy = uint(int(fy));
   float tx = x - fx, ty = y - fy;
   float sx = tx * tx * (3.0 - 2.0 * tx), sy = ty * ty * (3.0 - 2.0 * ty);
-  float l00 = unit_float(hash3(ix, iy, seed)), l10 = unit_float(hash3(ix + 1u, iy, seed));
-  float l01 = unit_float(hash3(ix, iy + 1u, seed)), l11 = unit_float(hash3(ix + 1u, iy + 1u, seed));
+  float l00 = unit_float(hash2(ix, iy, seed)), l10 = unit_float(hash2(ix1, iy, seed));
+  float l01 = unit_float(hash2(ix, iy + 1u, seed)), l11 = unit_float(hash2(ix1, iy + 1u, seed));
   float a = l00 + sx * (l10 - l00);
   float b = l01 + sx * (l11 - l01);
   return a + sy * (b - a);
 }
 
 float ambient(float z) {
-  return p.light.x * exp(-p.water.y * max(z, 0.0));
+  return AMBIENT * exp(-KD * max(z, 0.0));
 }
 
-float irradiance(vec3 q, vec3 n_in, bool twine) {
-  float e = ambient(q.z);
+// q_w: the point in P (for its depth); q_c and n_in in the camera frame, where the lamps are
+// constants; `n_in` points into the surface; twine is lit from most sides.
+float irradiance(float z_w, vec3 q_c, vec3 n_in, bool twine) {
+  float e = ambient(z_w);
   for (uint i = 0u; i < NUM_LAMPS; ++i) {
-    vec3 v = q - p.lamp_pos[i].xyz;
+    vec3 v = q_c - LAMP_POS(i);
     float r2 = dot(v, v), r = sqrt(r2);
     vec3 vh = v / r;
-    float ca = dot(vh, p.lamp_dir[i].xyz);
+    float ca = dot(vh, LAMP_DIR(i));
     if (ca <= 0.0) continue;
     float cosi = dot(n_in, vh);
     float shade = twine ? 0.5 + 0.5 * abs(cosi) : max(cosi, 0.0);
-    e += p.lamp_pos[i].w * shade * exp(p.lamp_dir[i].w * log(ca) - p.water.x * r) / max(r2, 0.01);
+    e += LAMP_IE(i).x * shade * exp(LAMP_IE(i).y * log(ca) - ATTENUATION * r) / max(r2, 0.01);
   }
   return e;
 }
 
-float net_coverage(Hit h, vec3 Dw, float s, vec3 dDx, vec3 dDy) {
+float net_coverage(Hit h, vec3 Dw, float s) {
+  vec3 dDx = R_wc[0] / FX, dDy = R_wc[1] / FY;
   float denom = dot(Dw, h.normal);
   vec3 px = s * (dDx - dot(dDx, h.normal) / denom * Dw);
   vec3 py = s * (dDy - dot(dDy, h.normal) / denom * Dw);
   float n = float(SAMPLES);
   float hu0 = (abs(dot(px, h.tu)) + abs(dot(py, h.tu))) / n;
   float hv0 = (abs(dot(px, h.tv)) + abs(dot(py, h.tv))) / n;
-  float ca = p.net2.z, sa = p.net2.w;
-  float u = ca * h.u + sa * h.v, v = -sa * h.u + ca * h.v;
-  float hu = abs(ca) * hu0 + abs(sa) * hv0, hv = abs(sa) * hu0 + abs(ca) * hv0;
-  float P = p.net.x, w = p.net.y, k = p.net.z;
-  float cu = pulse_coverage(u, hu, P, w, -w / 2.0);
-  float cv = pulse_coverage(v, hv, P, w, -w / 2.0);
-  float knot = pulse_coverage(u, hu, P, k, -k / 2.0) * pulse_coverage(v, hv, P, k, -k / 2.0);
+  float u = MESH_COS * h.u + MESH_SIN * h.v, v = -MESH_SIN * h.u + MESH_COS * h.v;
+  float hu = abs(MESH_COS) * hu0 + abs(MESH_SIN) * hv0;
+  float hv = abs(MESH_SIN) * hu0 + abs(MESH_COS) * hv0;
+  float cu = pulse_coverage(u, hu, MESH, TWINE, -TWINE / 2.0);
+  float cv = pulse_coverage(v, hv, MESH, TWINE, -TWINE / 2.0);
+  float knot =
+      pulse_coverage(u, hu, MESH, KNOT, -KNOT / 2.0) * pulse_coverage(v, hv, MESH, KNOT, -KNOT / 2.0);
   return max(1.0 - (1.0 - cu) * (1.0 - cv), knot);
 }
 
 // First opaque surface (water surface, fish, basin wall): distance, radiance, transmittance.
-vec3 first_opaque(vec3 o, vec3 d) {
+// d: unit ray in P, dc: the same in the camera frame.
+vec3 first_opaque(vec3 d, vec3 dc) {
   float best = kInf;
   int kind = 0;  // 0 none, 1 surface, 2 fish, 3 wall
   uint fish = 0u;
   if (d.z < 0.0) {
-    best = -o.z / d.z;
+    best = -origin.z / d.z;
     kind = 1;
   }
   for (uint i = 0u; i < NUM_FISH; ++i) {
-    float t = intersect_fish(i, o, d);
+    float t = intersect_fish(i, origin, d);
     if (t < best) {
       best = t;
       kind = 2;
       fish = i;
     }
   }
-  float tw = intersect_back_wall(o, d);
+  float tw = intersect_back_wall(origin, d);
   if (tw < best) {
     best = tw;
     kind = 3;
   }
-  float B = p.water.z;
-  if (kind == 0) return vec3(kInf, B, 0.0);
-  vec3 q = o + best * d;
+  if (kind == 0) return vec3(kInf, background, 0.0);
+  vec3 q = origin + best * d;
   float J;
   if (kind == 1) {
-    J = p.light.y * p.light.x;
+    J = SURFACE_BRIGHTNESS * AMBIENT;
   } else if (kind == 2) {
-    vec3 axis = p.fish_a[fish].xyz;
-    vec3 r = q - p.fish_c[fish].xyz;
+    vec3 axis = fish_axis[fish];
+    vec3 r = q - fish_centre[fish];
     float ra = dot(r, axis);
-    float ht = p.fish_t[fish].x, hl = p.fish_a[fish].w;
+    float hl = FISH(fish).x, ht = FISH(fish).y;
     vec3 grad = (r - ra * axis) / (ht * ht) + ra * axis / (hl * hl);
-    J = p.fish_c[fish].w * irradiance(q, -normalize(grad), false);
+    J = FISH(fish).z * irradiance(q.z, best * dc, -normalize(grad * R_wc), false);
   } else {
-    J = p.light.z * irradiance(q, vec3(1.0, 0.0, 0.0), false);
+    J = WALL_ALBEDO * irradiance(q.z, best * dc, vec3(1.0, 0.0, 0.0) * R_wc, false);
   }
-  float T = exp(-p.water.x * best);
-  return vec3(best, J * T + B * (1.0 - T), T);
+  float T = exp(-ATTENUATION * best);
+  return vec3(best, J * T + background * (1.0 - T), T);
 }
 
-float lamp_backscatter(vec3 d, float T_end) {
+float lamp_backscatter(vec3 dc, float T_end) {
   float s = 0.0;
-  for (uint i = 0u; i < NUM_LAMPS; ++i) s += p.lamp_pos[i].w * 0.5 * (1.0 + dot(d, p.lamp_dir[i].xyz));
-  return p.water.w * s * (1.0 - T_end);
+  for (uint i = 0u; i < NUM_LAMPS; ++i) s += LAMP_IE(i).x * 0.5 * (1.0 + dot(dc, LAMP_DIR(i)));
+  return LAMP_BACKSCATTER * s * (1.0 - T_end);
 }
 
-float radiance(vec3 o, vec3 Dc, vec3 dDx, vec3 dDy, out float depth_m) {
+float radiance(vec3 Dc, out float depth_m) {
   float len = length(Dc);
-  vec3 Dw = to_world(Dc), d = Dw / len;
-  vec3 opaque = first_opaque(o, d);
+  vec3 Dw = R_wc * Dc, d = Dw / len, dc = Dc / len;
+  vec3 opaque = first_opaque(d, dc);
   Hit h;
   depth_m = 0.0;
-  if (!intersect_net(o, d, h) || h.t >= opaque.x) return opaque.y + lamp_backscatter(d, opaque.z);
-  if (h.t <= p.origin.w) depth_m = h.t / len * Dc.z;
-  float cover = net_coverage(h, Dw, h.t / len, dDx, dDy);
-  float albedo = p.net.w;
+  if (!intersect_net(origin, d, h) || h.t >= opaque.x) {
+    return opaque.y + lamp_backscatter(dc, opaque.z);
+  }
+  if (h.t <= VISIBLE_RANGE) depth_m = h.t / len * Dc.z;
+  float cover = net_coverage(h, Dw, h.t / len);
+  float albedo = ALBEDO;
   if (has(kFeatureFouling)) {
-    albedo *= 1.0 - p.net2.x * value_noise(h.u, h.v, p.net2.y, p.counts.y ^ kStreamFouling);
+    float su = h.wall ? FOULING_WALL_U : FOULING_SCALE;
+    int wrap = h.wall ? FOULING_CELLS : 0;
+    albedo *= 1.0 - FOULING * value_noise(h.u, h.v, su, wrap, SEED ^ kStreamFouling);
   }
-  float T = exp(-p.water.x * h.t);
-  float twine = albedo * irradiance(h.point, h.normal, true) * T + p.water.z * (1.0 - T);
-  return cover * twine + (1.0 - cover) * opaque.y + lamp_backscatter(d, T);
-}
-
-float snow(uint x, uint y) {
-  // The 2x2 cells nearest to the pixel (sim/render_cpu.cpp).
-  int cx = (int(x) + kSnowCellPx / 2) / kSnowCellPx - 1;
-  int cy = (int(y) + kSnowCellPx / 2) / kSnowCellPx - 1;
-  float density = uintBitsToFloat(p.counts.z);
-  float s = 0.0;
-  for (int dy = 0; dy <= 1; ++dy) {
-    for (int dx = 0; dx <= 1; ++dx) {
-      uint cell = uint(cx + dx) + (uint(cy + dy) << 16);
-      uint h = hash3(cell, p.counts.x, p.counts.y ^ kStreamSnow);
-      if (unit_float(h) >= density) continue;
-      h = hash32(h);
-      float sx = (float(cx + dx) + unit_float(h)) * float(kSnowCellPx);
-      h = hash32(h);
-      float sy = (float(cy + dy) + unit_float(h)) * float(kSnowCellPx);
-      h = hash32(h);
-      float u = unit_float(h);
-      float radius = 0.7 + 2.5 * u * u;
-      float bright = 0.4 + 0.6 * unit_float(hash32(h));
-      float ddx = float(x) - sx, ddy = float(y) - sy;
-      s += bright * exp(-(ddx * ddx + ddy * ddy) / (2.0 * radius * radius));
-    }
-  }
-  return p.light.w * s;
+  float T = exp(-ATTENUATION * h.t);
+  // The normal in the camera frame: v * R_wc = transpose(R_wc) * v.
+  float twine = albedo * irradiance(h.point.z, h.t * dc, h.normal * R_wc, true) * T +
+                background * (1.0 - T);
+  return cover * twine + (1.0 - cover) * opaque.y + lamp_backscatter(dc, T);
 }
 
 float gaussian(uint h1, uint h2) {
@@ -352,32 +500,58 @@ float gaussian(uint h1, uint h2) {
 }
 
 void main() {
-  uint x = gl_GlobalInvocationID.x, y = gl_GlobalInvocationID.y;
-  if (x >= WIDTH || y >= HEIGHT) return;
-  vec3 o = p.origin.xyz;
-  vec3 dDx = to_world(vec3(1.0 / p.cam.x, 0.0, 0.0));
-  vec3 dDy = to_world(vec3(0.0, 1.0 / p.cam.y, 0.0));
+  uint x = gl_GlobalInvocationID.x, y0 = gl_GlobalInvocationID.y * ROWS;
+  if (x >= WIDTH || y0 >= HEIGHT) return;
+  R_wc = transpose(mat3(rot[0].xyz, rot[1].xyz, rot[2].xyz));
+  origin = vec3(rot[0].w, rot[1].w, rot[2].w);
+  for (uint i = 0u; i < NUM_FISH; ++i) {
+    fish_centre[i] = fish_c[i].xyz;
+    fish_axis[i] = fish_a[i].xyz;
+  }
+  uvec4 frame = info;
+  background = uintBitsToFloat(frame.y);
+  uint frame_key = hash3(frame.x, SEED, kStreamNoise);
+  uint tile = (y0 / ROWS) * frame.z + x / 8u;
+  uint spot_begin = 0u, spot_end = 0u;
+  if (has(kFeatureSnow)) {
+    spot_begin = tiles[tile];
+    spot_end = tiles[tile + 1u];
+  }
   float n = float(SAMPLES);
-  float L = 0.0, z = 0.0, sample_z;
-  for (uint sy = 0u; sy < SAMPLES; ++sy) {
-    for (uint sx = 0u; sx < SAMPLES; ++sx) {
-      vec2 px = vec2(float(x) + (float(sx) + 0.5) / n - 0.5, float(y) + (float(sy) + 0.5) / n - 0.5);
-      L += radiance(o, camera_ray(px), dDx, dDy, sample_z);
-      if (2u * sx + 1u == SAMPLES && 2u * sy + 1u == SAMPLES) z = sample_z;
+  for (uint row = 0u; row < ROWS; ++row) {
+    uint y = y0 + row;
+    if (y >= HEIGHT) break;
+    float L = 0.0, z = 0.0, sample_z;
+    for (uint sy = 0u; sy < SAMPLES; ++sy) {
+      for (uint sx = 0u; sx < SAMPLES; ++sx) {
+        vec2 px =
+            vec2(float(x) + (float(sx) + 0.5) / n - 0.5, float(y) + (float(sy) + 0.5) / n - 0.5);
+        L += radiance(camera_ray(px), sample_z);
+        if (2u * sx + 1u == SAMPLES && 2u * sy + 1u == SAMPLES) z = sample_z;
+      }
     }
+    L /= n * n;
+    vec3 D0 = camera_ray(vec2(x, y));
+    if (SAMPLES % 2u == 0u) radiance(D0, z);
+    uint i = y * WIDTH + x;
+    depth[i] = z;
+    if (has(kFeatureSnow)) {
+      float snow = 0.0;
+      for (uint k = spot_begin; k < spot_end; ++k) {
+        vec4 s = spots[tiles[k]];
+        float dx = float(x) - s.x, dy = float(y) - s.y;
+        float q = (dx * dx + dy * dy) * s.z;
+        if (q < kSnowCutoff2) snow += s.w * exp(-0.5 * q);
+      }
+      L += snow;
+    }
+    L *= pow(1.0 / length(D0), 4.0 * VIGNETTING);
+    float grey = GAIN * L;
+    if (has(kFeatureNoise)) {
+      float sigma = sqrt(READ_NOISE * READ_NOISE + SHOT_NOISE * SHOT_NOISE * max(grey, 0.0));
+      uint h = hash2(i, frame_key, 0u);
+      grey += sigma * gaussian(h, hash32(h));
+    }
+    image[i] = clamp(floor(grey + 0.5), 0.0, 255.0);
   }
-  L /= n * n;
-  vec3 D0 = camera_ray(vec2(x, y));
-  if (SAMPLES % 2u == 0u) radiance(o, D0, dDx, dDy, z);
-  uint i = y * WIDTH + x;
-  depth[i] = z;
-  if (has(kFeatureSnow)) L += snow(x, y);
-  L *= pow(1.0 / length(D0), 4.0 * p.camera.y);
-  float grey = p.camera.x * L;
-  if (has(kFeatureNoise)) {
-    uint stream = p.counts.y ^ kStreamNoise;
-    float sigma = sqrt(p.camera.z * p.camera.z + p.camera.w * p.camera.w * max(grey, 0.0));
-    grey += sigma * gaussian(hash3(i, p.counts.x, stream), hash3(i, p.counts.x, ~stream));
-  }
-  image[i] = clamp(floor(grey + 0.5), 0.0, 255.0);
 }

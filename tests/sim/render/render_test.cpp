@@ -8,6 +8,7 @@
 
 #include "runtime/vk_buffer.h"
 #include "sim/frame_state.h"
+#include "sim/marine_snow.h"
 #include "sim/render_cpu.h"
 #include "sim/render_vk.h"
 #include "tests/sim/sim_test_scenes.h"
@@ -26,14 +27,15 @@ Gpu run_vulkan(const vk::Context& ctx, const Scenario& s, const FrameState& f,
                const RenderOptions& o) {
   const RenderVk r(ctx, s, o);
   const size_t n = static_cast<size_t>(r.width()) * r.height();
-  vk::Buffer params(ctx, RenderVk::params_bytes());
-  const auto bytes = r.params(f);
-  params.upload(bytes.data(), bytes.size());
+  const auto data = r.frame_data(f);
+  vk::Buffer frame(ctx, data.frame.size()), tiles(ctx, data.tiles.size() * sizeof(uint32_t));
+  frame.upload(data.frame.data(), data.frame.size());
+  tiles.upload(data.tiles.data(), data.tiles.size() * sizeof(uint32_t));
   vk::TypedBuffer<float> image(ctx, n), depth(ctx, n);
   image.fill(pensight::testing::kPoison);
   depth.fill(pensight::testing::kPoison);
   vk::CommandStream stream(ctx);
-  r.record(stream, params, image.raw(), depth.raw());
+  r.record(stream, frame, tiles, image.raw(), depth.raw());
   stream.submit_and_wait();
   return {image.to_vector(), depth.to_vector()};
 }
@@ -99,6 +101,14 @@ TEST_F(VulkanTest, RenderMatchesCpuWithBulgesFishSnowAndDistortion) {
                                  ", distortion: [-0.2, 0.05, 0.001, -0.001]");
   s.net.bulges = {{0.2, 4.1, 0.3, 0.6}, {-0.5, 3.5, -0.1, 0.4}};
   s.net.mesh_angle_rad = 0.7;
+  ASSERT_GT(snow_spots(s, frame_state(s, 0)).size(), 3u);
+  expect_match(ctx(), s);
+}
+
+TEST_F(VulkanTest, RenderMatchesCpuAcrossAzimuthPi) {
+  // The lattice, fouling and a bulge continue across the seam of the along coordinate.
+  Scenario s = testing::one_pose({.net_distance_m = 0.8, .along_m = M_PI * 12});
+  s.net.bulges = {{M_PI * 12 - 0.1, 4.0, 0.1, 0.4}};
   expect_match(ctx(), s);
 }
 

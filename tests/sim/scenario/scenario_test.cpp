@@ -111,6 +111,10 @@ TEST(Scenario, ImpossibleValuesAreRefused) {
   EXPECT_NE(e.find("'trajectory': missing"), std::string::npos) << e;
   e = error_of(std::string(kMinimal) + "pen: {shape: sphere}\n");
   EXPECT_NE(e.find("'cylinder' or 'plane'"), std::string::npos) << e;
+  e = error_of(std::string(kMinimal) + "water: {current_mps: [5, 0, 0]}\n");
+  EXPECT_NE(e.find("water.current_mps"), std::string::npos) << e;
+  e = error_of(std::string(kMinimal) + "water: {current_mps: [0.1, 0]}\n");
+  EXPECT_NE(e.find("water.current_mps"), std::string::npos) << e;
 }
 
 TEST(Scenario, DvlErrorsAndSpikesParse) {
