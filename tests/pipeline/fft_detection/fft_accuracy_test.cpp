@@ -95,8 +95,10 @@ TEST(FftAccuracy, OutsideTheEnvelopeNoWrongDistances) {
 // The net ends right of the image centre: the ROIs that see only water must be rejected.
 TEST(FftAccuracy, HalfNetFramesRejectTheEmptyRois) {
   const PinholeCamera cam;
+  // 16 frames: with 8 the median of the half-net range error (typically 1-2 %) went past 2.5 % on
+  // about one seed in twelve (PENSIGHT_TEST_SEED=4010414799 gave 2.69 %).
   const auto scenes =
-      testing::sweep_scenes(8, testing::fresh_seed(), {.noise_sigma = 4, .edge_m = 0.0});
+      testing::sweep_scenes(16, testing::fresh_seed(), {.noise_sigma = 4, .edge_m = 0.0});
   NetDetector detector(cam, {.backend = Backend::kCpu});
   const auto e = testing::run_sweep(render_all(cam, scenes), scenes, detector, true);
   testing::print_errors("half net", e);
