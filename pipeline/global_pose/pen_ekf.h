@@ -39,12 +39,15 @@ enum StateIndex : int {
 using StateVector = Eigen::Matrix<double, kStateDim, 1>;
 using StateMatrix = Eigen::Matrix<double, kStateDim, kStateDim>;
 
+// Sized for an ROV's manoeuvres (accelerations of ~0.5 m/s^2 and ~0.5 rad/s^2 over a few tenths of
+// a second): with 0.05 the filter gated out half the DVL samples and most fixes through the
+// sweep's turns and reversals. A 2 m/s DVL spike is still ~8 sigma after a 0.25 s DVL interval.
 struct ProcessNoise {
-  double horizontal_accel = 0.05;  // m/s^2 per sqrt(Hz)
-  double vertical_accel = 0.05;    // m/s^2 per sqrt(Hz)
-  double yaw_accel = 0.05;         // rad/s^2 per sqrt(Hz)
-  double yaw_bias_walk = 1e-4;     // rad per sqrt(s): drift of the attitude sensor's yaw
-  double dvl_bias_walk = 1e-4;     // m/s per sqrt(s)
+  double horizontal_accel = 0.5;  // m/s^2 per sqrt(Hz)
+  double vertical_accel = 0.05;   // m/s^2 per sqrt(Hz)
+  double yaw_accel = 0.5;         // rad/s^2 per sqrt(Hz)
+  double yaw_bias_walk = 1e-4;    // rad per sqrt(s): drift of the attitude sensor's yaw
+  double dvl_bias_walk = 1e-4;    // m/s per sqrt(s)
 };
 
 // Chi-square quantiles at p = 0.999 for 1, 2 and 3 degrees of freedom.

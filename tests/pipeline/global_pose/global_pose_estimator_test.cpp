@@ -164,8 +164,9 @@ double max_difference(const Errors& a, const Errors& b, double t0, double t1) {
 }
 
 // A DVL velocity spike (2 m/s for 0.5 s, as in the published low-light run) is gated out: 2 s
-// later the estimate is within 1 cm of the same run without the spike, while the published rho_g
-// keeps the jump.
+// later the estimate is within 2.5 cm of the same run without the spike, while the published rho_g
+// keeps the jump. What is left is along the net: for 0.5 s no DVL velocity was used, and vision
+// cannot observe rho_g; with an ROV's process noise (pen_ekf.h) 40 seeds left at most 17 mm.
 TEST(GlobalPoseEstimator, DvlSpikeIsRejectedAndRecoversWithin2s) {
   std::mt19937_64 rng(testing::fresh_seed());
   const double radius = 12.0;
@@ -195,7 +196,7 @@ TEST(GlobalPoseEstimator, DvlSpikeIsRejectedAndRecoversWithin2s) {
       "after; DVL samples gated out %d\n",
       during, after, pub_after, est.counters().dvl_velocity.rejected);
   EXPECT_GE(est.counters().dvl_velocity.rejected, 2);
-  EXPECT_LE(after, 0.01);
+  EXPECT_LE(after, 0.025);
   EXPECT_GT(pub_after, 0.5);  // the published node keeps a ~0.9 m jump
 }
 
