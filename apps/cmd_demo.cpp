@@ -8,6 +8,7 @@
 
 #include "apps/command.h"
 #include "apps/progress_bar.h"
+#include "pipeline/dataset/global_pose_csv.h"
 #include "pipeline/evaluation/evaluation.h"
 #include "pipeline/runner.h"
 #include "runtime/timing.h"
@@ -84,6 +85,10 @@ int cmd_demo(const Args& args) {
       "   global pose (all frames; rho_g and psi_g as changes from the first frame with both):\n%s",
       describe(score_net_pose(dataset, rows, NetPoseSource::kFft)).c_str(),
       describe(score_global_pose(dataset, rows)).c_str());
+  std::printf(
+      "   global pose of the published node (the baseline, same frames):\n%s",
+      describe(score_global_pose(dataset, read_global_pose_csv(out_dir / kPublishedGlobalPoseFile)))
+          .c_str());
   std::printf("rendering took %.1f s%s\n", render_s,
               keep.empty() ? "" : ("; dataset and estimates kept in " + keep).c_str());
   return 0;
