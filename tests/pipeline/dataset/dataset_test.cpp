@@ -274,6 +274,15 @@ TEST_F(DatasetFilesTest, ColourAndSixteenBitFramesBecomeGrey8) {
   EXPECT_EQ(d.load_frame(1).at(35, 26), 123);
 }
 
+// The header line and the first data row of a CSV file.
+std::pair<std::string, std::string> header_and_first_row(const fs::path& file) {
+  std::ifstream in(file);
+  std::string header, row;
+  std::getline(in, header);
+  std::getline(in, row);
+  return {header, row};
+}
+
 TEST_F(DatasetTest, EstimatesCsvHasContractColumnsAndNan) {
   const fs::path file = dir_ / "estimates.csv";
   {
@@ -286,10 +295,7 @@ TEST_F(DatasetTest, EstimatesCsvHasContractColumnsAndNan) {
     EXPECT_FALSE(fs::exists(file));
     w.finish();
   }
-  std::ifstream in(file);
-  std::string header, row;
-  std::getline(in, header);
-  std::getline(in, row);
+  const auto [header, row] = header_and_first_row(file);
   EXPECT_EQ(header,
             "#timestamp [ns],d_net_fft [m],psi_net_fft [rad],pitch_net_fft [rad],d_net_depth [m],"
             "psi_net_depth [rad],pitch_net_depth [rad],r_g [m],rho_g [rad],z_g [m],psi_g [rad],"
@@ -323,10 +329,7 @@ TEST_F(DatasetTest, PublishedGlobalPoseCsvRoundTrip) {
     EXPECT_FALSE(fs::exists(file));
     w.finish();
   }
-  std::ifstream in(file);
-  std::string header, row;
-  std::getline(in, header);
-  std::getline(in, row);
+  const auto [header, row] = header_and_first_row(file);
   EXPECT_EQ(header, "#timestamp [ns],r_g [m],rho_g [rad],z_g [m],psi_g [rad]");
   EXPECT_EQ(row, "7,11.25,-0.5,3.5,nan");
   const auto rows = read_global_pose_csv(file);
