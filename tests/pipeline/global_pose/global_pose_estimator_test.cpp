@@ -69,6 +69,14 @@ GlobalPoseEstimatorConfig estimator_config(double radius) {
 }
 
 // Feeds the sequence in timestamp order, asking for the estimate at each camera frame.
+// The default simulated trajectory of this length with default sensor noise, on a fresh seed.
+sim::Sequence fresh_sequence(double duration_s) {
+  sim::Trajectory traj;
+  traj.duration_s = duration_s;
+  std::mt19937_64 rng(testing::fresh_seed());
+  return sim::make_sequence(traj, {}, rng());
+}
+
 Errors run_estimator(const sim::Sequence& seq, GlobalPoseEstimator& est) {
   ErrorCollector c;
   sim::Visitor v;
@@ -202,10 +210,7 @@ TEST(GlobalPoseEstimator, DvlSpikeIsRejectedAndRecoversWithin2s) {
 
 // A frame whose net points are all 0.4 m too far (a consistent but wrong circle) is rejected.
 TEST(GlobalPoseEstimator, BadVisionFrameIsRejected) {
-  std::mt19937_64 rng(testing::fresh_seed());
-  sim::Trajectory traj;
-  traj.duration_s = 30;
-  sim::Sequence seq = sim::make_sequence(traj, {}, rng());
+  sim::Sequence seq = fresh_sequence(30);
   const size_t bad = 200;
   for (auto& p : seq.camera[bad].points_C) p *= (p.norm() + 0.4) / p.norm();
   GlobalPoseEstimator est(estimator_config(12.0));
@@ -215,10 +220,7 @@ TEST(GlobalPoseEstimator, BadVisionFrameIsRejected) {
 }
 
 TEST(GlobalPoseEstimator, RunsWithoutDvlAndSaysSo) {
-  std::mt19937_64 rng(testing::fresh_seed());
-  sim::Trajectory traj;
-  traj.duration_s = 60;
-  sim::Sequence seq = sim::make_sequence(traj, {}, rng());
+  sim::Sequence seq = fresh_sequence(60);
   seq.dvl.clear();
   LogCapture log;
   auto cfg = estimator_config(12.0);
@@ -235,10 +237,7 @@ TEST(GlobalPoseEstimator, RunsWithoutDvlAndSaysSo) {
 }
 
 TEST(GlobalPoseEstimator, NaNVelocitiesAreSkippedAndCounted) {
-  std::mt19937_64 rng(testing::fresh_seed());
-  sim::Trajectory traj;
-  traj.duration_s = 40;
-  sim::Sequence seq = sim::make_sequence(traj, {}, rng());
+  sim::Sequence seq = fresh_sequence(40);
   int spoiled = 0;
   for (size_t i = 0; i < seq.dvl.size(); i += 3) {
     if (i % 2 == 0) {
@@ -259,10 +258,7 @@ TEST(GlobalPoseEstimator, NaNVelocitiesAreSkippedAndCounted) {
 }
 
 TEST(GlobalPoseEstimator, RunsWithoutAttitudeAndSaysSo) {
-  std::mt19937_64 rng(testing::fresh_seed());
-  sim::Trajectory traj;
-  traj.duration_s = 60;
-  sim::Sequence seq = sim::make_sequence(traj, {}, rng());
+  sim::Sequence seq = fresh_sequence(60);
   seq.attitude.clear();
   LogCapture log;
   auto cfg = estimator_config(12.0);
@@ -279,10 +275,7 @@ TEST(GlobalPoseEstimator, RunsWithoutAttitudeAndSaysSo) {
 
 // Neither DVL nor attitude: nothing constrains rho_g, which becomes NaN; r_g and z_g remain.
 TEST(GlobalPoseEstimator, WithoutDvlAndAttitudeRhoIsNaN) {
-  std::mt19937_64 rng(testing::fresh_seed());
-  sim::Trajectory traj;
-  traj.duration_s = 60;
-  sim::Sequence seq = sim::make_sequence(traj, {}, rng());
+  sim::Sequence seq = fresh_sequence(60);
   seq.attitude.clear();
   seq.dvl.clear();
   LogCapture log;
@@ -302,10 +295,7 @@ TEST(GlobalPoseEstimator, WithoutDvlAndAttitudeRhoIsNaN) {
 }
 
 TEST(GlobalPoseEstimator, WithoutPressureDepthIsNaN) {
-  std::mt19937_64 rng(testing::fresh_seed());
-  sim::Trajectory traj;
-  traj.duration_s = 20;
-  sim::Sequence seq = sim::make_sequence(traj, {}, rng());
+  sim::Sequence seq = fresh_sequence(20);
   seq.depth.clear();
   LogCapture log;
   auto cfg = estimator_config(12.0);
@@ -397,10 +387,7 @@ TEST(GlobalPoseEstimator, OutOfOrderAndDuplicateSamples) {
 // Every sensor's counters count, including the DVL plane and the vision d_net / psi_net, which
 // ride on the DVL and camera samples.
 TEST(GlobalPoseEstimator, CountersCountEverySensor) {
-  std::mt19937_64 rng(testing::fresh_seed());
-  sim::Trajectory traj;
-  traj.duration_s = 10;
-  const sim::Sequence seq = sim::make_sequence(traj, {}, rng());
+  const sim::Sequence seq = fresh_sequence(10);
   GlobalPoseEstimator est(estimator_config(12.0));
   run_estimator(seq, est);
   const GlobalPoseCounters c = est.counters();
@@ -438,10 +425,7 @@ void keep_columns(NetObservation& obs, int columns) {
 // partial net fitted to a wrong circle): the lock rule refuses them, the filter starts on the
 // first full view and is accurate from there.
 TEST(GlobalPoseEstimator, PartialNetFixDoesNotInitialise) {
-  std::mt19937_64 rng(testing::fresh_seed());
-  sim::Trajectory traj;
-  traj.duration_s = 10;
-  sim::Sequence seq = sim::make_sequence(traj, {}, rng());
+  sim::Sequence seq = fresh_sequence(10);
   const size_t partial = 10;
   for (size_t i = 0; i < partial; ++i) {
     keep_columns(seq.camera[i], 2);
@@ -471,10 +455,7 @@ TEST(GlobalPoseEstimator, PartialNetFixDoesNotInitialise) {
 // it the filter starts there, gates the good fixes out, and after reinit_after_rejected_fixes
 // agreeing ones re-locks its position (counted, logged) and is accurate again.
 TEST(GlobalPoseEstimator, AgreeingRejectedFixesReinitialise) {
-  std::mt19937_64 rng(testing::fresh_seed());
-  sim::Trajectory traj;
-  traj.duration_s = 10;
-  sim::Sequence seq = sim::make_sequence(traj, {}, rng());
+  sim::Sequence seq = fresh_sequence(10);
   const size_t bad_end = 4;
   for (auto& p : seq.camera[0].points_C) p.setConstant(kNaN);
   for (size_t i = 1; i < bad_end; ++i) {
