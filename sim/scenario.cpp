@@ -124,10 +124,9 @@ NetConfig parse_net(const YamlMap& y) {
   n.albedo = ranged(y, "albedo", n.albedo, 0, 1);
   n.fouling = ranged(y, "fouling", n.fouling, 0, 1);
   n.fouling_scale_m = positive(y, "fouling_scale_m", n.fouling_scale_m);
-  if (y.has("bulges")) {
-    const auto list = y.map_list("bulges");
-    if (list.size() > kMaxBulges) y.fail("bulges", "at most 8 bulges");
-    for (const YamlMap& b : list) {
+  if (const auto list = y.optional_map_list("bulges")) {
+    if (list->size() > kMaxBulges) y.fail("bulges", "at most 8 bulges");
+    for (const YamlMap& b : *list) {
       Bulge g;
       g.along_m = b.number("along_m");
       g.depth_m = b.number("depth_m");
@@ -136,8 +135,6 @@ NetConfig parse_net(const YamlMap& y) {
       b.reject_unknown_keys();
       n.bulges.push_back(g);
     }
-  } else {
-    y.optional_number("bulges");
   }
   y.reject_unknown_keys();
   return n;
@@ -170,10 +167,9 @@ LightConfig parse_light(const YamlMap& y) {
   l.ambient = ranged(y, "ambient", l.ambient, 0, 100);
   l.surface_brightness = ranged(y, "surface_brightness", l.surface_brightness, 0, 100);
   l.lamp_level = ranged(y, "lamp_level", l.lamp_level, 0, 1);
-  if (y.has("lamps")) {
-    const auto list = y.map_list("lamps");
-    if (list.size() > kMaxLamps) y.fail("lamps", "at most 4 lamps");
-    for (const YamlMap& m : list) {
+  if (const auto list = y.optional_map_list("lamps")) {
+    if (list->size() > kMaxLamps) y.fail("lamps", "at most 4 lamps");
+    for (const YamlMap& m : *list) {
       Lamp lamp;
       lamp.position_B_m = vec3(m, "position_m", lamp.position_B_m);
       lamp.direction_B = vec3(m, "direction", lamp.direction_B);
@@ -185,7 +181,6 @@ LightConfig parse_light(const YamlMap& y) {
       l.lamps.push_back(lamp);
     }
   } else {
-    y.optional_number("lamps");
     l.lamps = default_lamps();
   }
   y.reject_unknown_keys();
@@ -194,9 +189,10 @@ LightConfig parse_light(const YamlMap& y) {
 
 std::vector<Fish> parse_fish(const YamlMap& y) {
   std::vector<Fish> out;
-  const auto list = y.map_list("fish");
-  if (list.size() > kMaxFish) y.fail("fish", "at most 8 fish");
-  for (const YamlMap& m : list) {
+  const auto list = y.optional_map_list("fish");
+  if (!list) return out;
+  if (list->size() > kMaxFish) y.fail("fish", "at most 8 fish");
+  for (const YamlMap& m : *list) {
     Fish f;
     f.net_distance_m = positive(m, "net_distance_m", f.net_distance_m);
     f.depth_m = positive(m, "depth_m", f.depth_m);
@@ -227,8 +223,8 @@ DvlConfig parse_dvl(const YamlMap& y) {
   d.spike_mps = ranged(y, "spike_mps", d.spike_mps, 0, 100);
   d.scale_error = ranged(y, "scale_error", d.scale_error, -0.5, 0.5);
   d.bias_B_mps = vec3(y, "bias_mps", d.bias_B_mps);
-  if (y.has("spikes")) {
-    for (const YamlMap& m : y.map_list("spikes")) {
+  if (const auto list = y.optional_map_list("spikes")) {
+    for (const YamlMap& m : *list) {
       DvlSpike spike;
       spike.t_s = ranged(m, "t_s", 0, 0, 1e6);
       spike.duration_s = positive(m, "duration_s", spike.duration_s);
@@ -236,8 +232,6 @@ DvlConfig parse_dvl(const YamlMap& y) {
       m.reject_unknown_keys();
       d.spikes.push_back(spike);
     }
-  } else {
-    y.optional_number("spikes");
   }
   y.reject_unknown_keys();
   return d;
@@ -386,11 +380,7 @@ Scenario parse_scenario(const std::string& text, const std::string& file_name) {
   } else {
     s.light.lamps = default_lamps();
   }
-  if (y.has("fish")) {
-    s.fish = parse_fish(y);
-  } else {
-    y.optional_number("fish");
-  }
+  s.fish = parse_fish(y);
   if (const auto m = y.optional_map("dvl")) s.dvl = parse_dvl(*m);
   if (const auto m = y.optional_map("pressure")) s.pressure = parse_pressure(*m);
   if (const auto m = y.optional_map("attitude")) s.attitude = parse_attitude(*m);

@@ -154,6 +154,14 @@ std::vector<YamlMap> YamlMap::map_list(const std::string& key) const {
   return out;
 }
 
+std::optional<std::vector<YamlMap>> YamlMap::optional_map_list(const std::string& key) const {
+  if (!has(key)) {
+    used_->insert(key);
+    return std::nullopt;
+  }
+  return map_list(key);
+}
+
 void YamlMap::reject_unknown_keys() const {
   for (const auto& kv : node_) {
     const std::string key = kv.first.as<std::string>();

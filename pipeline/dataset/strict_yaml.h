@@ -42,6 +42,8 @@ class YamlMap {
   YamlMap map(const std::string& key) const;
   std::optional<YamlMap> optional_map(const std::string& key) const;
   std::vector<YamlMap> map_list(const std::string& key) const;
+  // nullopt when the key is absent (it still counts as known in reject_unknown_keys' message).
+  std::optional<std::vector<YamlMap>> optional_map_list(const std::string& key) const;
 
   // Throws naming the first key of this mapping that no accessor above has asked for (typos).
   // Call it once all keys of this level have been read; nested maps check their own keys.
