@@ -337,7 +337,10 @@ void GlobalPoseEstimator::release_motion_states(int sensor) {
 
 void GlobalPoseEstimator::apply_attitude(const AttitudeSample& s) {
   SensorCounters& c = state_.counts.attitude;
-  if (!cfg_.use_attitude_yaw || !state_.initialised) return;
+  if (!cfg_.use_attitude_yaw || !state_.initialised) {
+    ++c.accepted;  // its roll and pitch level the other sensors (level_at)
+    return;
+  }
   if (!std::isfinite(s.yaw_rad)) {
     ++c.invalid;
     return;
@@ -508,11 +511,12 @@ void GlobalPoseEstimator::apply_camera(const NetObservation& obs) {
       state_.rejected_fixes.clear();
     }
   }
-  if (!cfg_.use_vision_relative) return;
+  // Before the lock (a frame without a circle fit) d_net / psi_net have no state to correct and
+  // are not counted, like the frames whose fix was not lockable.
+  if (!cfg_.use_vision_relative || !state_.initialised) return;
   if (!std::isfinite(obs.d_net_m) && !std::isfinite(obs.psi_net_rad)) return;
   SensorCounters& cr = state_.counts.vision_relative;
   ++cr.received;
-  if (!state_.initialised) return;
   if (!(obs.d_net_m > 0) || !std::isfinite(obs.psi_net_rad)) {
     ++cr.invalid;
     return;

@@ -135,14 +135,23 @@ TEST(RelativePoseFft, TooFewValidRoisGiveNanAndAReason) {
   EXPECT_FALSE(relative_pose_fft({}).valid());
 }
 
-// Scattered points with no common plane (e.g. fish, bubbles): no consistent subset.
+// Scattered points with no common plane (e.g. fish, bubbles): no consistent subset. By chance
+// 12 of 30 random depths can lie on a plane (3 draws in 2000 gave a pose), so 100 draws are
+// made and at most 5 may give one (p < 1e-7 at that rate).
 TEST(RelativePoseFft, InconsistentPointsGiveNan) {
   std::mt19937_64 rng(testing::fresh_seed());
   std::uniform_real_distribution<double> depth(0.3, 6);
-  const auto pts = grid_points([&](const Eigen::Vector3d&) { return depth(rng); });
-  const FftRelativePose pose = relative_pose_fft(pts, {.min_valid_rois = 12});
-  EXPECT_FALSE(pose.valid()) << pose.d_net_m;
-  EXPECT_FALSE(pose.reason.empty());
+  int with_pose = 0;
+  for (int draw = 0; draw < 100; ++draw) {
+    const auto pts = grid_points([&](const Eigen::Vector3d&) { return depth(rng); });
+    const FftRelativePose pose = relative_pose_fft(pts, {.min_valid_rois = 12});
+    if (pose.valid()) {
+      ++with_pose;
+    } else {
+      EXPECT_FALSE(pose.reason.empty());
+    }
+  }
+  EXPECT_LE(with_pose, 5);
 }
 
 }  // namespace

@@ -25,6 +25,9 @@ constexpr double kDeg = std::numbers::pi / 180.0;
 struct Errors {
   std::vector<double> t_s, r_m, psi_rad, z_m, arc_m;  // arc_m: signed rho error x r
   double path_m = 0;
+  // The lock rule (lock_rule.h) may refuse the first fixes and wait for a better one: those
+  // frames have no estimate and are counted apart from NaN rows after the filter has locked.
+  int frames_before_lock = 0;
   int nan_rows = 0;
 
   // The definition `pensight evaluate` uses (evaluation.h).
@@ -37,7 +40,7 @@ class ErrorCollector {
     if (!prev_.empty()) e_.path_m += (truth.p_P.head<2>() - prev_.back().p_P.head<2>()).norm();
     prev_.assign(1, truth);
     if (!std::isfinite(g.r_g_m) || !std::isfinite(g.rho_g_rad) || !std::isfinite(g.psi_g_rad)) {
-      ++e_.nan_rows;
+      ++(e_.t_s.empty() ? e_.frames_before_lock : e_.nan_rows);
       return;
     }
     if (std::isnan(rho0_est_)) {
@@ -66,6 +69,14 @@ GlobalPoseEstimatorConfig estimator_config(double radius) {
   cfg.T_body_camera = sim::forward_camera();
   cfg.dvl_beams = sim::forward_dvl();
   return cfg;
+}
+
+// Clean simulated frames lock at once or within a few frames: a fix is refused when an outlier
+// ROI slips into the circle fit's inliers (2000 seeds: 1 frame in ~0.4 % of the sequences).
+// Once locked, every frame has an estimate.
+void expect_locked_quickly(const Errors& e) {
+  EXPECT_LE(e.frames_before_lock, 5);
+  EXPECT_EQ(e.nan_rows, 0);
 }
 
 // Feeds the sequence in timestamp order, asking for the estimate at each camera frame.
@@ -146,12 +157,15 @@ TEST(GlobalPoseEstimator, AccuracyAndDriftVersusPublished) {
     std::printf("  gated out: DVL %d, plane %d, depth %d, yaw %d, fix %d, d_net %d\n",
                 c.dvl_velocity.rejected, c.dvl_plane.rejected, c.depth.rejected,
                 c.attitude.rejected, c.vision_fix.rejected, c.vision_relative.rejected);
-    EXPECT_EQ(e.nan_rows, 0);
+    expect_locked_quickly(e);
     EXPECT_LE(sim::median(e.r_m), 0.03);
     EXPECT_LE(sim::percentile(e.r_m, 0.95), 0.08);
     EXPECT_LE(sim::median(e.psi_rad) / kDeg, 1.5);
     EXPECT_LE(sim::percentile(e.z_m, 0.99), 3 * noise.depth_sigma_m);
-    EXPECT_LE(e.drift_per_m(), 0.5 * p.drift_per_m());
+    // Vision sees rho_g through the heading, psi_g - psi_r, which is worth radius x heading error
+    // of arc: on the flat net (100 m) the estimator leans on the DVL as the published node does.
+    // 2000 seeds, estimator / published drift: median 0.025, 0.040, 0.13; worst 0.13, 0.21, 0.63.
+    EXPECT_LE(e.drift_per_m(), (radius < 50 ? 0.5 : 0.8) * p.drift_per_m());
     // Good data is rarely gated out (p = 0.001 per sample, plus the ROI outliers' effect).
     EXPECT_LE(c.dvl_velocity.rejected, 10);
     EXPECT_LE(c.vision_fix.rejected, 24);
@@ -172,9 +186,10 @@ double max_difference(const Errors& a, const Errors& b, double t0, double t1) {
 }
 
 // A DVL velocity spike (2 m/s for 0.5 s, as in the published low-light run) is gated out: 2 s
-// later the estimate is within 2.5 cm of the same run without the spike, while the published rho_g
+// later the estimate is within 4 cm of the same run without the spike, while the published rho_g
 // keeps the jump. What is left is along the net: for 0.5 s no DVL velocity was used, and vision
-// cannot observe rho_g; with an ROV's process noise (pen_ekf.h) 40 seeds left at most 17 mm.
+// cannot observe rho_g; with an ROV's process noise (pen_ekf.h) 1001 seeds left median 5.7 mm,
+// 99.9th percentile 24 mm, worst 26 mm.
 TEST(GlobalPoseEstimator, DvlSpikeIsRejectedAndRecoversWithin2s) {
   std::mt19937_64 rng(testing::fresh_seed());
   const double radius = 12.0;
@@ -204,7 +219,7 @@ TEST(GlobalPoseEstimator, DvlSpikeIsRejectedAndRecoversWithin2s) {
       "after; DVL samples gated out %d\n",
       during, after, pub_after, est.counters().dvl_velocity.rejected);
   EXPECT_GE(est.counters().dvl_velocity.rejected, 2);
-  EXPECT_LE(after, 0.025);
+  EXPECT_LE(after, 0.04);
   EXPECT_GT(pub_after, 0.5);  // the published node keeps a ~0.9 m jump
 }
 
@@ -228,12 +243,15 @@ TEST(GlobalPoseEstimator, RunsWithoutDvlAndSaysSo) {
   GlobalPoseEstimator est(cfg);
   const Errors e = run_estimator(seq, est);
   EXPECT_NE(log.text().find("no DVL"), std::string::npos) << log.text();
-  // Heading aiding (attitude yaw) and the vision fixes still give all four values.
-  EXPECT_EQ(e.nan_rows, 0);
+  // Heading aiding (attitude yaw) and the vision fixes still give all four values. Without the
+  // DVL nothing refines the yaw bias set at the lock from one attitude sample and one fix, so
+  // psi_g keeps their error: the run's median error over 600 seeds was median 0.35 deg, 99th
+  // percentile 1.03 deg, worst 1.25 deg (one of ~3000 CI seeds: 1.65 deg).
+  expect_locked_quickly(e);
   std::printf("without DVL: r_g median %.4f m, psi_g median %.3f deg, arc error end %.3f m\n",
               sim::median(e.r_m), sim::median(e.psi_rad) / kDeg, e.arc_m.back());
   EXPECT_LE(sim::median(e.r_m), 0.03);
-  EXPECT_LE(sim::median(e.psi_rad) / kDeg, 1.5);
+  EXPECT_LE(sim::median(e.psi_rad) / kDeg, 2.0);
 }
 
 TEST(GlobalPoseEstimator, NaNVelocitiesAreSkippedAndCounted) {
@@ -252,7 +270,7 @@ TEST(GlobalPoseEstimator, NaNVelocitiesAreSkippedAndCounted) {
   const Errors e = run_estimator(seq, est);
   EXPECT_EQ(est.counters().dvl_velocity.invalid, spoiled);
   EXPECT_NE(log.text().find("NaN DVL velocity"), std::string::npos) << log.text();
-  EXPECT_EQ(e.nan_rows, 0);
+  expect_locked_quickly(e);
   EXPECT_LE(sim::median(e.r_m), 0.03);
   EXPECT_LE(sim::median(e.psi_rad) / kDeg, 1.5);
 }
@@ -267,13 +285,14 @@ TEST(GlobalPoseEstimator, RunsWithoutAttitudeAndSaysSo) {
   const Errors e = run_estimator(seq, est);
   EXPECT_NE(log.text().find("no attitude"), std::string::npos) << log.text();
   // rho_g from the DVL alone: produced, drifting like the published method's.
-  EXPECT_EQ(e.nan_rows, 0);
+  expect_locked_quickly(e);
   EXPECT_LE(sim::median(e.r_m), 0.03);
   std::printf("without attitude: r_g median %.4f m, drift %.3f %%\n", sim::median(e.r_m),
               100 * e.drift_per_m());
 }
 
-// Neither DVL nor attitude: nothing constrains rho_g, which becomes NaN; r_g and z_g remain.
+// Neither DVL nor attitude: nothing constrains rho_g, which is NaN from max_unaided_s after the
+// lock (where it was set to initial_rho_rad); r_g and z_g remain.
 TEST(GlobalPoseEstimator, WithoutDvlAndAttitudeRhoIsNaN) {
   sim::Sequence seq = fresh_sequence(60);
   seq.attitude.clear();
@@ -283,15 +302,30 @@ TEST(GlobalPoseEstimator, WithoutDvlAndAttitudeRhoIsNaN) {
   cfg.has_attitude = false;
   cfg.has_dvl = false;
   GlobalPoseEstimator est(cfg);
-  for (const auto& s : seq.depth) est.add(s);
-  for (const auto& obs : seq.camera) est.add(obs);
-  const GlobalPose g = est.estimate(seq.camera.back().t_ns);
-  const sim::Pose& truth = seq.truth.back();
-  EXPECT_TRUE(std::isnan(g.rho_g_rad));
-  EXPECT_TRUE(std::isnan(g.psi_g_rad));
-  EXPECT_NEAR(g.r_g_m, truth.r_m(), 0.05);
-  EXPECT_NEAR(g.z_g_m, truth.p_P.z(), 0.06);
-  EXPECT_NEAR(g.psi_r_rad, truth.psi_r_rad(), 2 * kDeg);
+  std::vector<double> r_m, z_m, psi_r_rad;
+  int64_t t_lock_ns = 0;
+  int unaided_with_rho = 0;
+  sim::Visitor v;
+  v.depth = [&](const PressureSample& s) { est.add(s); };
+  v.camera = [&](const NetObservation& obs, const sim::Pose& truth) {
+    est.add(obs);
+    const GlobalPose g = est.estimate(obs.t_ns);
+    if (!std::isfinite(g.r_g_m)) return;
+    if (r_m.empty()) t_lock_ns = obs.t_ns;
+    const bool unaided = 1e-9 * static_cast<double>(obs.t_ns - t_lock_ns) > cfg.max_unaided_s;
+    if (unaided && (std::isfinite(g.rho_g_rad) || std::isfinite(g.psi_g_rad))) ++unaided_with_rho;
+    r_m.push_back(std::abs(g.r_g_m - truth.r_m()));
+    if (std::isfinite(g.z_g_m)) z_m.push_back(std::abs(g.z_g_m - truth.p_P.z()));
+    psi_r_rad.push_back(std::abs(wrap_angle(g.psi_r_rad - truth.psi_r_rad())));
+  };
+  sim::replay(seq, v);
+  EXPECT_EQ(unaided_with_rho, 0);
+  EXPECT_GE(r_m.size() + 5, seq.camera.size());
+  EXPECT_GE(z_m.size() + 1, r_m.size());  // NaN only at a lock before the first depth sample
+  EXPECT_LE(sim::median(r_m), 0.03);
+  EXPECT_LE(sim::percentile(r_m, 0.95), 0.08);
+  EXPECT_LE(sim::percentile(z_m, 0.99), 3 * sim::SensorNoise{}.depth_sigma_m);
+  EXPECT_LE(sim::median(psi_r_rad) / kDeg, 1.5);
 }
 
 TEST(GlobalPoseEstimator, WithoutPressureDepthIsNaN) {
@@ -304,7 +338,7 @@ TEST(GlobalPoseEstimator, WithoutPressureDepthIsNaN) {
   const Errors e = run_estimator(seq, est);
   EXPECT_NE(log.text().find("no pressure"), std::string::npos) << log.text();
   EXPECT_TRUE(e.z_m.empty());  // every z_g was NaN
-  EXPECT_EQ(e.nan_rows, 0);    // the other values were all produced
+  expect_locked_quickly(e);    // the other values were all produced
   EXPECT_LE(sim::median(e.r_m), 0.03);
 }
 
@@ -407,8 +441,9 @@ TEST(GlobalPoseEstimator, CountersCountEverySensor) {
   }
   EXPECT_EQ(c.dvl_velocity.received, static_cast<int>(seq.dvl.size()));
   EXPECT_EQ(c.vision_fix.received, static_cast<int>(seq.camera.size()));
-  // Each camera frame carries d_net / psi_net; the first initialises the filter instead.
-  EXPECT_EQ(c.vision_relative.received, static_cast<int>(seq.camera.size()) - 1);
+  // Each camera frame carries d_net / psi_net; the frames before and at the lock do not count.
+  EXPECT_EQ(c.vision_relative.received,
+            static_cast<int>(seq.camera.size()) - 1 - c.vision_fix.not_lockable);
   EXPECT_NE(
       describe(c).find("DVL plane             received " + std::to_string(c.dvl_plane.received)),
       std::string::npos);
@@ -434,8 +469,11 @@ TEST(GlobalPoseEstimator, PartialNetFixDoesNotInitialise) {
   GlobalPoseEstimator est(estimator_config(12.0));
   const Errors e = run_estimator(seq, est);
   const GlobalPoseCounters c = est.counters();
-  EXPECT_EQ(c.vision_fix.not_lockable, static_cast<int>(partial));
-  EXPECT_EQ(e.nan_rows, static_cast<int>(partial));
+  EXPECT_GE(c.vision_fix.not_lockable, static_cast<int>(partial));
+  EXPECT_EQ(e.frames_before_lock, c.vision_fix.not_lockable);
+  Errors after_partial = e;
+  after_partial.frames_before_lock -= static_cast<int>(partial);
+  expect_locked_quickly(after_partial);
   EXPECT_LE(*std::max_element(e.r_m.begin(), e.r_m.end()), 0.05);
   // Without the rule the first partial fix starts the filter 1 m off.
   GlobalPoseEstimatorConfig no_rule = estimator_config(12.0);
@@ -489,8 +527,11 @@ TEST(GlobalPoseEstimator, AgreeingRejectedFixesReinitialise) {
   EXPECT_LE(sim::median(psi_after) / kDeg, 1.5);
   // The same wrong start is refused by the DVL plane check when the plane is on.
   GlobalPoseEstimator with_plane(estimator_config(12.0));
-  run_estimator(seq, with_plane);
-  EXPECT_EQ(with_plane.counters().vision_fix.not_lockable, static_cast<int>(bad_end - 1));
+  Errors p = run_estimator(seq, with_plane);
+  EXPECT_GE(with_plane.counters().vision_fix.not_lockable, static_cast<int>(bad_end - 1));
+  p.frames_before_lock -= static_cast<int>(bad_end);
+  expect_locked_quickly(p);
+  EXPECT_LE(p.r_m.front(), 0.05);
   EXPECT_EQ(with_plane.counters().vision_fix.reinitialised, 0);
 }
 
