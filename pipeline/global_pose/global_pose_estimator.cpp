@@ -279,7 +279,7 @@ UpdateOutcome GlobalPoseEstimator::gated_update(int sensor, SensorCounters& c,
                                                 std::array<bool, M> angles,
                                                 std::span<const int> depends_on) {
   int& streak = state_.consecutive_rejections[static_cast<size_t>(sensor)];
-  const bool motion = sensor == kDvlVelocity || sensor == kAttitudeYaw;
+  const bool motion = sensor == kDvlVelocity || sensor == kAttitudeYaw || sensor == kDepthSensor;
   const bool relock =
       streak >= (motion ? cfg_.motion_relock_after_rejections : cfg_.relock_after_rejections);
   const double gate = cfg_.gate_scale * kGateChi2[M];
@@ -326,9 +326,12 @@ void GlobalPoseEstimator::release_motion_states(int sensor) {
   };
   static constexpr Release kDvlMotion[] = {{kU, 1.0}, {kV, 1.0}, {kW, 1.0}};
   static constexpr Release kYawMotion[] = {{kPsi, 0.2}, {kPsiRate, 1.0}};
+  static constexpr Release kDepthMotion[] = {{kZ, 1.0}, {kW, 1.0}};
   StateMatrix& P = state_.ekf.P;
-  for (const Release& r : sensor == kDvlVelocity ? std::span<const Release>(kDvlMotion)
-                                                 : std::span<const Release>(kYawMotion)) {
+  std::span<const Release> released = kDepthMotion;
+  if (sensor == kDvlVelocity) released = kDvlMotion;
+  if (sensor == kAttitudeYaw) released = kYawMotion;
+  for (const Release& r : released) {
     P.row(r.state).setZero();
     P.col(r.state).setZero();
     P(r.state, r.state) = r.sigma * r.sigma;

@@ -67,10 +67,11 @@ struct GlobalPoseEstimatorConfig {
   // After this many rejections in a row a sensor's next sample is applied without the gate, so
   // the filter re-locks after a real jump instead of refusing it forever.
   int relock_after_rejections = 12;
-  // DVL velocity and attitude yaw measure the motion states directly, and a manoeuvre the
-  // constant-velocity model did not expect (a turn or a reversal) is gated out like a spike. A
-  // spike lasts one or two samples; after this many rejections in a row the motion states they
-  // measure (u, v, w; psi, psi_rate) are released to a wide prior and the sample is applied.
+  // DVL velocity, attitude yaw and pressure depth measure their states directly, and a manoeuvre
+  // the constant-velocity model did not expect (a turn or a reversal), or a vertical velocity
+  // guessed from the first few depth samples without a DVL, is gated out like a spike. A spike
+  // lasts one or two samples; after this many rejections in a row the states they measure (u, v,
+  // w; psi, psi_rate; z, w) are released to a wide prior and the sample is applied.
   int motion_relock_after_rejections = 2;
   // Which circle fits may initialise the filter, and when agreeing gated-out fixes re-initialise
   // its position (lock_rule.h).
