@@ -344,6 +344,11 @@ TEST(GlobalPoseEstimator, WithoutPressureDepthIsNaN) {
 
 // Samples arriving up to 0.3 s late and out of order, plus duplicates, give the same estimates
 // as the ordered stream; they are counted, and a sample older than the window is dropped.
+// Late samples can hold what the ordered stream lacked at the same instant (an attitude sample
+// after a camera frame lets roll and pitch be interpolated), so a first fix at the 4 cm residual
+// limit may lock a frame apart, or the heading start from another yaw sample: over 4300 seeds
+// rho_g and psi_g differed by 0.03 mrad typically, 0.6 mrad at the 99.9th percentile and 5.5 mrad
+// at worst (3 seeds over 2 mrad).
 TEST(GlobalPoseEstimator, OutOfOrderAndDuplicateSamples) {
   std::mt19937_64 rng(testing::fresh_seed());
   sim::Trajectory traj;
@@ -398,8 +403,8 @@ TEST(GlobalPoseEstimator, OutOfOrderAndDuplicateSamples) {
   const int64_t t_end = seq.camera.back().t_ns;
   const GlobalPose a = ordered.estimate(t_end), b = shuffled.estimate(t_end);
   EXPECT_NEAR(a.r_g_m, b.r_g_m, 0.005);
-  EXPECT_NEAR(a.rho_g_rad, b.rho_g_rad, 0.002);
-  EXPECT_NEAR(a.psi_g_rad, b.psi_g_rad, 0.002);
+  EXPECT_NEAR(a.rho_g_rad, b.rho_g_rad, 0.01);
+  EXPECT_NEAR(a.psi_g_rad, b.psi_g_rad, 0.01);
   EXPECT_NEAR(a.z_g_m, b.z_g_m, 0.005);
   const auto c = shuffled.counters();
   EXPECT_EQ(c.dvl_velocity.duplicates + c.depth.duplicates + c.attitude.duplicates +
