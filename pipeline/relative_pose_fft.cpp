@@ -1,8 +1,11 @@
 #include "pipeline/relative_pose_fft.h"
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
+#include <optional>
 #include <vector>
 
 namespace pensight {
@@ -93,6 +96,20 @@ std::vector<int> consensus(const std::vector<Sample>& s, double rel) {
   return inliers<3>(s, best_plane, plane_basis, rel);
 }
 
+// Of a ROI's two normal candidates, the one nearer the given unit normal; nullopt for a point
+// without normals (not from roi_net_point).
+std::optional<Eigen::Vector3d> nearer_normal(const RoiNetPoint& roi,
+                                             const Eigen::Vector3d& normal) {
+  const auto& n = roi.normals_C;
+  const Eigen::Vector3d& m = std::abs(n[0].dot(normal)) >= std::abs(n[1].dot(normal)) ? n[0] : n[1];
+  if (!(m.z() > 0)) return std::nullopt;
+  return m;
+}
+
+Eigen::Vector3d plane_normal(double slope_x, double slope_y) {
+  return Eigen::Vector3d(slope_x, slope_y, -1).normalized();
+}
+
 // Plane slopes (a, b) fused with the inliers' per-ROI slopes; see RelativePoseFftParams.
 void fuse_roi_tilt(Eigen::Vector3d& plane, const std::vector<Sample>& s, const std::vector<int>& in,
                    std::span<const RoiNetPoint> rois) {
@@ -108,15 +125,13 @@ void fuse_roi_tilt(Eigen::Vector3d& plane, const std::vector<Sample>& s, const s
   if (dof < 1) return;
   const Eigen::Matrix3d cov = (wr2 / dof) * ata.inverse();
   // Each inlier's slopes from its normal candidate nearer the plane's normal.
-  const Eigen::Vector3d normal = Eigen::Vector3d(plane(1), plane(2), -1).normalized();
+  const Eigen::Vector3d normal = plane_normal(plane(1), plane(2));
   Eigen::Vector2d sum = Eigen::Vector2d::Zero(), sq = Eigen::Vector2d::Zero();
   double weight = 0;
   for (int i : in) {
-    const auto& n = rois[s[i].roi].normals_C;
-    const Eigen::Vector3d& m =
-        std::abs(n[0].dot(normal)) >= std::abs(n[1].dot(normal)) ? n[0] : n[1];
-    if (!(m.z() > 0)) continue;  // no normal (a point not from roi_net_point)
-    const Eigen::Vector2d slope(-m.x() / m.z(), -m.y() / m.z());
+    const auto m = nearer_normal(rois[s[i].roi], normal);
+    if (!m) continue;
+    const Eigen::Vector2d slope(-m->x() / m->z(), -m->y() / m->z());
     sum += s[i].w * slope;
     sq += s[i].w * slope.cwiseProduct(slope);
     weight += s[i].w;
@@ -137,6 +152,45 @@ void fuse_roi_tilt(Eigen::Vector3d& plane, const std::vector<Sample>& s, const s
     total += s[i].w;
   }
   plane(0) = offset / total;
+}
+
+// Why the fused plane cannot give a trustworthy d_net (see RelativePoseFftParams), or "".
+std::string implausible(const Eigen::Vector3d& plane, const std::vector<Sample>& s,
+                        const std::vector<int>& in, std::span<const RoiNetPoint> rois,
+                        const RelativePoseFftParams& params) {
+  const double gain_x = 1 + plane(1) * plane(1), gain_y = 1 + plane(2) * plane(2);  // 1/cos^2
+  double lever = std::numeric_limits<double>::infinity();
+  for (int i : in) {
+    const Eigen::Vector3d& p = s[i].p;
+    lever = std::min(lever, (std::abs(p.x()) * gain_x + std::abs(p.y()) * gain_y) / p.z());
+  }
+  if (lever > params.max_extrapolation_lever) {
+    char text[160];
+    std::snprintf(text, sizeof text,
+                  "net points too far from the optical axis for this obliquity (lever %.2f, "
+                  "limit %.2f): d_net would be extrapolated",
+                  lever, params.max_extrapolation_lever);
+    return text;
+  }
+  const Eigen::Vector3d normal = plane_normal(plane(1), plane(2));
+  std::vector<double> angles;
+  for (int i : in) {
+    if (const auto m = nearer_normal(rois[s[i].roi], normal)) {
+      angles.push_back(std::acos(std::min(1.0, std::abs(m->dot(normal)))));
+    }
+  }
+  if (angles.empty()) return {};
+  const auto mid = angles.begin() + static_cast<std::ptrdiff_t>(angles.size() / 2);
+  std::nth_element(angles.begin(), mid, angles.end());
+  if (*mid > params.max_tilt_disagreement_rad) {
+    char text[160];
+    std::snprintf(text, sizeof text,
+                  "the ROIs' own tilts disagree with the fitted plane (median %.0f deg, limit "
+                  "%.0f): a lattice harmonic?",
+                  *mid * 180 / M_PI, params.max_tilt_disagreement_rad * 180 / M_PI);
+    return text;
+  }
+  return {};
 }
 
 }  // namespace
@@ -177,6 +231,9 @@ FftRelativePose relative_pose_fft(std::span<const RoiNetPoint> rois,
                        " deg, pitch " + std::to_string(std::lround(pitch * 180 / M_PI)) +
                        " deg; limit " +
                        std::to_string(std::lround(params.max_obliquity_rad * 180 / M_PI)) + ")");
+  }
+  if (std::string why = implausible(plane, s, in, rois, params); !why.empty()) {
+    return invalid(rois.size(), valid, std::move(why));
   }
   FftRelativePose pose{plane(0),
                        psi,

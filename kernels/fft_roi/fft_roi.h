@@ -51,6 +51,11 @@ struct PeakParams {
   // default 300 px ROI, fx 462 px and 30 mm mesh.
   float min_cycles = 5.0f;
   float max_nyquist_share = 0.9f;  // above max_nyquist_share * fft_size / 2: resampling alias
+  // A bin between the band and the Nyquist circle stronger than this times the strongest in-band
+  // bin: the lattice is finer than the band, and what the band holds is an alias (the twines'
+  // second harmonic folded by the camera's own sampling to 300 - 2f cycles read a 5.4 m net as
+  // 3.3 m). The ROI then has no lattice.
+  float beyond_band_ratio = 1.0f;
   float min_angle_deg = 25.0f;  // the second base vector makes at least this angle with the first
   float subharmonic_ratio = 0.2f;  // a peak at half the frequency this strong is the fundamental
   bool subbin = true;              // log-parabolic sub-bin refinement (off = integer bins)

@@ -133,6 +133,7 @@ struct PeakArgs {
   int n, roi;
   float r2_min, r2_max, cos2_max, subharmonic;
   bool subbin;
+  float beyond_band_ratio;
   RoiLattice* lattices;
 };
 
@@ -154,6 +155,13 @@ __device__ bool in_band(const PeakArgs& a, int kx, int ky) {
   if (kx == 0 && ky <= 0) return false;
   const float r2 = float(kx * kx + ky * ky);
   return r2 >= a.r2_min && r2 <= a.r2_max;
+}
+
+// Between the band and the Nyquist circle.
+__device__ bool beyond_band(const PeakArgs& a, int kx, int ky) {
+  if (kx == 0 && ky <= 0) return false;
+  const float r2 = float(kx * kx + ky * ky);
+  return r2 > a.r2_max && r2 <= float((a.n / 2) * (a.n / 2));
 }
 
 __device__ int2 fundamental(const PeakArgs& a, const Spec& s, int2 p) {
@@ -205,11 +213,17 @@ __global__ void peaks_kernel(PeakArgs a) {
   const int w = a.n / 2 + 1;
   const Spec s{a.spectrum + size_t(blockIdx.x) * a.n * w, a.n, w};
   const int total = a.n * w;
-  float energy = 0, count = 0, v1 = -1;
-  int i1 = 0;
+  float energy = 0, count = 0, v1 = -1, vb = -1;
+  int i1 = 0, ib = 0;
   for (int i = threadIdx.x; i < total; i += kThreads) {
     const int2 k = s.bin(i);
-    if (!in_band(a, k.x, k.y)) continue;
+    if (!in_band(a, k.x, k.y)) {
+      if (beyond_band(a, k.x, k.y)) {
+        const float v = s.power(k.x, k.y);
+        if (v > vb) vb = v, ib = i;
+      }
+      continue;
+    }
     const float v = s.power(k.x, k.y);
     energy += v;
     count += 1;
@@ -218,9 +232,15 @@ __global__ void peaks_kernel(PeakArgs a) {
   energy = cuda::block_sum<kThreads>(energy, partial);
   count = cuda::block_sum<kThreads>(count, partial);
   const int w1 = block_argmax(v1, i1, value, idx);
+  const int wb = block_argmax(vb, ib, value, idx);
+  bool too_fine = false;
+  if (w1 >= 0 && wb >= 0) {
+    const int2 k1 = s.bin(w1), kb = s.bin(wb);
+    too_fine = s.power(kb.x, kb.y) > a.beyond_band_ratio * s.power(k1.x, k1.y);
+  }
   RoiLattice& out = a.lattices[blockIdx.x];
   float r[6] = {0, 0, 0, 0, 0, 0};
-  if (w1 >= 0 && count > 0) {
+  if (w1 >= 0 && count > 0 && !too_fine) {
     const int2 p1 = fundamental(a, s, s.bin(w1));
     const float p1_r2 = float(p1.x * p1.x + p1.y * p1.y);
     float v2 = -1;
@@ -331,7 +351,7 @@ std::vector<RoiLattice> FftRoiCuda::run(const ImageU8& image, std::span<const Ro
   peaks_kernel<<<count, kThreads>>>({m.spectrum.data(), m.shape.fft_size, m.shape.roi_size,
                                      m.params.min_cycles * m.params.min_cycles, r_max * r_max,
                                      c * c, m.params.subharmonic_ratio, m.params.subbin,
-                                     m.lattices.data()});
+                                     m.params.beyond_band_ratio, m.lattices.data()});
   PENSIGHT_CUDA(cudaGetLastError());
   std::vector<RoiLattice> out(rois.size());
   m.lattices.download(out.data(), out.size());

@@ -151,11 +151,18 @@ RoiLattice analyze_spectrum(std::span<const std::complex<float>> spectrum, const
   float lanes[8] = {};
   std::array<Bin, kTop> top{};
   int num_top = 0;
+  float beyond = 0;  // strongest bin with r_max < r <= n / 2
+  const float nyquist2 = static_cast<float>((n / 2) * (n / 2));
   for (int r = 0; r < n; ++r) {
     const int ky = r < n / 2 ? r : r - n;
     const auto [lo, hi] = band_row(band, ky, s.w());
-    if (lo > hi) continue;
     const std::complex<float>* row = s.row(ky);
+    for (int kx = lo <= hi ? hi + 1 : (ky > 0 ? 0 : 1); kx < s.w(); ++kx) {
+      const auto r2 = static_cast<float>(kx * kx + ky * ky);
+      if (r2 > nyquist2) break;
+      if (r2 > band.r2_max) beyond = std::max(beyond, power_of(row[kx]));
+    }
+    if (lo > hi) continue;
     count += hi - lo + 1;
     const float row_max = add_powers(row + lo, hi - lo + 1, lanes);
     if (num_top == kTop && !(row_max > top[kTop - 1].power)) continue;
@@ -170,6 +177,7 @@ RoiLattice analyze_spectrum(std::span<const std::complex<float>> spectrum, const
   for (float l : lanes) energy += l;
   RoiLattice out;
   if (num_top == 0 || top[0].power <= 0) return out;
+  if (beyond > params.beyond_band_ratio * top[0].power) return out;
   Bin p1 = top[0];
   p1 = fundamental(s, band, p1, params.subharmonic_ratio);
 

@@ -27,9 +27,14 @@ const FftRoiShape& checked(const FftRoiShape& shape) {
 std::vector<uint32_t> peak_constants(const FftRoiShape& s, const PeakParams& p) {
   const float r_max = p.max_nyquist_share * static_cast<float>(s.fft_size / 2);
   const float c = std::cos(p.min_angle_deg * 3.14159265f / 180.0f);
-  return {u32(s.fft_size),     u32(s.roi_size), bits(p.min_cycles * p.min_cycles),
-          bits(r_max * r_max), bits(c * c),     bits(p.subharmonic_ratio),
-          p.subbin ? 1u : 0u};
+  return {u32(s.fft_size),
+          u32(s.roi_size),
+          bits(p.min_cycles * p.min_cycles),
+          bits(r_max * r_max),
+          bits(c * c),
+          bits(p.subharmonic_ratio),
+          p.subbin ? 1u : 0u,
+          bits(p.beyond_band_ratio)};
 }
 
 }  // namespace

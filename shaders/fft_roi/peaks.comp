@@ -3,7 +3,8 @@
 #extension GL_KHR_shader_subgroup_arithmetic : require
 // One workgroup per ROI: the two base frequency vectors of the net lattice from the ROI's half
 // spectrum. Mirrors analyze_spectrum() in kernels/fft_roi/fft_roi_peaks.cpp step by step: same
-// band, same tie-break (first bin in row-major order), same sub-harmonic and sub-bin rules.
+// band, same tie-break (first bin in row-major order), same beyond-band, sub-harmonic and
+// sub-bin rules.
 
 layout(local_size_x = 256) in;
 layout(constant_id = 0) const uint FFT_N = 256;
@@ -13,6 +14,7 @@ layout(constant_id = 3) const float R2_MAX = 13271.04;
 layout(constant_id = 4) const float COS2_MAX = 0.8214;   // cos^2 of the minimum angle
 layout(constant_id = 5) const float SUBHARMONIC = 0.2;
 layout(constant_id = 6) const uint SUBBIN = 1;
+layout(constant_id = 7) const float BEYOND_BAND = 1.0;  // PeakParams::beyond_band_ratio
 
 layout(std430, binding = 0) readonly buffer Spectrum { vec2 spectrum[]; };
 layout(std430, binding = 1) writeonly buffer Lattices { float lattices[]; };  // 8 floats per ROI
@@ -40,6 +42,13 @@ bool in_band(int kx, int ky) {
   if (kx == 0 && ky <= 0) return false;
   float r2 = float(kx * kx + ky * ky);
   return r2 >= R2_MIN && r2 <= R2_MAX;
+}
+
+// Between the band and the Nyquist circle.
+bool beyond_band(int kx, int ky) {
+  if (kx == 0 && ky <= 0) return false;
+  float r2 = float(kx * kx + ky * ky);
+  return r2 > R2_MAX && r2 <= float((FFT_N / 2u) * (FFT_N / 2u));
 }
 
 ivec2 bin_of(uint index) {
@@ -125,11 +134,20 @@ void main() {
   uint lid = gl_LocalInvocationID.x;
   uint total = FFT_N * W;
 
-  float energy = 0.0, count = 0.0, v1 = -1.0;
-  uint i1 = 0u;
+  float energy = 0.0, count = 0.0, v1 = -1.0, vb = -1.0;
+  uint i1 = 0u, ib = 0u;
   for (uint i = lid; i < total; i += 256u) {
     ivec2 k = bin_of(i);
-    if (!in_band(k.x, k.y)) continue;
+    if (!in_band(k.x, k.y)) {
+      if (beyond_band(k.x, k.y)) {
+        float v = power(k.x, k.y);
+        if (v > vb) {
+          vb = v;
+          ib = i;
+        }
+      }
+      continue;
+    }
     float v = power(k.x, k.y);
     energy += v;
     count += 1.0;
@@ -141,9 +159,15 @@ void main() {
   energy = workgroup_sum(energy);
   count = workgroup_sum(count);
   uint w1 = workgroup_argmax(v1, i1);
+  uint wb = workgroup_argmax(vb, ib);
+  bool too_fine = false;
+  if (w1 != 0xffffffffu && wb != 0xffffffffu) {
+    ivec2 k1 = bin_of(w1), kb = bin_of(wb);
+    too_fine = power(kb.x, kb.y) > BEYOND_BAND * power(k1.x, k1.y);
+  }
 
   float result[6] = float[6](0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
-  if (w1 != 0xffffffffu && count > 0.0) {
+  if (w1 != 0xffffffffu && count > 0.0 && !too_fine) {
     ivec2 p1 = fundamental(bin_of(w1));
     float p1_r2 = float(p1.x * p1.x + p1.y * p1.y);
     float v2 = -1.0;

@@ -268,6 +268,32 @@ TEST_F(VulkanTest, FlatRoisGiveZeroLattices) {
   }
 }
 
+// A strong lattice just beyond the band (120 cycles per ROI, band edge 115.2) over a weak one in
+// it: the weak one is what an alias looks like, so no backend may report it as the lattice.
+TEST_F(VulkanTest, LatticeBeyondTheBandIsNoLattice) {
+  std::mt19937_64 rng(testing::fresh_seed());
+  std::uniform_real_distribution<double> phase(0, 2 * kPi), weak_period(5, 8);
+  const double p = weak_period(rng), a = phase(rng), b = phase(rng);
+  ImageU8 img(720, 540);
+  for (int y = 0; y < 540; ++y) {
+    for (int x = 0; x < 720; ++x) {
+      const double fine = std::cos(2 * kPi * 0.4 * x + a) + std::cos(2 * kPi * 0.4 * y + b);
+      const double weak =
+          std::cos(2 * kPi * (x / p + y / 40.0)) + std::cos(2 * kPi * (y / p - x / 40.0) + 2);
+      img.at(x, y) = static_cast<uint8_t>(std::lround(128 + 50 * fine + 3 * weak));
+    }
+  }
+  const auto rois = roi_grid(720, 540, {});
+  FftRoiCpu cpu({}, {}, 1, false);
+  const auto want = cpu.run(img, rois);
+  for (const RoiLattice& l : want) EXPECT_EQ(l.quality, 0.0f) << "weak period " << p << " px";
+  FftRoiVk vk(ctx(), {});
+  expect_same_lattices(run_vulkan(ctx(), vk, img, rois), want, 300);
+  // Without the rule an in-band lattice is reported: the rule, not the image, gives the zeros.
+  FftRoiCpu no_rule({}, {.beyond_band_ratio = 1e9f}, 1, false);
+  for (const RoiLattice& l : no_rule.run(img, rois)) EXPECT_GT(l.quality, 0.03f);
+}
+
 TEST_F(VulkanTest, VulkanRejectsNonPowerOfTwoSizes) {
   EXPECT_THROW(FftRoiVk(ctx(), {.fft_size = 300}), Error);
   FftRoiVk vk(ctx(), {});

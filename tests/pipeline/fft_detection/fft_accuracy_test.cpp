@@ -68,7 +68,9 @@ TEST(FftAccuracy, NoNetGivesNanWithReason) {
 }
 
 // Beyond the specified envelope (too far, too oblique): NaN with a reason, or a distance still
-// within 20% of the truth, never a wrong number.
+// within 20% of the truth, never a wrong number. Over seeds 1-900 this failed 2 % of runs before
+// the extrapolation, tilt-agreement and beyond-band rules (docs/fft_detection.md, "Beyond the
+// envelope").
 TEST(FftAccuracy, OutsideTheEnvelopeNoWrongDistances) {
   const PinholeCamera cam;
   std::mt19937_64 rng(testing::fresh_seed());
@@ -88,7 +90,9 @@ TEST(FftAccuracy, OutsideTheEnvelopeNoWrongDistances) {
       continue;
     }
     EXPECT_LE(std::abs(d.pose.d_net_m - s.distance_m), 0.2 * s.distance_m)
-        << "d " << s.distance_m << " psi " << s.psi_rad * 180 / M_PI;
+        << "d " << s.distance_m << " psi " << s.psi_rad * 180 / M_PI << ": estimate "
+        << d.pose.d_net_m << " m, psi " << d.pose.psi_net_rad * 180 / M_PI << " deg from "
+        << d.pose.inlier_rois << " of " << d.pose.valid_rois << " valid ROIs";
   }
 }
 

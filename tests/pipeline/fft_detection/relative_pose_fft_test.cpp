@@ -123,6 +123,47 @@ TEST(RelativePoseFft, RoiTiltsHelpAShortBaseline) {
   EXPECT_LT(err_fused, 0.7 * err_plane);
 }
 
+// Only the two left ROI columns on the net: a 20 deg plane is extrapolated to the optical axis
+// with lever 0.31, a 60 deg plane with lever 1.09 (a 10 deg slope error there is 19 % of d_net).
+TEST(RelativePoseFft, SteepPlaneFarFromTheAxisGivesNan) {
+  for (const double psi : {0.35, 1.05}) {
+    const double a = std::tan(psi), c = 1.0;
+    auto pts = grid_points([&](const Eigen::Vector3d& r) { return c / (1 - a * r.x()); });
+    for (size_t i = 0; i < pts.size(); ++i) {
+      if (i % 6 > 1) pts[i].status = RoiStatus::kNoLattice;
+    }
+    const FftRelativePose pose = relative_pose_fft(pts, {.max_obliquity_rad = 1.2});
+    if (psi < 0.5) {
+      ASSERT_TRUE(pose.valid()) << pose.reason;
+      EXPECT_NEAR(pose.d_net_m, c, 1e-9);
+    } else {
+      EXPECT_FALSE(pose.valid());
+      EXPECT_TRUE(std::isnan(pose.d_net_m));
+      EXPECT_NE(pose.reason.find("extrapolated"), std::string::npos) << pose.reason;
+    }
+  }
+}
+
+// Points on one plane whose ROIs all report tilts 15 deg off it (a harmonic read as the lattice
+// in every ROI) give NaN; 4 deg off (per-ROI noise) is kept.
+TEST(RelativePoseFft, RoiTiltsDisagreeingWithThePlaneGiveNan) {
+  const double a = std::tan(0.3), c = 1.1;
+  for (const double off_deg : {4.0, 15.0}) {
+    auto pts = grid_points([&](const Eigen::Vector3d& r) { return c / (1 - a * r.x()); });
+    const Eigen::Matrix3d turn =
+        Eigen::AngleAxisd(off_deg * M_PI / 180, Eigen::Vector3d::UnitY()).toRotationMatrix();
+    for (RoiNetPoint& p : pts) p.normals_C = {turn * p.normals_C[0], turn * p.normals_C[1]};
+    const FftRelativePose pose = relative_pose_fft(pts);
+    if (off_deg < 8) {
+      ASSERT_TRUE(pose.valid()) << pose.reason;
+      EXPECT_NEAR(pose.d_net_m, c, 1e-9);
+    } else {
+      EXPECT_FALSE(pose.valid());
+      EXPECT_NE(pose.reason.find("tilts disagree"), std::string::npos) << pose.reason;
+    }
+  }
+}
+
 TEST(RelativePoseFft, TooFewValidRoisGiveNanAndAReason) {
   auto pts = grid_points([](const Eigen::Vector3d&) { return 1.0; });
   for (size_t i = 5; i < pts.size(); ++i) pts[i].status = RoiStatus::kNoLattice;
