@@ -20,9 +20,12 @@ namespace pensight {
 
 struct RelativePoseFftParams {
   int min_valid_rois = 6;
-  double inlier_rel = 0.05;          // plane residual / depth that still counts as on the net
-  int min_paraboloid_rois = 12;      // fewer inliers: d_net from the plane
-  double max_obliquity_rad = 1.05;   // |psi| or |pitch| beyond 60 deg: NaN, "net too oblique"
+  double inlier_rel = 0.05;      // plane residual / depth that still counts as on the net
+  int min_paraboloid_rois = 12;  // fewer inliers: d_net from the plane
+  // |psi| or |pitch| beyond 57 deg: NaN, "net too oblique". |psi| reads 2-3 deg low at 50-60 deg
+  // and more beyond, so this is a true ~60 deg; estimates of 58-60 deg came from nets at up to
+  // 67 deg with d_net 13-21 % off, those up to 58 deg within 9 %.
+  double max_obliquity_rad = 0.995;
   double max_curvature_share = 0.1;  // paraboloid's d_net more than this off the plane's: use plane
   // d_net is the plane's depth on the optical axis, extrapolated from the inlier nearest to it.
   // Its relative error per radian of slope error there is |x| / cos^2(psi) + |y| / cos^2(pitch)
