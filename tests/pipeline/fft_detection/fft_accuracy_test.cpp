@@ -30,21 +30,32 @@ TEST(FftAccuracy, SweepMeetsBounds) {
 }
 
 // Turbid water (contrast halves every ~0.7 m) and low light (dark, noisy, low contrast).
+// Turbid psi errors are heavy-tailed (the far side of an oblique net fades): over 227 frames the
+// error was 0.26 deg median, 1.48 at p90, 4.17 at worst, and the median of 12 frames exceeded
+// 1 deg in 2 of 102 runs (seeds 87, 102). Resampling those frames, the median of 24 exceeds
+// 1.25 deg once in ~50000 runs; low light's median of 12 exceeds 1 deg once in ~30000.
 TEST(FftAccuracy, TurbidAndLowLight) {
   const PinholeCamera cam;
   const uint64_t seed = testing::fresh_seed();
-  const NetScene turbid{
-      .net_level = 150, .water_level = 90, .attenuation_m = 1.0, .noise_sigma = 4};
-  const NetScene low_light{.net_level = 40, .water_level = 15, .noise_sigma = 6};
-  for (const auto& [label, base] :
-       {std::pair{"turbid", turbid}, std::pair{"low light", low_light}}) {
-    const auto scenes = testing::sweep_scenes(12, seed, base);
+  struct Case {
+    const char* label;
+    NetScene base;
+    int frames;
+    double psi_median_deg;
+  };
+  for (const Case& c :
+       {Case{"turbid",
+             {.net_level = 150, .water_level = 90, .attenuation_m = 1.0, .noise_sigma = 4},
+             24,
+             1.25},
+        Case{"low light", {.net_level = 40, .water_level = 15, .noise_sigma = 6}, 12, 1.0}}) {
+    const auto scenes = testing::sweep_scenes(c.frames, seed, c.base);
     NetDetector detector(cam, {.backend = Backend::kCpu});
     const auto e = testing::run_sweep(render_all(cam, scenes), scenes, detector, true);
-    testing::print_errors(label, e);
-    EXPECT_LE(e.invalid, 1) << label;
-    EXPECT_LE(testing::percentile(e.d_rel, 0.5), 0.02) << label;
-    EXPECT_LE(testing::percentile(e.psi_deg, 0.5), 1.0) << label;
+    testing::print_errors(c.label, e);
+    EXPECT_LE(e.invalid, 1) << c.label;
+    EXPECT_LE(testing::percentile(e.d_rel, 0.5), 0.02) << c.label;
+    EXPECT_LE(testing::percentile(e.psi_deg, 0.5), c.psi_median_deg) << c.label;
   }
 }
 
