@@ -57,7 +57,8 @@ int cmd_demo(const Args& args) {
   std::filesystem::create_directories(dir.path);
 
   const sim::Scenario scenario = sim::parse_scenario(kBuiltinSweepYaml, "sweep.yaml");
-  const auto frame_renderer = sim::make_renderer(scenario, {}, renderer);
+  Device device;
+  const auto frame_renderer = sim::make_renderer(scenario, {}, renderer, device);
   std::printf("1. rendering the built-in sweep (%d frames of 720x540, %s renderer)\n",
               scenario.num_frames(), frame_renderer->name());
   std::fflush(stdout);  // before the progress bar on stderr
@@ -74,9 +75,10 @@ int cmd_demo(const Args& args) {
   const Dataset dataset = read_dataset(dataset_dir);
   std::printf("2. running the pipeline\n");
   std::fflush(stdout);
-  const RunSummary s = run_dataset(dataset, out_dir, options);
-  std::printf("   backend: %s\n   frames: %zu (%zu without a net pose)\n   stage times:\n%s",
-              s.backend.c_str(), s.frames, s.frames_without_pose, s.times.summary().c_str());
+  const RunSummary s = run_dataset(dataset, out_dir, options, device);
+  std::printf("   backend: %s\n   frames: %zu (%zu without a net pose)\n   timing per node:\n%s",
+              s.backend.c_str(), s.frames, s.frames_without_pose,
+              format_timing_table(s.timing).c_str());
 
   const auto rows = read_estimates_csv(out_dir / "estimates.csv");
   std::printf(

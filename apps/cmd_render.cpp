@@ -45,7 +45,8 @@ int cmd_render(const Args& args) {
   if (frames > 0) s.duration_s = (frames - 1) / s.camera.calibration.rate_hz;
   if (duration >= 0 || frames > 0) sim::validate(s);
 
-  const auto renderer = sim::make_renderer(s, options, renderer_name);
+  Device device;
+  const auto renderer = sim::make_renderer(s, options, renderer_name, device);
   ProgressBar bar("render");
   sim::GenerateOptions gen;
   if (!quiet) {

@@ -3,6 +3,7 @@
 
 #include "apps/command.h"
 #include "apps/progress_bar.h"
+#include "pipeline/dataset/diagnostics_csv.h"
 #include "pipeline/dataset/global_pose_csv.h"
 #include "pipeline/runner.h"
 
@@ -34,6 +35,9 @@ int cmd_run(const Args& args) {
   bool no_published = false;
   cli.add_flag("--no-published", no_published,
                "do not run the published global-pose node (OUT/global_pose_published.csv)");
+  cli.add_flag("--realtime", options.realtime,
+               "push each sample at its timestamp (the timing a vehicle sees) instead of as fast "
+               "as possible");
   cli.add_flag("--quiet", quiet, "no progress bar");
   try {
     cli.parse(std::vector<std::string>(args.rbegin(), args.rend()));
@@ -46,12 +50,16 @@ int cmd_run(const Args& args) {
   ProgressBar bar("run");
   if (!quiet) options.on_progress = [&](size_t done, size_t total) { bar.update(done, total); };
   const Dataset dataset = read_dataset(dataset_dir);
-  const RunSummary s = run_dataset(dataset, out_dir, options);
+  Device device;
+  const RunSummary s = run_dataset(dataset, out_dir, options, device);
   std::printf("backend: %s\n", s.backend.c_str());
-  std::printf("frames: %zu (%zu unreadable, %zu without a net pose)\nstage times:\n%s", s.frames,
-              s.frames_skipped, s.frames_without_pose, s.times.summary().c_str());
+  std::printf("frames: %zu (%zu unreadable, %zu without a net pose)\n", s.frames, s.frames_skipped,
+              s.frames_without_pose);
+  std::printf("timing per node (%s; the published pipeline on a Jetson Orin beside it):\n%s",
+              options.realtime ? "paced by the timestamps" : "as fast as possible",
+              format_timing_table(s.timing).c_str());
   std::printf("global pose sensors:\n%s", s.global_pose_counters.c_str());
-  std::printf("wrote %s/estimates.csv\n", out_dir.c_str());
+  std::printf("wrote %s/estimates.csv, %s, %s\n", out_dir.c_str(), kDiagnosticsFile, kTimingFile);
   if (options.write_published_global_pose)
     std::printf("wrote %s/%s (published global-pose node, the baseline)\n", out_dir.c_str(),
                 kPublishedGlobalPoseFile);

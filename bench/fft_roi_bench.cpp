@@ -269,8 +269,10 @@ BENCHMARK(BM_FftStage_Vulkan)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // The CPU budget: FFT stage + per-ROI geometry + relative pose, per 720x540 frame.
 void BM_FftStagePlusPose_Cpu(benchmark::State& state) {
+  Device device;
   NetDetector detector(PinholeCamera{},
-                       {.backend = Backend::kCpu, .cpu_threads = static_cast<int>(state.range(0))});
+                       {.backend = Backend::kCpu, .cpu_threads = static_cast<int>(state.range(0))},
+                       device);
   const ImageU8 img = frame();
   double fft = 0, pose = 0;
   const double cpu0 = process_cpu_ms();

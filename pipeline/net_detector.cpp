@@ -3,11 +3,9 @@
 #include <optional>
 #include <thread>
 
-#include "runtime/cuda_device.h"
 #include "runtime/error.h"
 #include "runtime/timing.h"
 #include "runtime/vk_buffer.h"
-#include "runtime/vk_context.h"
 #include "runtime/vk_stream.h"
 
 namespace pensight {
@@ -37,24 +35,24 @@ namespace {
 
 // The Vulkan stage with its buffers and the command stream recorded once.
 struct VulkanStage {
-  std::unique_ptr<vk::Context> ctx;
+  vk::Context& ctx;
   std::optional<kernels::FftRoiVk> kernel;
   std::optional<vk::Buffer> image, rois, samples, spectrum;
   std::optional<vk::TypedBuffer<kernels::RoiLattice>> lattices;
   std::unique_ptr<vk::CommandStream> stream;
 
-  VulkanStage(std::unique_ptr<vk::Context> context, const kernels::FftRoiShape& shape,
+  VulkanStage(vk::Context& context, const kernels::FftRoiShape& shape,
               const kernels::PeakParams& peaks, const std::vector<kernels::RoiOrigin>& origins)
-      : ctx(std::move(context)) {
-    kernel.emplace(*ctx, shape, peaks);
+      : ctx(context) {
+    kernel.emplace(ctx, shape, peaks);
     const auto n = static_cast<uint32_t>(origins.size());
-    image.emplace(*ctx, kernel->image_bytes());
-    rois.emplace(*ctx, origins.size() * sizeof(kernels::RoiOrigin));
+    image.emplace(ctx, kernel->image_bytes());
+    rois.emplace(ctx, origins.size() * sizeof(kernels::RoiOrigin));
     rois->upload(origins.data(), origins.size() * sizeof(kernels::RoiOrigin));
-    samples.emplace(*ctx, kernel->samples_bytes(n));
-    spectrum.emplace(*ctx, kernel->spectrum_bytes(n));
-    lattices.emplace(*ctx, origins.size(), vk::MemoryUsage::kReadback);
-    stream = std::make_unique<vk::CommandStream>(*ctx);
+    samples.emplace(ctx, kernel->samples_bytes(n));
+    spectrum.emplace(ctx, kernel->spectrum_bytes(n));
+    lattices.emplace(ctx, origins.size(), vk::MemoryUsage::kReadback);
+    stream = std::make_unique<vk::CommandStream>(ctx);
     kernel->record(*stream, *image, *rois, *samples, *spectrum, lattices->raw(), n);
   }
 
@@ -93,16 +91,10 @@ struct NetDetector::Impl {
     description = "cpu (FFTW, " + std::to_string(threads) + " threads)";
   }
 
-  void make_vulkan(std::unique_ptr<vk::Context> ctx) {
-    description = "vulkan (" + ctx->info().name + ")";
-    vulkan.emplace(std::move(ctx), shape, config.peaks, rois);
+  void make_vulkan(vk::Context& ctx) {
+    description = "vulkan (" + ctx.info().name + ")";
+    vulkan.emplace(ctx, shape, config.peaks, rois);
     backend = Backend::kVulkan;
-  }
-
-  std::unique_ptr<vk::Context> vulkan_context() const {
-    vk::ContextOptions options;
-    options.device = config.vulkan_device;
-    return std::make_unique<vk::Context>(options);
   }
 
   void make_cuda() {
@@ -117,29 +109,27 @@ struct NetDetector::Impl {
 #endif
   }
 
-  void choose() {
+  void choose(Device& device) {
     switch (config.backend) {
       case Backend::kCpu:
         return make_cpu();
       case Backend::kVulkan:
-        return make_vulkan(vulkan_context());
+        return make_vulkan(device.vulkan());
       case Backend::kCuda:
         return make_cuda();
       case Backend::kAuto:
         break;
     }
-    if (PENSIGHT_HAS_CUDA && cuda::available()) return make_cuda();
-    try {
-      auto ctx = vulkan_context();
-      if (is_real_gpu(ctx->info().kind)) return make_vulkan(std::move(ctx));
-    } catch (const Error&) {
-      // No Vulkan loader or device: the CPU path is the answer, not an error.
-    }
+    if (PENSIGHT_HAS_CUDA && device.cuda_available()) return make_cuda();
+    // No Vulkan loader or device (nullptr) is not an error here: the CPU path is the answer.
+    vk::Context* ctx = device.try_vulkan();
+    if (ctx && is_real_gpu(ctx->info().kind)) return make_vulkan(*ctx);
     make_cpu();
   }
 };
 
-NetDetector::NetDetector(const PinholeCamera& camera, const NetDetectorConfig& config)
+NetDetector::NetDetector(const PinholeCamera& camera, const NetDetectorConfig& config,
+                         Device& device)
     : impl_(std::make_unique<Impl>()) {
   Impl& m = *impl_;
   if (!(config.mesh_m > 0)) {
@@ -154,7 +144,7 @@ NetDetector::NetDetector(const PinholeCamera& camera, const NetDetectorConfig& c
              .roi_size = config.grid.size_px,
              .fft_size = config.fft_size,
              .window = config.window};
-  m.choose();
+  m.choose(device);
 }
 
 NetDetector::~NetDetector() = default;

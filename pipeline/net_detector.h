@@ -12,6 +12,7 @@
 #include "pipeline/camera.h"
 #include "pipeline/net_geometry.h"
 #include "pipeline/relative_pose_fft.h"
+#include "runtime/device.h"
 
 namespace pensight {
 
@@ -31,8 +32,7 @@ struct NetDetectorConfig {
   // kAuto: CUDA when built with it and a device is present, else a real Vulkan GPU, else the CPU
   // (lavapipe is for tests, never chosen automatically).
   Backend backend = Backend::kAuto;
-  int cpu_threads = 0;        // 0: all hardware threads
-  std::string vulkan_device;  // as vk::ContextOptions::device ("" = automatic)
+  int cpu_threads = 0;  // 0: all hardware threads
 };
 
 struct NetDetection {
@@ -47,9 +47,10 @@ struct NetDetection {
 
 class NetDetector {
  public:
-  // Throws pensight::Error when the grid does not fit the camera image, mesh_m <= 0, or an
-  // explicitly requested backend is unavailable.
-  NetDetector(const PinholeCamera& camera, const NetDetectorConfig& config);
+  // The Vulkan backend runs on `device`'s context, which must outlive the detector. Throws
+  // pensight::Error when the grid does not fit the camera image, mesh_m <= 0, or an explicitly
+  // requested backend is unavailable.
+  NetDetector(const PinholeCamera& camera, const NetDetectorConfig& config, Device& device);
   ~NetDetector();
   NetDetector(NetDetector&&) noexcept;
   NetDetector& operator=(NetDetector&&) noexcept;

@@ -1,16 +1,19 @@
 #include "pipeline/runner.h"
 
-#include <algorithm>
+#include <chrono>
+#include <mutex>
 #include <optional>
 #include <string>
+#include <thread>
 #include <vector>
 
+#include "pipeline/dataset/diagnostics_csv.h"
 #include "pipeline/dataset/estimates_csv.h"
 #include "pipeline/dataset/global_pose_csv.h"
-#include "pipeline/global_pose/global_pose_estimator.h"
-#include "pipeline/global_pose/published_global_pose.h"
+#include "pipeline/pipeline.h"
 #include "runtime/error.h"
 #include "runtime/log.h"
+#include "runtime/timing.h"
 
 namespace pensight {
 namespace {
@@ -37,48 +40,6 @@ global_pose::PublishedGlobalPoseConfig published_config(const Dataset& d) {
   return c;
 }
 
-// Feeds the estimators every DVL, pressure and attitude sample up to each camera frame's time,
-// so they see the sensors as a vehicle would (nothing from the future).
-class SensorFeed {
- public:
-  explicit SensorFeed(const Dataset& d) : d_(d) {}
-
-  void until(int64_t t_ns, global_pose::GlobalPoseEstimator& est,
-             global_pose::PublishedGlobalPose* published) {
-    if (d_.dvl0) add_until(d_.dvl0->samples, dvl_, t_ns, est, published);
-    if (d_.pressure0) add_until(*d_.pressure0, depth_, t_ns, est, published);
-    if (d_.imu0) add_until(*d_.imu0, att_, t_ns, est, published);
-  }
-
- private:
-  template <class Sample>
-  static void add_until(const std::vector<Sample>& samples, size_t& next, int64_t t_ns,
-                        global_pose::GlobalPoseEstimator& est,
-                        global_pose::PublishedGlobalPose* published) {
-    for (; next < samples.size() && samples[next].timestamp_ns <= t_ns; ++next) {
-      est.add(samples[next]);
-      if (published) published->add(samples[next]);
-    }
-  }
-
-  const Dataset& d_;
-  size_t dvl_ = 0, depth_ = 0, att_ = 0;
-};
-
-global_pose::NetObservation observation(int64_t t_ns, const NetDetection& d) {
-  global_pose::NetObservation obs;
-  obs.t_ns = t_ns;
-  for (const RoiNetPoint& p : d.points) {
-    obs.points_C.push_back(p.valid() ? p.p_C : Eigen::Vector3d::Constant(kNaN));
-    obs.quality.push_back(p.valid() ? std::max(p.quality, 1e-6) : 1.0);
-  }
-  if (d.pose.valid()) {
-    obs.d_net_m = d.pose.d_net_m;
-    obs.psi_net_rad = d.pose.psi_net_rad;
-  }
-  return obs;
-}
-
 void fill_global_pose(EstimateRow& row, const global_pose::GlobalPose& g) {
   row.r_g_m = g.r_g_m;
   row.rho_g_rad = g.rho_g_rad;
@@ -86,67 +47,228 @@ void fill_global_pose(EstimateRow& row, const global_pose::GlobalPose& g) {
   row.psi_g_rad = g.psi_g_rad;
 }
 
+// Pushes every sensor sample up to t_ns (in each sensor's order, as a vehicle would have them by
+// the time the frame arrives), optionally waiting for each one's time first.
+class SensorReplay {
+ public:
+  SensorReplay(const Dataset& d, Pipeline& p, std::function<void(int64_t)> wait)
+      : d_(d), p_(p), wait_(std::move(wait)) {}
+
+  void until(int64_t t_ns) {
+    while (true) {
+      int64_t next = t_ns;
+      int which = -1;
+      consider(dvl(), dvl_, 0, next, which);
+      consider(depth(), depth_, 1, next, which);
+      consider(attitude(), att_, 2, next, which);
+      if (which < 0) return;
+      wait_(next);
+      if (which == 0) p_.push(dvl()[dvl_++]);
+      if (which == 1) p_.push(depth()[depth_++]);
+      if (which == 2) p_.push(attitude()[att_++]);
+    }
+  }
+
+ private:
+  std::span<const DvlSample> dvl() const {
+    return d_.dvl0 ? std::span<const DvlSample>(d_.dvl0->samples) : std::span<const DvlSample>();
+  }
+  std::span<const PressureSample> depth() const {
+    return d_.pressure0 ? std::span<const PressureSample>(*d_.pressure0)
+                        : std::span<const PressureSample>();
+  }
+  std::span<const AttitudeSample> attitude() const {
+    return d_.imu0 ? std::span<const AttitudeSample>(*d_.imu0) : std::span<const AttitudeSample>();
+  }
+  // The earliest sample not yet pushed with a timestamp <= next wins (ties to the lower index).
+  template <class Sample>
+  static void consider(std::span<const Sample> s, size_t i, int index, int64_t& next, int& which) {
+    if (i < s.size() && s[i].timestamp_ns <= next && (which < 0 || s[i].timestamp_ns < next)) {
+      next = s[i].timestamp_ns;
+      which = index;
+    }
+  }
+
+  const Dataset& d_;
+  Pipeline& p_;
+  std::function<void(int64_t)> wait_;
+  size_t dvl_ = 0, depth_ = 0, att_ = 0;
+};
+
+// The per-frame outputs, written in frame order as results arrive; frames the replay could not
+// load get NaN rows in their place.
+class RunWriter {
+ public:
+  RunWriter(const Dataset& d, const std::filesystem::path& out, bool published, RunSummary& s)
+      : d_(d),
+        summary_(s),
+        estimates_(out / "estimates.csv"),
+        diagnostics_(out / kDiagnosticsFile) {
+    if (published) published_.emplace(out / kPublishedGlobalPoseFile);
+    skipped_.assign(d.frames.size(), false);
+  }
+
+  void skip(size_t i) {
+    std::lock_guard lock(mutex_);
+    skipped_[i] = true;
+    ++summary_.frames_skipped;
+  }
+
+  // One result, on the delivery thread.
+  void write(const FrameResult& r) {
+    std::lock_guard lock(mutex_);
+    write_skipped();
+    EstimateRow row, published_row;
+    row.timestamp_ns = published_row.timestamp_ns = r.timestamp_ns;
+    DiagnosticsRow diag;
+    diag.timestamp_ns = r.timestamp_ns;
+    if (!r.error.empty()) {
+      log_warning("frame " + std::to_string(next_) + " skipped (NaN row): " + r.error);
+      ++summary_.frames_skipped;
+      diag.fft_reason = r.error;
+    } else {
+      const FftRelativePose& pose = r.detection.pose;
+      row.valid_rois = diag.valid_rois = pose.valid_rois;
+      diag.inlier_rois = pose.inlier_rois;
+      diag.plane_rms_m = pose.rms_residual_m;
+      diag.fft_reason = pose.reason;
+      if (pose.valid()) {
+        row.d_net_fft_m = pose.d_net_m;
+        row.psi_net_fft_rad = pose.psi_net_rad;
+        row.pitch_net_fft_rad = pose.pitch_net_rad;
+      } else {
+        ++summary_.frames_without_pose;
+      }
+      fill_global_pose(row, r.global_pose);
+      if (r.published) fill_global_pose(published_row, *r.published);
+      diag.dvl_plane_d_m = r.dvl_plane.d_net_m;
+      diag.dvl_plane_psi_rad = r.dvl_plane.psi_net_rad;
+    }
+    count_outcomes(r.counters, diag);
+    write_rows(row, published_row, diag);
+  }
+
+  // After the last result: NaN rows for trailing unreadable frames, then the files are renamed.
+  void finish() {
+    std::lock_guard lock(mutex_);
+    write_skipped();
+    estimates_.finish();
+    diagnostics_.finish();
+    if (published_) published_->finish();
+  }
+
+  size_t frames_done() const {
+    std::lock_guard lock(mutex_);
+    return next_;
+  }
+
+ private:
+  void write_skipped() {
+    while (next_ < skipped_.size() && skipped_[next_]) {
+      EstimateRow row;
+      row.timestamp_ns = d_.frames[next_].timestamp_ns;
+      DiagnosticsRow diag;
+      diag.timestamp_ns = row.timestamp_ns;
+      diag.fft_reason = "image not readable";
+      write_rows(row, row, diag);
+    }
+  }
+
+  void write_rows(const EstimateRow& row, const EstimateRow& published_row,
+                  const DiagnosticsRow& diag) {
+    estimates_.write(row);
+    diagnostics_.write(diag);
+    if (published_) published_->write(published_row);
+    ++next_;
+    ++summary_.frames;
+  }
+
+  // The samples each sensor had applied and refused since the previous frame.
+  void count_outcomes(const global_pose::GlobalPoseCounters& c, DiagnosticsRow& diag) {
+    const global_pose::SensorCounters* now[] = {&c.dvl_velocity, &c.dvl_plane,  &c.depth,
+                                                &c.attitude,     &c.vision_fix, &c.vision_relative};
+    const global_pose::SensorCounters* before[] = {&last_.dvl_velocity, &last_.dvl_plane,
+                                                   &last_.depth,        &last_.attitude,
+                                                   &last_.vision_fix,   &last_.vision_relative};
+    for (size_t i = 0; i < kDiagnosticsSensors.size(); ++i) {
+      diag.accepted[i] =
+          (now[i]->accepted + now[i]->relocked) - (before[i]->accepted + before[i]->relocked);
+      diag.rejected[i] =
+          (now[i]->rejected + now[i]->invalid) - (before[i]->rejected + before[i]->invalid);
+    }
+    last_ = c;
+  }
+
+  const Dataset& d_;
+  RunSummary& summary_;
+  mutable std::mutex mutex_;
+  EstimatesCsvWriter estimates_;
+  DiagnosticsCsvWriter diagnostics_;
+  std::optional<GlobalPoseCsvWriter> published_;
+  std::vector<bool> skipped_;
+  size_t next_ = 0;  // frames with a row
+  global_pose::GlobalPoseCounters last_;
+};
+
 }  // namespace
 
 RunSummary run_dataset(const Dataset& dataset, const std::filesystem::path& out_dir,
-                       const RunOptions& options) {
+                       const RunOptions& options, Device& device) {
   RunSummary summary;
-  NetDetectorConfig config = options.detector;
-  config.mesh_m = dataset.scene.net_mesh_size_m;
-  NetDetector detector(dataset.cam0.camera, config);
-  summary.backend = detector.description();
-
   std::error_code ec;
   std::filesystem::create_directories(out_dir, ec);
   if (ec) throw Error("cannot create output folder " + out_dir.string() + ": " + ec.message());
-  EstimatesCsvWriter estimates(out_dir / "estimates.csv");
-  global_pose::GlobalPoseEstimator global_pose(global_pose_config(dataset));
-  std::optional<global_pose::PublishedGlobalPose> published;
-  std::optional<GlobalPoseCsvWriter> published_csv;
-  if (options.write_published_global_pose) {
-    published.emplace(published_config(dataset));
-    published_csv.emplace(out_dir / kPublishedGlobalPoseFile);
-  }
-  SensorFeed feed(dataset);
+  RunWriter writer(dataset, out_dir, options.write_published_global_pose, summary);
 
   const size_t total = dataset.frames.size();
+  PipelineConfig config;
+  config.camera = dataset.cam0.camera;
+  config.detector = options.detector;
+  config.detector.mesh_m = dataset.scene.net_mesh_size_m;
+  config.global_pose = global_pose_config(dataset);
+  if (options.write_published_global_pose) config.published = published_config(dataset);
+  config.lossless_results = true;
+  config.on_frame = [&](const FrameResult& r) {
+    writer.write(r);
+    if (options.on_progress) options.on_progress(writer.frames_done(), total);
+  };
+  Pipeline pipeline(config, device);
+  summary.backend = pipeline.backend_description();
+
+  const auto start = std::chrono::steady_clock::now();
+  const int64_t t0 = total ? dataset.frames.front().timestamp_ns : 0;
+  const auto wait = [&](int64_t t_ns) {
+    if (options.realtime)
+      std::this_thread::sleep_until(start + std::chrono::nanoseconds(t_ns - t0));
+  };
+  SensorReplay sensors(dataset, pipeline, wait);
+  StageMeter load("load image");
   for (size_t i = 0; i < total; ++i) {
-    EstimateRow row, published_row;
-    row.timestamp_ns = published_row.timestamp_ns = dataset.frames[i].timestamp_ns;
+    const int64_t t_ns = dataset.frames[i].timestamp_ns;
+    sensors.until(t_ns);
     Stopwatch sw;
+    const auto began = StageMeter::Clock::now();
+    CameraFrame frame{t_ns, {}};
     try {
-      const ImageU8 frame = dataset.load_frame(i);
-      summary.times.add("load image", sw.elapsed_ms());
-      const NetDetection d = detector.detect(frame, row.timestamp_ns);
-      summary.times.add("fft net detection", d.fft_ms);
-      summary.times.add("relative pose (fft)", d.pose_ms);
-      row.valid_rois = d.pose.valid_rois;
-      if (d.pose.valid()) {
-        row.d_net_fft_m = d.pose.d_net_m;
-        row.psi_net_fft_rad = d.pose.psi_net_rad;
-        row.pitch_net_fft_rad = d.pose.pitch_net_rad;
-      } else {
-        ++summary.frames_without_pose;
-      }
-      sw.restart();
-      feed.until(row.timestamp_ns, global_pose, published ? &*published : nullptr);
-      const global_pose::NetObservation obs = observation(row.timestamp_ns, d);
-      global_pose.add(obs);
-      fill_global_pose(row, global_pose.estimate(row.timestamp_ns));
-      summary.times.add("global pose", sw.elapsed_ms());
-      if (published) fill_global_pose(published_row, published->add(obs));
+      frame.image = dataset.load_frame(i);
     } catch (const Error& e) {
       log_warning("frame " + std::to_string(i) + " skipped (NaN row): " + e.what());
-      ++summary.frames_skipped;
+      writer.skip(i);
+      continue;
     }
-    estimates.write(row);
-    if (published_csv) published_csv->write(published_row);
-    ++summary.frames;
-    if (options.on_progress) options.on_progress(i + 1, total);
+    load.add(sw.elapsed_ms(), began);
+    wait(t_ns);
+    pipeline.push(std::move(frame));
   }
-  estimates.finish();
-  if (published_csv) published_csv->finish();
-  summary.global_pose_counters = global_pose::describe(global_pose.counters());
+  sensors.until(std::numeric_limits<int64_t>::max());
+  pipeline.finish();
+  writer.finish();
+
+  std::vector<StageStats> stages = pipeline.stats();
+  stages.insert(stages.begin(), load.stats());
+  summary.timing = timing_table(stages);
+  summary.global_pose_counters = global_pose::describe(pipeline.global_pose_counters());
+  write_timing_csv(out_dir / kTimingFile, summary.timing);
   return summary;
 }
 

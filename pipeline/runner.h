@@ -1,14 +1,17 @@
 #pragma once
-// `pensight run`: the pipeline over every frame of a dataset, writing OUT/estimates.csv and, as
-// the baseline, the published global-pose node's output OUT/global_pose_published.csv.
+// `pensight run`: a dataset replayed through pensight::Pipeline (the code a vehicle runs), writing
+// OUT/estimates.csv, OUT/diagnostics.csv, OUT/timing.csv and, as the baseline, the published
+// global-pose node's output OUT/global_pose_published.csv.
 #include <cstddef>
 #include <filesystem>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "pipeline/dataset/dataset_reader.h"
 #include "pipeline/net_detector.h"
-#include "runtime/timing.h"
+#include "pipeline/timing_table.h"
+#include "runtime/device.h"
 
 namespace pensight {
 
@@ -17,7 +20,10 @@ struct RunOptions {
   NetDetectorConfig detector;
   // Also run the published global-pose node and write OUT/global_pose_published.csv.
   bool write_published_global_pose = true;
-  // Called after each frame with (frames done, total frames).
+  // Push each sample at its timestamp (relative to the first) instead of as fast as possible, so
+  // the timing is a vehicle's at the dataset's rates.
+  bool realtime = false;
+  // Called after each frame with (frames done, total frames), on the pipeline's delivery thread.
   std::function<void(size_t, size_t)> on_progress;
 };
 
@@ -26,15 +32,15 @@ struct RunSummary {
   size_t frames = 0;
   size_t frames_skipped = 0;  // unreadable or wrong-size images: NaN rows, with a warning each
   size_t frames_without_pose = 0;
-  StageTimes times;
+  std::vector<TimingRow> timing;     // as OUT/timing.csv
   std::string global_pose_counters;  // per-sensor accepted / rejected / late counts
 };
 
-// Writes out_dir/estimates.csv (and global_pose_published.csv) whole (temporary name, then
-// rename), creating out_dir if needed.
+// Writes the outputs whole (temporary name, then rename), creating out_dir if needed. Runs the
+// detector's Vulkan backend on `device`.
 // Throws pensight::Error for problems that affect the whole run (unwritable output, a backend
 // that cannot run here, a ROI grid that does not fit the camera).
 RunSummary run_dataset(const Dataset& dataset, const std::filesystem::path& out_dir,
-                       const RunOptions& options);
+                       const RunOptions& options, Device& device);
 
 }  // namespace pensight

@@ -3,7 +3,6 @@
 #include "pipeline/dataset/dataset_writer.h"
 #include "runtime/error.h"
 #include "runtime/log.h"
-#include "runtime/vk_context.h"
 #include "sim/ground_truth.h"
 #include "sim/render_vk.h"
 #include "sim/sensors.h"
@@ -25,13 +24,12 @@ class CpuRenderer : public FrameRenderer {
 
 class VulkanRenderer : public FrameRenderer {
  public:
-  VulkanRenderer(std::unique_ptr<vk::Context> ctx, const Scenario& s, const RenderOptions& o)
-      : ctx_(std::move(ctx)), vk_(*ctx_, s, o), name_("vulkan (" + ctx_->info().name + ")") {}
+  VulkanRenderer(vk::Context& ctx, const Scenario& s, const RenderOptions& o)
+      : vk_(ctx, s, o), name_("vulkan (" + ctx.info().name + ")") {}
   RenderedFrame render(const FrameState& f) override { return vk_.render(f); }
   const char* name() const override { return name_.c_str(); }
 
  private:
-  std::unique_ptr<vk::Context> ctx_;
   RenderVk vk_;
   std::string name_;
 };
@@ -43,19 +41,14 @@ std::unique_ptr<FrameRenderer> make_cpu_renderer(const Scenario& s, const Render
 }
 
 std::unique_ptr<FrameRenderer> make_renderer(const Scenario& s, const RenderOptions& o,
-                                             const std::string& which) {
+                                             const std::string& which, Device& device) {
   if (which == "cpu") return make_cpu_renderer(s, o);
-  if (which == "vulkan") {
-    return std::make_unique<VulkanRenderer>(std::make_unique<vk::Context>(), s, o);
-  }
+  if (which == "vulkan") return std::make_unique<VulkanRenderer>(device.vulkan(), s, o);
   if (which == "auto") {
     // The shader is the faster of the two even on lavapipe (a CPU Vulkan device, about 2x the
     // C++ reference on the same cores, docs/performance.md), so any device will do.
-    try {
-      return std::make_unique<VulkanRenderer>(std::make_unique<vk::Context>(), s, o);
-    } catch (const Error& e) {
-      log_warning(std::string("no Vulkan renderer (") + e.what() + "); using the CPU reference");
-    }
+    if (vk::Context* ctx = device.try_vulkan()) return std::make_unique<VulkanRenderer>(*ctx, s, o);
+    log_warning("no Vulkan renderer (" + device.vulkan_error() + "); using the CPU reference");
     return make_cpu_renderer(s, o);
   }
   throw Error("unknown renderer '" + which + "': use auto, vulkan or cpu");

@@ -7,6 +7,7 @@
 #include <optional>
 #include <string>
 
+#include "runtime/device.h"
 #include "sim/frame_state.h"
 #include "sim/render_cpu.h"
 
@@ -21,9 +22,10 @@ class FrameRenderer {
 };
 
 std::unique_ptr<FrameRenderer> make_cpu_renderer(const Scenario& s, const RenderOptions& o);
-// "cpu", "vulkan", or "auto" (Vulkan where a device can be opened, else the CPU reference).
+// "cpu", "vulkan", or "auto" (Vulkan where `device` opens a context, else the CPU reference). The
+// Vulkan renderer borrows device's context, which must outlive it.
 std::unique_ptr<FrameRenderer> make_renderer(const Scenario& s, const RenderOptions& o,
-                                             const std::string& which);
+                                             const std::string& which, Device& device);
 
 struct GenerateOptions {
   std::function<void(int frames_done, int frames_total)> progress;

@@ -123,6 +123,11 @@ class GlobalPoseEstimator {
 
   GlobalPoseCounters counters() const;
   bool initialised() const { return state_.initialised; }
+  // The latest valid DVL net plane among the applied samples and its time; nullopt before one.
+  std::optional<std::pair<int64_t, DvlPlane>> last_dvl_plane() const {
+    if (state_.plane_ns == kNever) return std::nullopt;
+    return std::make_pair(state_.plane_ns, state_.plane);
+  }
   const GlobalPoseEstimatorConfig& config() const { return cfg_; }
 
  private:

@@ -8,6 +8,7 @@
 
 #include "pipeline/dataset/global_pose_csv.h"
 #include "sim/generate.h"
+#include "tests/support/vulkan_fixture.h"
 
 namespace pensight::testing {
 namespace {
@@ -61,7 +62,7 @@ RenderedRun RenderedDataset::run(const Dataset& d, const std::string& name,
   RunOptions options;
   options.detector.backend = Backend::kCpu;
   options.write_published_global_pose = published_rows != nullptr;
-  run.summary = run_dataset(d, dir_ / name, options);
+  run.summary = run_dataset(d, dir_ / name, options, test_device());
   run.rows = read_estimates_csv(dir_ / name / "estimates.csv");
   if (published_rows)
     *published_rows = read_global_pose_csv(dir_ / name / kPublishedGlobalPoseFile);

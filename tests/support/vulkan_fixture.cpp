@@ -6,8 +6,8 @@
 
 namespace pensight::testing {
 
-const vk::Context& VulkanTest::ctx() {
-  static std::unique_ptr<vk::Context> context = [] {
+Device& test_device() {
+  static Device device([] {
     vk::ContextOptions options;
     options.validation = true;
     options.sync_validation = true;
@@ -15,9 +15,13 @@ const vk::Context& VulkanTest::ctx() {
     options.on_validation_error = [](const std::string& message) {
       ADD_FAILURE() << "Vulkan validation error: " << message;
     };
-    return std::make_unique<vk::Context>(options);
-  }();
-  return *context;
+    return options;
+  }());
+  return device;
+}
+
+const vk::Context& VulkanTest::ctx() {
+  return test_device().vulkan();
 }
 
 uint64_t fresh_seed() {

@@ -1,6 +1,6 @@
 #pragma once
-// Test fixture for everything that runs on Vulkan: one shared context per test binary, created
-// with the Khronos validation layer (synchronization validation included). Every validation
+// Test fixture for everything that runs on Vulkan: one shared device per test binary, its context
+// created with the Khronos validation layer (synchronization validation included). Every validation
 // error becomes a failure of the test that was running.
 #include <gtest/gtest.h>
 
@@ -8,9 +8,13 @@
 #include <limits>
 #include <random>
 
+#include "runtime/device.h"
 #include "runtime/vk_context.h"
 
 namespace pensight::testing {
+
+// The test binary's one Device; its Vulkan context has validation on (see VulkanTest).
+Device& test_device();
 
 class VulkanTest : public ::testing::Test {
  protected:

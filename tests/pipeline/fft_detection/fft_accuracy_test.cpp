@@ -21,7 +21,7 @@ TEST(FftAccuracy, SweepMeetsBounds) {
   const PinholeCamera cam{.k1 = -0.04, .k2 = 0.01};
   const auto scenes = testing::sweep_scenes(24, testing::fresh_seed(), {});
   const auto frames = render_all(cam, scenes);
-  NetDetector detector(cam, {.backend = Backend::kCpu});
+  NetDetector detector(cam, {.backend = Backend::kCpu}, testing::test_device());
   const auto e = testing::run_sweep(frames, scenes, detector, true);
   testing::print_errors("default", e);
   EXPECT_EQ(e.invalid, 0);
@@ -50,7 +50,7 @@ TEST(FftAccuracy, TurbidAndLowLight) {
              1.25},
         Case{"low light", {.net_level = 40, .water_level = 15, .noise_sigma = 6}, 12, 1.0}}) {
     const auto scenes = testing::sweep_scenes(c.frames, seed, c.base);
-    NetDetector detector(cam, {.backend = Backend::kCpu});
+    NetDetector detector(cam, {.backend = Backend::kCpu}, testing::test_device());
     const auto e = testing::run_sweep(render_all(cam, scenes), scenes, detector, true);
     testing::print_errors(c.label, e);
     EXPECT_LE(e.invalid, 1) << c.label;
@@ -63,7 +63,7 @@ TEST(FftAccuracy, TurbidAndLowLight) {
 TEST(FftAccuracy, NoNetGivesNanWithReason) {
   const PinholeCamera cam;
   std::mt19937_64 rng(testing::fresh_seed());
-  NetDetector detector(cam, {.backend = Backend::kCpu});
+  NetDetector detector(cam, {.backend = Backend::kCpu}, testing::test_device());
   for (int i = 0; i < 4; ++i) {
     const auto d = detector.detect(testing::render_noise(720, 540, 0, 255, rng()));
     EXPECT_FALSE(d.pose.valid());
@@ -86,7 +86,7 @@ TEST(FftAccuracy, OutsideTheEnvelopeNoWrongDistances) {
   const PinholeCamera cam;
   std::mt19937_64 rng(testing::fresh_seed());
   std::uniform_real_distribution<double> far(3.0, 8.0), oblique(55, 80), sign(-1, 1);
-  NetDetector detector(cam, {.backend = Backend::kCpu});
+  NetDetector detector(cam, {.backend = Backend::kCpu}, testing::test_device());
   for (int i = 0; i < 12; ++i) {
     NetScene s{.noise_sigma = 3, .seed = rng()};
     if (i % 2) {
@@ -116,7 +116,7 @@ TEST(FftAccuracy, HalfNetFramesRejectTheEmptyRois) {
   // runs, 1 in 6, 2 in 1 (about 0.7 % of frames).
   const auto scenes =
       testing::sweep_scenes(16, testing::fresh_seed(), {.noise_sigma = 4, .edge_m = 0.0});
-  NetDetector detector(cam, {.backend = Backend::kCpu});
+  NetDetector detector(cam, {.backend = Backend::kCpu}, testing::test_device());
   const auto e = testing::run_sweep(render_all(cam, scenes), scenes, detector, true);
   testing::print_errors("half net", e);
   EXPECT_LE(e.invalid, 3);
@@ -163,7 +163,7 @@ TEST(FftAccuracy, DISABLED_Ablation) {
         Variant{"+ sub-bin peaks", subbin}, Variant{"+ resample 300->256", resample},
         Variant{"+ energy centroid", centroid}, Variant{"+ rejection (default)", reject},
         Variant{"default with 128", small}}) {
-    NetDetector detector(cam, v.config);
+    NetDetector detector(cam, v.config, testing::test_device());
     const auto e = testing::run_sweep(full_frames, full, detector);
     const auto h = testing::run_sweep(half_frames, half, detector);
     testing::print_errors(v.label, e);
@@ -185,7 +185,7 @@ TEST(FftAccuracy, DISABLED_TiltFusion) {
     for (bool fuse : {false, true}) {
       NetDetectorConfig config{.backend = Backend::kCpu};
       config.pose.fuse_roi_tilt = fuse;
-      NetDetector detector(cam, config);
+      NetDetector detector(cam, config, testing::test_device());
       const std::string label = std::string(edge > 1 ? "full" : "half") + (fuse ? ", fused" : "");
       const auto e = testing::run_sweep(frames, scenes, detector);
       testing::print_errors(label.c_str(), e);

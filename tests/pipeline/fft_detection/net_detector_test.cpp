@@ -21,11 +21,14 @@ TEST(NetDetector, BackendNames) {
 
 TEST(NetDetector, RejectsBadConfigurationAndImages) {
   const PinholeCamera cam;
-  EXPECT_THROW(NetDetector(cam, {.mesh_m = 0, .backend = Backend::kCpu}), Error);
-  EXPECT_THROW(NetDetector(cam, {.grid = {.size_px = 600}, .backend = Backend::kCpu}), Error);
-  NetDetector detector(cam, {.backend = Backend::kCpu});
+  EXPECT_THROW(NetDetector(cam, {.mesh_m = 0, .backend = Backend::kCpu}, testing::test_device()),
+               Error);
+  EXPECT_THROW(NetDetector(cam, {.grid = {.size_px = 600}, .backend = Backend::kCpu},
+                           testing::test_device()),
+               Error);
+  NetDetector detector(cam, {.backend = Backend::kCpu}, testing::test_device());
   EXPECT_THROW(detector.detect(ImageU8(640, 480)), Error);
-  EXPECT_NE(NetDetector(cam, {}).backend(), Backend::kAuto);
+  EXPECT_NE(NetDetector(cam, {}, testing::test_device()).backend(), Backend::kAuto);
 }
 
 // Sparse depths lie on the rendered plane, at the pixels of their ROIs.
@@ -34,7 +37,7 @@ TEST(NetDetector, SparseDepthsAreOnTheNet) {
   const PinholeCamera cam;
   const testing::NetScene scene{
       .distance_m = 1.4, .psi_rad = 0.25, .pitch_rad = -0.1, .seed = rng()};
-  NetDetector detector(cam, {.backend = Backend::kCpu, .cpu_threads = 2});
+  NetDetector detector(cam, {.backend = Backend::kCpu, .cpu_threads = 2}, testing::test_device());
   EXPECT_NE(detector.description().find("cpu"), std::string::npos);
   const NetDetection d = detector.detect(testing::render_net(cam, scene), 1234567890123);
   ASSERT_TRUE(d.pose.valid()) << d.pose.reason;
@@ -59,8 +62,8 @@ TEST(NetDetector, VulkanBackendMatchesCpu) {
   const PinholeCamera cam{.k1 = -0.03};
   const testing::NetScene scene{.distance_m = 0.9, .psi_rad = -0.3, .seed = rng()};
   const ImageU8 frame = testing::render_net(cam, scene);
-  NetDetector cpu(cam, {.backend = Backend::kCpu});
-  NetDetector vulkan(cam, {.backend = Backend::kVulkan, .vulkan_device = "llvmpipe"});
+  NetDetector cpu(cam, {.backend = Backend::kCpu}, testing::test_device());
+  NetDetector vulkan(cam, {.backend = Backend::kVulkan}, testing::test_device());
   EXPECT_EQ(vulkan.backend(), Backend::kVulkan);
   const NetDetection c = cpu.detect(frame), v = vulkan.detect(frame);
   ASSERT_TRUE(c.pose.valid() && v.pose.valid()) << c.pose.reason << v.pose.reason;

@@ -1,0 +1,43 @@
+#include "pipeline/dataset/diagnostics_csv.h"
+
+#include <algorithm>
+
+#include "pipeline/dataset/atomic_file.h"
+#include "pipeline/dataset/csv.h"
+#include "runtime/error.h"
+
+namespace pensight {
+
+DiagnosticsCsvWriter::DiagnosticsCsvWriter(const std::filesystem::path& file)
+    : file_(std::make_unique<AtomicFile>(file)) {
+  std::ostream& out = file_->stream();
+  out << "#timestamp [ns],valid_rois,inlier_rois,plane_rms [m],fft_reason,mesh_angle [deg],"
+         "dvl_plane_d [m],dvl_plane_psi [rad]";
+  for (const char* s : kDiagnosticsSensors) out << "," << s << "_accepted," << s << "_rejected";
+  out << "\n";
+}
+
+DiagnosticsCsvWriter::~DiagnosticsCsvWriter() = default;
+
+void DiagnosticsCsvWriter::write(const DiagnosticsRow& r) {
+  if (!file_) throw Error("DiagnosticsCsvWriter::write after finish");
+  std::string reason = r.fft_reason;
+  std::replace(reason.begin(), reason.end(), ',', ';');
+  std::replace(reason.begin(), reason.end(), '\n', ' ');
+  std::ostream& out = file_->stream();
+  out << r.timestamp_ns << "," << r.valid_rois << "," << r.inlier_rois << ","
+      << format_number(r.plane_rms_m) << "," << reason << "," << format_number(r.mesh_angle_deg)
+      << "," << format_number(r.dvl_plane_d_m) << "," << format_number(r.dvl_plane_psi_rad);
+  for (size_t i = 0; i < kDiagnosticsSensors.size(); ++i) {
+    out << "," << r.accepted[i] << "," << r.rejected[i];
+  }
+  out << "\n";
+}
+
+void DiagnosticsCsvWriter::finish() {
+  if (!file_) throw Error("DiagnosticsCsvWriter::finish called twice");
+  file_->commit();
+  file_.reset();
+}
+
+}  // namespace pensight

@@ -1,0 +1,51 @@
+#pragma once
+// OUT/diagnostics.csv of `pensight run` (../shared/dataset-format.md, version 1.1): one row per
+// camera frame saying why an estimate is what it is. Columns (docs/diagnostics.md):
+//   #timestamp [ns],valid_rois,inlier_rois,plane_rms [m],fft_reason,mesh_angle [deg],
+//   dvl_plane_d [m],dvl_plane_psi [rad], then <sensor>_accepted,<sensor>_rejected for each of
+//   dvl_velocity, dvl_plane, depth, attitude, vision_fix, vision_relative
+// fft_reason is empty when the FFT pose is valid; commas in it are written as ';'. The sensor
+// columns count the samples applied (accepted or re-locked) and refused (gated out or invalid)
+// since the previous row. Written whole like estimates.csv.
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <string>
+
+#include "pipeline/dataset/dataset_types.h"
+
+namespace pensight {
+
+inline constexpr const char* kDiagnosticsFile = "diagnostics.csv";
+inline constexpr std::array<const char*, 6> kDiagnosticsSensors = {
+    "dvl_velocity", "dvl_plane", "depth", "attitude", "vision_fix", "vision_relative"};
+
+struct DiagnosticsRow {
+  int64_t timestamp_ns = 0;
+  int valid_rois = 0;
+  int inlier_rois = 0;
+  double plane_rms_m = kNaN;
+  std::string fft_reason;
+  double mesh_angle_deg = kNaN;  // not estimated yet: the detector assumes a square mesh
+  double dvl_plane_d_m = kNaN, dvl_plane_psi_rad = kNaN;
+  std::array<int, 6> accepted = {}, rejected = {};  // kDiagnosticsSensors order
+};
+
+class AtomicFile;
+
+class DiagnosticsCsvWriter {
+ public:
+  explicit DiagnosticsCsvWriter(const std::filesystem::path& file);
+  ~DiagnosticsCsvWriter();
+  DiagnosticsCsvWriter(const DiagnosticsCsvWriter&) = delete;
+  DiagnosticsCsvWriter& operator=(const DiagnosticsCsvWriter&) = delete;
+
+  void write(const DiagnosticsRow& row);
+  void finish();
+
+ private:
+  std::unique_ptr<AtomicFile> file_;
+};
+
+}  // namespace pensight

@@ -1,0 +1,263 @@
+#include "pipeline/pipeline.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cstdlib>
+#include <map>
+#include <mutex>
+#include <thread>
+
+#include "pipeline/bounded_queue.h"
+#include "runtime/error.h"
+#include "runtime/timing.h"
+
+namespace pensight {
+namespace {
+
+using Clock = StageMeter::Clock;
+
+// A DVL plane older than two DVL periods (4 Hz) no longer describes the frame.
+constexpr int64_t kMaxPlaneAgeNs = 500'000'000;
+
+// A detected frame on its way to the global-pose worker.
+struct Detected {
+  FrameResult result;
+  Clock::time_point pushed;
+};
+// One input of the global-pose worker: a detected frame or one sensor sample. (A tagged struct:
+// GCC 12 reports a false -Wmaybe-uninitialized on moving a std::variant of these.)
+struct PoseInput {
+  enum Kind { kFrame, kDvl, kDepth, kAttitude } kind;
+  std::unique_ptr<Detected> frame;
+  DvlSample dvl;
+  PressureSample depth;
+  AttitudeSample attitude;
+};
+
+struct Delivered {
+  FrameResult result;
+  Clock::time_point pushed;
+};
+
+global_pose::NetObservation observation(int64_t t_ns, const NetDetection& d) {
+  global_pose::NetObservation obs;
+  obs.t_ns = t_ns;
+  for (const RoiNetPoint& p : d.points) {
+    obs.points_C.push_back(p.valid() ? p.p_C : Eigen::Vector3d::Constant(kNaN));
+    obs.quality.push_back(p.valid() ? std::max(p.quality, 1e-6) : 1.0);
+  }
+  if (d.pose.valid()) {
+    obs.d_net_m = d.pose.d_net_m;
+    obs.psi_net_rad = d.pose.psi_net_rad;
+  }
+  return obs;
+}
+
+// Sensor samples newer than the frame being worked on, per sensor in timestamp order (equal
+// timestamps in arrival order).
+template <class Sample>
+using Held = std::multimap<int64_t, Sample>;
+
+}  // namespace
+
+struct Pipeline::Impl {
+  PipelineConfig config;
+  NetDetector detector;
+  global_pose::GlobalPoseEstimator estimator;
+  std::optional<global_pose::PublishedGlobalPose> published;
+
+  BoundedQueue<std::pair<CameraFrame, Clock::time_point>> camera_q;
+  // Sensors are fast to apply, so their queue is deep: a push() waits only when the caller is
+  // far ahead of a lossless result consumer.
+  BoundedQueue<PoseInput> pose_q{4096, QueuePolicy::kBlock};
+  BoundedQueue<Delivered> result_q;
+
+  // Owned by the global-pose worker.
+  Held<DvlSample> held_dvl;
+  Held<PressureSample> held_depth;
+  Held<AttitudeSample> held_attitude;
+
+  mutable std::mutex stats_mutex;
+  StageMeter fft{"fft net detection"}, relative{"relative pose (fft)"}, global{"global pose"},
+      delivery{"delivery"};
+
+  mutable std::mutex finish_mutex;
+  std::atomic<bool> finished{false};
+  std::thread detect_thread, pose_thread, deliver_thread;
+
+  Impl(PipelineConfig c, Device& device)
+      : config(std::move(c)),
+        detector(config.camera, config.detector, device),
+        estimator(config.global_pose),
+        camera_q(config.camera_queue, QueuePolicy::kBlock),
+        result_q(config.result_queue,
+                 config.lossless_results ? QueuePolicy::kBlock : QueuePolicy::kDropOldest) {
+    if (config.lossless_results && !config.on_frame) {
+      throw Error(
+          "Pipeline: lossless_results needs an on_frame callback (nothing would drain "
+          "the results); set on_frame or turn lossless_results off");
+    }
+    if (config.published) published.emplace(*config.published);
+  }
+
+  void detect_loop() {
+    while (auto item = camera_q.pop()) {
+      auto d = std::make_unique<Detected>();
+      d->pushed = item->second;
+      d->result.timestamp_ns = item->first.timestamp_ns;
+      try {
+        d->result.detection = detector.detect(item->first.image, item->first.timestamp_ns);
+        std::lock_guard lock(stats_mutex);
+        fft.add(d->result.detection.fft_ms, d->pushed);
+        relative.add(d->result.detection.pose_ms, d->pushed);
+      } catch (const Error& e) {
+        d->result.error = e.what();
+      }
+      pose_q.push({.kind = PoseInput::kFrame, .frame = std::move(d)});
+    }
+    pose_q.close();
+  }
+
+  template <class Sample>
+  void feed_until(Held<Sample>& held, int64_t t_ns) {
+    auto end = held.upper_bound(t_ns);
+    for (auto it = held.begin(); it != end; ++it) {
+      estimator.add(it->second);
+      if (published) published->add(it->second);
+    }
+    held.erase(held.begin(), end);
+  }
+
+  void feed_until(int64_t t_ns) {
+    feed_until(held_dvl, t_ns);
+    feed_until(held_depth, t_ns);
+    feed_until(held_attitude, t_ns);
+  }
+
+  void process(Detected& d) {
+    Stopwatch sw;
+    FrameResult& r = d.result;
+    if (r.error.empty()) {
+      feed_until(r.timestamp_ns);
+      const global_pose::NetObservation obs = observation(r.timestamp_ns, r.detection);
+      estimator.add(obs);
+      r.global_pose = estimator.estimate(r.timestamp_ns);
+      if (published) r.published = published->add(obs);
+      if (const auto plane = estimator.last_dvl_plane();
+          plane && std::abs(r.timestamp_ns - plane->first) <= kMaxPlaneAgeNs) {
+        r.dvl_plane = plane->second.in_camera(config.global_pose.T_body_camera);
+      }
+    }
+    r.counters = estimator.counters();
+    r.global_pose_ms = sw.elapsed_ms();
+    {
+      std::lock_guard lock(stats_mutex);
+      if (r.error.empty()) global.add(r.global_pose_ms, d.pushed);
+    }
+    result_q.push({std::move(r), d.pushed});
+  }
+
+  void pose_loop() {
+    while (auto item = pose_q.pop()) {
+      switch (item->kind) {
+        case PoseInput::kFrame:
+          process(*item->frame);
+          break;
+        case PoseInput::kDvl:
+          held_dvl.emplace(item->dvl.timestamp_ns, item->dvl);
+          break;
+        case PoseInput::kDepth:
+          held_depth.emplace(item->depth.timestamp_ns, item->depth);
+          break;
+        case PoseInput::kAttitude:
+          held_attitude.emplace(item->attitude.timestamp_ns, item->attitude);
+          break;
+      }
+    }
+    // Accepted samples after the last frame still reach the estimators (and their counters).
+    feed_until(std::numeric_limits<int64_t>::max());
+    result_q.close();
+  }
+
+  void deliver_loop() {
+    while (auto item = result_q.pop()) {
+      Stopwatch sw;
+      config.on_frame(item->result);
+      std::lock_guard lock(stats_mutex);
+      delivery.add(sw.elapsed_ms(), item->pushed);
+    }
+  }
+
+  void push_sensor(PoseInput input) {
+    if (finished || !pose_q.push(std::move(input))) {
+      throw Error("Pipeline: sensor sample pushed after finish(); push before finishing");
+    }
+  }
+};
+
+Pipeline::Pipeline(PipelineConfig config, Device& device)
+    : impl_(std::make_unique<Impl>(std::move(config), device)) {
+  Impl& m = *impl_;
+  m.detect_thread = std::thread([&m] { m.detect_loop(); });
+  m.pose_thread = std::thread([&m] { m.pose_loop(); });
+  if (m.config.on_frame) m.deliver_thread = std::thread([&m] { m.deliver_loop(); });
+}
+
+Pipeline::~Pipeline() {
+  finish();
+}
+
+void Pipeline::push(CameraFrame frame) {
+  Impl& m = *impl_;
+  if (m.finished || !m.camera_q.push({std::move(frame), Clock::now()})) {
+    throw Error("Pipeline: camera frame pushed after finish(); push before finishing");
+  }
+}
+void Pipeline::push(const DvlSample& s) {
+  impl_->push_sensor({.kind = PoseInput::kDvl, .dvl = s});
+}
+void Pipeline::push(const PressureSample& s) {
+  impl_->push_sensor({.kind = PoseInput::kDepth, .depth = s});
+}
+void Pipeline::push(const AttitudeSample& s) {
+  impl_->push_sensor({.kind = PoseInput::kAttitude, .attitude = s});
+}
+
+std::optional<FrameResult> Pipeline::poll() {
+  if (impl_->config.on_frame) return std::nullopt;
+  auto item = impl_->result_q.try_pop();
+  if (!item) return std::nullopt;
+  return std::move(item->result);
+}
+
+void Pipeline::finish() {
+  Impl& m = *impl_;
+  std::lock_guard lock(m.finish_mutex);
+  if (m.finished.exchange(true)) return;
+  m.camera_q.close();
+  m.detect_thread.join();  // closes the pose queue when drained
+  m.pose_thread.join();    // closes the result queue when drained
+  if (m.deliver_thread.joinable()) m.deliver_thread.join();
+}
+
+std::vector<StageStats> Pipeline::stats() const {
+  const Impl& m = *impl_;
+  std::lock_guard lock(m.stats_mutex);
+  return {m.fft.stats(), m.relative.stats(), m.global.stats(),
+          m.delivery.stats(m.result_q.dropped())};
+}
+
+global_pose::GlobalPoseCounters Pipeline::global_pose_counters() const {
+  // finish() sets the flag before joining, so hold its lock: then the workers are gone.
+  std::lock_guard lock(impl_->finish_mutex);
+  if (!impl_->finished) {
+    throw Error("Pipeline::global_pose_counters: call finish() first (the estimator is running)");
+  }
+  return impl_->estimator.counters();
+}
+
+std::string Pipeline::backend_description() const {
+  return impl_->detector.description();
+}
+
+}  // namespace pensight

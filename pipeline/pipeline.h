@@ -1,0 +1,109 @@
+#pragma once
+// pensight::Pipeline, the embedding API: a vehicle program (or `pensight run`, which replays a
+// dataset through it) pushes camera frames and DVL, pressure and attitude samples from any
+// thread, and receives one FrameResult per camera frame, in frame order.
+//
+// A frame's whole path:
+//   push(CameraFrame) -> [camera queue, blocking] -> detection worker: NetDetector::detect
+//     (FFT lattice per ROI, net points, FFT relative pose)
+//   -> [pose queue, blocking] -> global-pose worker: feeds the estimators every sensor sample up
+//     to the frame's timestamp (samples pushed before the frame, or late ones), adds the frame's
+//     net observation, asks for the estimate at the frame's time
+//   -> [result queue] -> on_frame callback (its own thread) or poll().
+// Sensor samples go straight to the global-pose worker, which holds those newer than the frame it
+// is working on, so the estimators see nothing from the future whatever the threads' timing: the
+// results are those of calling the stages one after another (run_dataset relies on it).
+//
+// The pose path never drops: a full camera queue makes push() wait. The result queue drops its
+// oldest result (counted in stats()) when the caller falls behind, unless lossless_results is set.
+// Timestamps are nanoseconds on one clock for every sensor.
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "pipeline/dataset/dataset_types.h"
+#include "pipeline/global_pose/global_pose_estimator.h"
+#include "pipeline/global_pose/published_global_pose.h"
+#include "pipeline/net_detector.h"
+#include "pipeline/stage_stats.h"
+#include "runtime/device.h"
+#include "runtime/image.h"
+
+namespace pensight {
+
+struct CameraFrame {
+  int64_t timestamp_ns = 0;
+  ImageU8 image;  // the camera's resolution, 8-bit grey
+};
+
+struct FrameResult {
+  int64_t timestamp_ns = 0;
+  // Why the frame was not processed (e.g. wrong image size); when set, everything below is
+  // empty or NaN and the estimators did not see the frame.
+  std::string error;
+  NetDetection detection;
+  global_pose::GlobalPose global_pose;
+  std::optional<global_pose::GlobalPose> published;  // when PipelineConfig::published is set
+  // The latest DVL net plane as the camera's net-relative pose, when at most 0.5 s old (NaN else).
+  global_pose::NetRelativePose dvl_plane;
+  // The estimator's counters after this frame (cumulative since the start).
+  global_pose::GlobalPoseCounters counters;
+  double global_pose_ms = 0;  // this frame's work in the global-pose worker
+};
+
+struct PipelineConfig {
+  PinholeCamera camera;
+  NetDetectorConfig detector;  // its mesh_m is the net's (scene.yaml net_mesh_size_m)
+  global_pose::GlobalPoseEstimatorConfig global_pose;
+  // Also run the published global-pose node (the baseline) on the same inputs.
+  std::optional<global_pose::PublishedGlobalPoseConfig> published;
+  // Called on the pipeline's delivery thread for each result, in frame order. Without it,
+  // results wait for poll().
+  std::function<void(const FrameResult&)> on_frame;
+  size_t camera_queue = 4;   // frames waiting for detection; push(CameraFrame) waits beyond
+  size_t result_queue = 64;  // results waiting for the caller
+  // Replay: make the result queue wait for the caller instead of dropping its oldest result.
+  bool lossless_results = false;
+};
+
+class Pipeline {
+ public:
+  // Builds the stages (plans, pipelines and buffers on `device`, which must outlive the pipeline)
+  // and starts the workers. Throws pensight::Error like NetDetector for a bad configuration.
+  Pipeline(PipelineConfig config, Device& device);
+  // finish(), then joins the workers.
+  ~Pipeline();
+  Pipeline(const Pipeline&) = delete;
+  Pipeline& operator=(const Pipeline&) = delete;
+
+  // Thread-safe. Throws pensight::Error after finish().
+  void push(CameraFrame frame);
+  void push(const DvlSample& s);
+  void push(const PressureSample& s);
+  void push(const AttitudeSample& s);
+
+  // The oldest undelivered result, if any (only without on_frame).
+  std::optional<FrameResult> poll();
+
+  // Stops taking input, processes everything already pushed (every frame gets its result; the
+  // sensor samples held after the last frame are given to the estimators) and delivers it; on
+  // return every on_frame call has finished. Idempotent.
+  void finish();
+
+  // Per stage: "fft net detection", "relative pose (fft)", "global pose", "delivery"; latency
+  // from push() of the frame. Safe to call while running.
+  std::vector<StageStats> stats() const;
+  std::string backend_description() const;
+  // The global-pose estimator's counters once finish() returned; throws pensight::Error before.
+  global_pose::GlobalPoseCounters global_pose_counters() const;
+
+  struct Impl;
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace pensight
