@@ -1,0 +1,293 @@
+#include "pipeline/pipeline.h"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <future>
+#include <mutex>
+#include <random>
+#include <thread>
+
+#include "pipeline/dataset/csv.h"
+#include "pipeline/runner.h"
+#include "runtime/error.h"
+#include "tests/support/net_image.h"
+#include "tests/support/rendered_run.h"
+#include "tests/support/vulkan_fixture.h"
+
+namespace pensight {
+namespace {
+
+using testing::test_device;
+
+// The same text in estimates.csv (the replay's rows are read back from it).
+bool same(double a, double b) {
+  return format_number(a) == format_number(b);
+}
+
+PipelineConfig config_for(const PinholeCamera& cam) {
+  PipelineConfig c;
+  c.camera = cam;
+  c.detector.backend = Backend::kCpu;
+  c.detector.cpu_threads = 1;  // OpenMP's runtime is not instrumented for ThreadSanitizer
+  c.global_pose.pen_radius_m = 100;
+  c.global_pose.dvl_beams.reset();
+  return c;
+}
+
+// Net frames at distances drawn from `rng`, 10 Hz from t0.
+struct Sequence {
+  std::vector<CameraFrame> frames;
+  std::vector<DvlSample> dvl;
+  std::vector<PressureSample> depth;
+  std::vector<AttitudeSample> attitude;
+};
+
+constexpr int64_t kT0 = 1'600'000'000'000'000'000;
+constexpr int64_t kMs = 1'000'000;
+
+Sequence sequence(const PinholeCamera& cam, int frames, std::mt19937_64& rng) {
+  Sequence s;
+  std::uniform_real_distribution<double> distance(0.7, 1.8), angle(-0.3, 0.3);
+  for (int i = 0; i < frames; ++i) {
+    const testing::NetScene scene{.distance_m = distance(rng),
+                                  .psi_rad = angle(rng),
+                                  .pitch_rad = angle(rng) / 3,
+                                  .seed = rng()};
+    s.frames.push_back({kT0 + i * 100 * kMs, testing::render_net(cam, scene)});
+  }
+  const int64_t end = kT0 + frames * 100 * kMs;
+  for (int64_t t = kT0 - 40 * kMs; t < end; t += 250 * kMs) {
+    s.dvl.push_back({.timestamp_ns = t, .velocity_B_mps = {0.0, 0.1, 0.0}, .valid = true});
+  }
+  for (int64_t t = kT0 - 20 * kMs; t < end; t += 100 * kMs) {
+    s.depth.push_back({.timestamp_ns = t, .depth_m = 2.0});
+  }
+  for (int64_t t = kT0 - 30 * kMs; t < end; t += 50 * kMs) {
+    s.attitude.push_back({.timestamp_ns = t, .roll_rad = 0, .pitch_rad = 0, .yaw_rad = 0.1});
+  }
+  return s;
+}
+
+// Collects the results delivered to on_frame.
+struct Collector {
+  std::mutex mutex;
+  std::vector<FrameResult> results;
+  void add(const FrameResult& r) {
+    std::lock_guard lock(mutex);
+    results.push_back(r);
+  }
+};
+
+// The stages called one after another, as run_dataset did before it replayed through Pipeline.
+std::vector<EstimateRow> direct_rows(const Dataset& d) {
+  NetDetectorConfig config;
+  config.backend = Backend::kCpu;
+  config.mesh_m = d.scene.net_mesh_size_m;
+  NetDetector detector(d.cam0.camera, config, test_device());
+  global_pose::GlobalPoseEstimatorConfig gc;
+  gc.pen_radius_m = d.scene.pen_radius_m;
+  gc.initial_rho_rad = d.scene.initial_rho_rad.value_or(0.0);
+  gc.T_body_camera = d.cam0.T_BS;
+  if (d.dvl0) gc.dvl_beams = d.dvl0->calibration;
+  gc.has_dvl = d.dvl0.has_value();
+  gc.has_attitude = d.imu0.has_value();
+  gc.has_pressure = d.pressure0.has_value();
+  global_pose::GlobalPoseEstimator est(gc);
+  size_t dvl = 0, depth = 0, att = 0;
+  std::vector<EstimateRow> rows;
+  for (size_t i = 0; i < d.frames.size(); ++i) {
+    EstimateRow row;
+    row.timestamp_ns = d.frames[i].timestamp_ns;
+    const NetDetection det = detector.detect(d.load_frame(i), row.timestamp_ns);
+    row.valid_rois = det.pose.valid_rois;
+    if (det.pose.valid()) {
+      row.d_net_fft_m = det.pose.d_net_m;
+      row.psi_net_fft_rad = det.pose.psi_net_rad;
+      row.pitch_net_fft_rad = det.pose.pitch_net_rad;
+    }
+    for (; d.dvl0 && dvl < d.dvl0->samples.size() &&
+           d.dvl0->samples[dvl].timestamp_ns <= row.timestamp_ns;
+         ++dvl)
+      est.add(d.dvl0->samples[dvl]);
+    for (; d.pressure0 && depth < d.pressure0->size() &&
+           (*d.pressure0)[depth].timestamp_ns <= row.timestamp_ns;
+         ++depth)
+      est.add((*d.pressure0)[depth]);
+    for (; d.imu0 && att < d.imu0->size() && (*d.imu0)[att].timestamp_ns <= row.timestamp_ns; ++att)
+      est.add((*d.imu0)[att]);
+    global_pose::NetObservation obs;
+    obs.t_ns = row.timestamp_ns;
+    for (const RoiNetPoint& p : det.points) {
+      obs.points_C.push_back(p.valid() ? p.p_C : Eigen::Vector3d::Constant(kNaN));
+      obs.quality.push_back(p.valid() ? std::max(p.quality, 1e-6) : 1.0);
+    }
+    if (det.pose.valid()) {
+      obs.d_net_m = det.pose.d_net_m;
+      obs.psi_net_rad = det.pose.psi_net_rad;
+    }
+    est.add(obs);
+    const global_pose::GlobalPose g = est.estimate(row.timestamp_ns);
+    row.r_g_m = g.r_g_m;
+    row.rho_g_rad = g.rho_g_rad;
+    row.z_g_m = g.z_g_m;
+    row.psi_g_rad = g.psi_g_rad;
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+// `pensight run` replays the dataset through Pipeline; its estimates.csv is that of the direct
+// calls, to the last written digit.
+TEST(Pipeline, ReplayOfARenderedSequenceEqualsTheDirectCalls) {
+  const testing::RenderedDataset rendered(testing::shipped_scenario("follow.yaml", 2.0));
+  const testing::RenderedRun run = rendered.run(rendered.dataset(), "replay");
+  const std::vector<EstimateRow> direct = direct_rows(rendered.dataset());
+  ASSERT_EQ(run.rows.size(), direct.size());
+  int with_pose = 0, with_r_g = 0;
+  for (size_t i = 0; i < direct.size(); ++i) {
+    const EstimateRow &a = run.rows[i], &b = direct[i];
+    EXPECT_EQ(a.timestamp_ns, b.timestamp_ns);
+    EXPECT_EQ(a.valid_rois, b.valid_rois) << i;
+    for (const auto& [x, y] : {std::pair{a.d_net_fft_m, b.d_net_fft_m},
+                               {a.psi_net_fft_rad, b.psi_net_fft_rad},
+                               {a.pitch_net_fft_rad, b.pitch_net_fft_rad},
+                               {a.r_g_m, b.r_g_m},
+                               {a.rho_g_rad, b.rho_g_rad},
+                               {a.z_g_m, b.z_g_m},
+                               {a.psi_g_rad, b.psi_g_rad}}) {
+      EXPECT_TRUE(same(x, y)) << "frame " << i << ": " << x << " vs " << y;
+    }
+    with_pose += std::isfinite(b.d_net_fft_m);
+    with_r_g += std::isfinite(b.r_g_m);
+  }
+  // Not a comparison of NaNs: the sequence follows the net, so most frames have both.
+  EXPECT_GE(with_pose, static_cast<int>(direct.size()) - 2);
+  EXPECT_GE(with_r_g, static_cast<int>(direct.size()) / 2);
+}
+
+// Camera frames from one thread, each sensor from its own, shuffled within a few samples: every
+// frame comes back once, in order, and every sample reaches the estimator.
+TEST(Pipeline, PushesFromSeveralThreadsAndOutOfOrderLoseNothing) {
+  std::mt19937_64 rng(testing::fresh_seed());
+  const PinholeCamera cam;
+  Sequence s = sequence(cam, 12, rng);
+  auto shuffle_locally = [&](auto& v) {
+    for (size_t i = 0; i + 2 < v.size(); i += 3)
+      std::shuffle(v.begin() + i, v.begin() + i + 3, rng);
+  };
+  shuffle_locally(s.dvl);
+  shuffle_locally(s.depth);
+  shuffle_locally(s.attitude);
+  Collector out;
+  PipelineConfig c = config_for(cam);
+  c.on_frame = [&](const FrameResult& r) { out.add(r); };
+  Pipeline p(c, test_device());
+  std::vector<std::thread> threads;
+  threads.emplace_back([&] {
+    for (const auto& x : s.dvl) p.push(x);
+  });
+  threads.emplace_back([&] {
+    for (const auto& x : s.depth) p.push(x);
+  });
+  threads.emplace_back([&] {
+    for (const auto& x : s.attitude) p.push(x);
+  });
+  for (CameraFrame& f : s.frames) p.push(CameraFrame{f.timestamp_ns, f.image});
+  for (auto& t : threads) t.join();
+  p.finish();
+
+  ASSERT_EQ(out.results.size(), s.frames.size());
+  for (size_t i = 0; i < s.frames.size(); ++i) {
+    EXPECT_EQ(out.results[i].timestamp_ns, s.frames[i].timestamp_ns);
+    EXPECT_TRUE(out.results[i].error.empty()) << out.results[i].error;
+    EXPECT_TRUE(out.results[i].detection.pose.valid()) << out.results[i].detection.pose.reason;
+  }
+  const global_pose::GlobalPoseCounters c2 = p.global_pose_counters();
+  EXPECT_EQ(c2.dvl_velocity.received, static_cast<int>(s.dvl.size()));
+  EXPECT_EQ(c2.depth.received, static_cast<int>(s.depth.size()));
+  EXPECT_EQ(c2.attitude.received, static_cast<int>(s.attitude.size()));
+  EXPECT_EQ(c2.vision_fix.received, static_cast<int>(s.frames.size()));
+  const std::vector<StageStats> st = p.stats();
+  EXPECT_EQ(st[0].name, "fft net detection");
+  EXPECT_EQ(st[0].processed, s.frames.size());
+  EXPECT_EQ(st[2].processed, s.frames.size());
+  EXPECT_EQ(st[3].dropped, 0u);
+  EXPECT_GE(st[2].latency_mean_ms, st[0].latency_mean_ms);
+}
+
+// A consumer that stops taking results makes the result queue drop its oldest ones (counted,
+// bounded); the pose path goes on processing every frame meanwhile.
+TEST(Pipeline, SlowConsumerGetsCountedDropsNotABlockedPosePath) {
+  std::mt19937_64 rng(testing::fresh_seed());
+  const PinholeCamera cam;
+  const Sequence s = sequence(cam, 10, rng);
+  std::promise<void> release;
+  std::shared_future<void> released = release.get_future().share();
+  std::atomic<int> delivered{0};
+  PipelineConfig c = config_for(cam);
+  c.result_queue = 2;
+  c.on_frame = [&](const FrameResult&) {
+    released.wait();
+    ++delivered;
+  };
+  Pipeline p(c, test_device());
+  for (const CameraFrame& f : s.frames) p.push(CameraFrame{f.timestamp_ns, f.image});
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::minutes(2);
+  while (p.stats()[2].processed < s.frames.size() && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  EXPECT_EQ(p.stats()[2].processed, s.frames.size()) << "the pose path waited for the consumer";
+  EXPECT_EQ(delivered.load(), 0);
+  release.set_value();
+  p.finish();
+  const StageStats delivery = p.stats()[3];
+  // One result in the blocked callback, at most two queued; the rest dropped and counted.
+  EXPECT_LE(delivered.load(), 3);
+  EXPECT_EQ(static_cast<size_t>(delivered.load()) + delivery.dropped, s.frames.size());
+}
+
+// Without a callback the results wait for poll(), in frame order; a frame of the wrong size
+// comes back with an error and leaves the estimators untouched.
+TEST(Pipeline, PollDeliversResultsAndErrorsInOrder) {
+  std::mt19937_64 rng(testing::fresh_seed());
+  const PinholeCamera cam;
+  const Sequence s = sequence(cam, 3, rng);
+  PipelineConfig c = config_for(cam);
+  Pipeline p(c, test_device());
+  p.push(CameraFrame{s.frames[0].timestamp_ns, s.frames[0].image});
+  p.push(CameraFrame{s.frames[1].timestamp_ns, ImageU8(64, 48)});
+  p.push(CameraFrame{s.frames[2].timestamp_ns, s.frames[2].image});
+  p.finish();
+  std::vector<FrameResult> got;
+  while (auto r = p.poll()) got.push_back(std::move(*r));
+  ASSERT_EQ(got.size(), 3u);
+  EXPECT_TRUE(got[0].error.empty());
+  EXPECT_NE(got[1].error.find("64x48"), std::string::npos) << got[1].error;
+  EXPECT_TRUE(got[2].error.empty());
+  EXPECT_EQ(got[2].timestamp_ns, s.frames[2].timestamp_ns);
+  EXPECT_EQ(p.global_pose_counters().vision_fix.received, 2);
+}
+
+TEST(Pipeline, MisuseGivesClearErrors) {
+  const PinholeCamera cam;
+  PipelineConfig lossless = config_for(cam);
+  lossless.lossless_results = true;
+  try {
+    Pipeline p(lossless, test_device());
+    ADD_FAILURE() << "lossless results without a callback accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("on_frame"), std::string::npos) << e.what();
+  }
+  Pipeline p(config_for(cam), test_device());
+  EXPECT_THROW(p.global_pose_counters(), Error);
+  p.finish();
+  p.finish();
+  EXPECT_THROW(p.push(CameraFrame{kT0, ImageU8(cam.width_px, cam.height_px)}), Error);
+  EXPECT_THROW(p.push(PressureSample{kT0, 1.0}), Error);
+}
+
+}  // namespace
+}  // namespace pensight
