@@ -1,6 +1,7 @@
 #include "pipeline/pipeline.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <atomic>
 #include <chrono>
@@ -11,6 +12,7 @@
 #include <thread>
 
 #include "pipeline/dataset/csv.h"
+#include "pipeline/dataset/diagnostics_csv.h"
 #include "pipeline/runner.h"
 #include "runtime/error.h"
 #include "tests/support/net_image.h"
@@ -166,6 +168,47 @@ TEST(Pipeline, ReplayOfARenderedSequenceEqualsTheDirectCalls) {
   // Not a comparison of NaNs: the sequence follows the net, so most frames have both.
   EXPECT_GE(with_pose, static_cast<int>(direct.size()) - 2);
   EXPECT_GE(with_r_g, static_cast<int>(direct.size()) / 2);
+}
+
+// The start of the sweep faces open water, then turns onto the net: diagnostics.csv says why each
+// NaN frame is NaN, and timing.csv has the published nodes beside ours.
+TEST(Pipeline, RunWritesDiagnosticsAndTiming) {
+  const testing::RenderedDataset rendered(testing::shipped_scenario("sweep.yaml", 1.5));
+  const Dataset& d = rendered.dataset();
+  const std::filesystem::path out =
+      std::filesystem::temp_directory_path() / ("pensight-diag-" + std::to_string(::getpid()));
+  RunOptions options;
+  options.detector.backend = Backend::kCpu;
+  const RunSummary summary = run_dataset(d, out, options, test_device());
+  const std::vector<EstimateRow> rows = read_estimates_csv(out / "estimates.csv");
+  const CsvTable diag(out / kDiagnosticsFile, 20, 20);
+  ASSERT_EQ(diag.rows(), d.frames.size());
+  int nan_frames = 0;
+  for (size_t i = 0; i < diag.rows(); ++i) {
+    EXPECT_EQ(diag.integer(i, 0), d.frames[i].timestamp_ns);
+    EXPECT_EQ(diag.integer(i, 1), rows[i].valid_rois);
+    const bool has_pose = std::isfinite(rows[i].d_net_fft_m);
+    EXPECT_EQ(diag.text(i, 4).empty(), has_pose) << i << ": " << diag.text(i, 4);
+    if (has_pose) {
+      EXPECT_GE(diag.integer(i, 2), 6);
+    }
+    nan_frames += !has_pose;
+    // One pressure sample per frame at 10 Hz: each row counts it.
+    EXPECT_EQ(diag.integer(i, 12) + diag.integer(i, 13), 1) << i;
+  }
+  EXPECT_GT(nan_frames, 0);
+  EXPECT_LT(nan_frames, static_cast<int>(diag.rows()));
+  const CsvTable timing(out / kTimingFile, 10, 10);
+  bool fft = false, orin = false;
+  for (size_t i = 0; i < timing.rows(); ++i) {
+    if (timing.text(i, 0) == "fft net detection") {
+      fft = timing.integer(i, 1) == static_cast<int64_t>(d.frames.size());
+      orin = timing.number(i, 8) == 47.8;
+    }
+  }
+  EXPECT_TRUE(fft && orin);
+  EXPECT_EQ(summary.timing.size(), timing.rows());
+  std::filesystem::remove_all(out);
 }
 
 // Camera frames from one thread, each sensor from its own, shuffled within a few samples: every
