@@ -66,7 +66,12 @@ struct Pipeline::Impl {
   global_pose::GlobalPoseEstimator estimator;
   std::optional<global_pose::PublishedGlobalPose> published;
 
-  BoundedQueue<std::pair<CameraFrame, Clock::time_point>> camera_q;
+  struct Pushed {
+    int64_t timestamp_ns;
+    std::shared_ptr<const ImageU8> image;
+    Clock::time_point at;
+  };
+  BoundedQueue<Pushed> camera_q;
   // Sensors are fast to apply, so their queue is deep: a push() waits only when the caller is
   // far ahead of a lossless result consumer.
   BoundedQueue<PoseInput> pose_q{4096, QueuePolicy::kBlock};
@@ -103,10 +108,11 @@ struct Pipeline::Impl {
   void detect_loop() {
     while (auto item = camera_q.pop()) {
       auto d = std::make_unique<Detected>();
-      d->pushed = item->second;
-      d->result.timestamp_ns = item->first.timestamp_ns;
+      d->pushed = item->at;
+      d->result.timestamp_ns = item->timestamp_ns;
+      d->result.image = item->image;
       try {
-        d->result.detection = detector.detect(item->first.image, item->first.timestamp_ns);
+        d->result.detection = detector.detect(*item->image, item->timestamp_ns);
         std::lock_guard lock(stats_mutex);
         fft.add(d->result.detection.fft_ms, d->pushed);
         relative.add(d->result.detection.pose_ms, d->pushed);
@@ -209,7 +215,8 @@ Pipeline::~Pipeline() {
 
 void Pipeline::push(CameraFrame frame) {
   Impl& m = *impl_;
-  if (m.finished || !m.camera_q.push({std::move(frame), Clock::now()})) {
+  auto image = std::make_shared<const ImageU8>(std::move(frame.image));
+  if (m.finished || !m.camera_q.push({frame.timestamp_ns, std::move(image), Clock::now()})) {
     throw Error("Pipeline: camera frame pushed after finish(); push before finishing");
   }
 }
@@ -254,6 +261,14 @@ global_pose::GlobalPoseCounters Pipeline::global_pose_counters() const {
     throw Error("Pipeline::global_pose_counters: call finish() first (the estimator is running)");
   }
   return impl_->estimator.counters();
+}
+
+const std::vector<kernels::RoiOrigin>& Pipeline::rois() const {
+  return impl_->detector.rois();
+}
+
+int Pipeline::roi_size_px() const {
+  return impl_->config.detector.grid.size_px;
 }
 
 std::string Pipeline::backend_description() const {

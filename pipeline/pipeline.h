@@ -41,6 +41,7 @@ struct CameraFrame {
 
 struct FrameResult {
   int64_t timestamp_ns = 0;
+  std::shared_ptr<const ImageU8> image;  // the frame as pushed (for overlays), shared, not copied
   // Why the frame was not processed (e.g. wrong image size); when set, everything below is
   // empty or NaN and the estimators did not see the frame.
   std::string error;
@@ -97,6 +98,9 @@ class Pipeline {
   // from push() of the frame. Safe to call while running.
   std::vector<StageStats> stats() const;
   std::string backend_description() const;
+  // The detector's ROI grid (top-left corners, grid order) and ROI side, e.g. for overlays.
+  const std::vector<kernels::RoiOrigin>& rois() const;
+  int roi_size_px() const;
   // The global-pose estimator's counters once finish() returned; throws pensight::Error before.
   global_pose::GlobalPoseCounters global_pose_counters() const;
 

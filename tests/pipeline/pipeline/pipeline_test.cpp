@@ -246,6 +246,8 @@ TEST(Pipeline, PushesFromSeveralThreadsAndOutOfOrderLoseNothing) {
   for (size_t i = 0; i < s.frames.size(); ++i) {
     EXPECT_EQ(out.results[i].timestamp_ns, s.frames[i].timestamp_ns);
     EXPECT_TRUE(out.results[i].error.empty()) << out.results[i].error;
+    ASSERT_TRUE(out.results[i].image);
+    EXPECT_EQ(out.results[i].image->pixels, s.frames[i].image.pixels);
     EXPECT_TRUE(out.results[i].detection.pose.valid()) << out.results[i].detection.pose.reason;
   }
   const global_pose::GlobalPoseCounters c2 = p.global_pose_counters();
