@@ -115,6 +115,7 @@ struct Chart {
   bool equal_aspect = false;      // top views: one metre is as long on both axes
   double circle_radius_m = kNaN;  // the pen, centred on the origin
   bool fit_circle = false;        // the axes cover the whole circle, not only the data
+  double min_span_m = 0;          // equal_aspect: the axes cover at least this much
   int width = 960, height = 250;
 };
 
@@ -143,8 +144,27 @@ Axis nice_axis(double lo, double hi) {
   return a;
 }
 
+// As many decimals as the tick step needs (0.05 -> 2).
+std::string tick_label(double t, const Axis& a) {
+  const double step = a.ticks.size() > 1 ? a.ticks[1] - a.ticks[0] : 1;
+  const int decimals = std::max(0, -static_cast<int>(std::floor(std::log10(step) + 1e-9)));
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, t);
+  return buf;
+}
+
 std::string svg(const Chart& c) {
-  constexpr double kLeft = 64, kRight = 16, kTop = 44, kBottom = 40;
+  constexpr double kLeft = 64, kRight = 16, kBottom = 40;
+  // Legend entries left to right under the title, wrapping to more rows; the plot starts below.
+  std::vector<std::pair<double, double>> legend_at;
+  double legend_x = kLeft, legend_y = 30;
+  for (const Series& s : c.series) {
+    const double w = 45 + 6.5 * static_cast<double>(s.name.size());
+    if (legend_x > kLeft && legend_x + w > c.width - kRight) legend_x = kLeft, legend_y += 16;
+    legend_at.emplace_back(legend_x, legend_y);
+    legend_x += w;
+  }
+  const double top = legend_y + 14;
   double x_lo = std::numeric_limits<double>::infinity(), x_hi = -x_lo, y_lo = x_lo, y_hi = -x_lo;
   for (const Series& s : c.series) {
     for (size_t i = 0; i < s.x.size(); ++i) {
@@ -153,15 +173,18 @@ std::string svg(const Chart& c) {
       y_lo = std::min(y_lo, s.y[i]), y_hi = std::max(y_hi, s.y[i]);
     }
   }
-  const double plot_w = c.width - kLeft - kRight, plot_h = c.height - kTop - kBottom;
+  const double plot_w = c.width - kLeft - kRight, plot_h = c.height - top - kBottom;
   if (c.equal_aspect) {
     if (c.fit_circle) {
       x_lo = std::min(x_lo, -c.circle_radius_m), x_hi = std::max(x_hi, c.circle_radius_m);
       y_lo = std::min(y_lo, -c.circle_radius_m), y_hi = std::max(y_hi, c.circle_radius_m);
     }
     if (!(x_lo <= x_hi)) x_lo = y_lo = -1, x_hi = y_hi = 1;
-    // Both axes span the same metres per pixel, centred on the data.
-    const double m_per_px = std::max((x_hi - x_lo) / plot_w, (y_hi - y_lo) / plot_h) * 1.1 + 1e-9;
+    // Both axes span the same metres per pixel, centred on the data, with a margin of 10 %.
+    const double m_per_px = std::max({(x_hi - x_lo) / plot_w, (y_hi - y_lo) / plot_h,
+                                      c.min_span_m / std::min(plot_w, plot_h)}) *
+                                1.2 +
+                            1e-9;
     const double xc = 0.5 * (x_lo + x_hi), yc = 0.5 * (y_lo + y_hi);
     x_lo = xc - 0.5 * m_per_px * plot_w, x_hi = xc + 0.5 * m_per_px * plot_w;
     y_lo = yc - 0.5 * m_per_px * plot_h, y_hi = yc + 0.5 * m_per_px * plot_h;
@@ -178,7 +201,7 @@ std::string svg(const Chart& c) {
   const auto px = [&](double x) { return kLeft + (x - xa.lo) / (xa.hi - xa.lo) * plot_w; };
   const auto py = [&](double y) {
     const double f = (y - ya.lo) / (ya.hi - ya.lo);
-    return kTop + (c.equal_aspect ? f : 1 - f) * plot_h;
+    return top + (c.equal_aspect ? f : 1 - f) * plot_h;
   };
 
   std::ostringstream o;
@@ -186,33 +209,33 @@ std::string svg(const Chart& c) {
     << " " << c.height << "\" font-family=\"sans-serif\" font-size=\"12\">\n"
     << "<text x=\"" << kLeft << "\" y=\"16\" font-weight=\"bold\">" << escape(c.title)
     << "</text>\n";
-  double legend_x = kLeft;
-  for (const Series& s : c.series) {
-    o << "<line x1=\"" << legend_x << "\" y1=\"30\" x2=\"" << legend_x + 22
-      << "\" y2=\"30\" stroke=\"" << s.colour << "\" stroke-width=\"2\""
-      << (s.dashed ? " stroke-dasharray=\"5 3\"" : "") << "/><text x=\"" << legend_x + 27
-      << "\" y=\"34\">" << escape(s.name) << "</text>\n";
-    legend_x += 45 + 6.5 * static_cast<double>(s.name.size());
+  for (size_t i = 0; i < c.series.size(); ++i) {
+    const Series& s = c.series[i];
+    const auto [x, y] = legend_at[i];
+    o << "<line x1=\"" << x << "\" y1=\"" << y << "\" x2=\"" << x + 22 << "\" y2=\"" << y
+      << "\" stroke=\"" << s.colour << "\" stroke-width=\"2\""
+      << (s.dashed ? " stroke-dasharray=\"5 3\"" : "") << "/><text x=\"" << x + 27 << "\" y=\""
+      << y + 4 << "\">" << escape(s.name) << "</text>\n";
   }
-  o << "<rect x=\"" << kLeft << "\" y=\"" << kTop << "\" width=\"" << plot_w << "\" height=\""
+  o << "<rect x=\"" << kLeft << "\" y=\"" << top << "\" width=\"" << plot_w << "\" height=\""
     << plot_h << "\" fill=\"#fafafa\" stroke=\"#999\"/>\n";
   for (const double t : xa.ticks) {
-    o << "<line x1=\"" << px(t) << "\" y1=\"" << kTop << "\" x2=\"" << px(t) << "\" y2=\""
-      << kTop + plot_h << "\" stroke=\"#e4e4e4\"/><text x=\"" << px(t) << "\" y=\""
-      << kTop + plot_h + 15 << "\" text-anchor=\"middle\">" << short_number(t) << "</text>\n";
+    o << "<line x1=\"" << px(t) << "\" y1=\"" << top << "\" x2=\"" << px(t) << "\" y2=\""
+      << top + plot_h << "\" stroke=\"#e4e4e4\"/><text x=\"" << px(t) << "\" y=\""
+      << top + plot_h + 15 << "\" text-anchor=\"middle\">" << tick_label(t, xa) << "</text>\n";
   }
   for (const double t : ya.ticks) {
     o << "<line x1=\"" << kLeft << "\" y1=\"" << py(t) << "\" x2=\"" << kLeft + plot_w << "\" y2=\""
       << py(t) << "\" stroke=\"#e4e4e4\"/><text x=\"" << kLeft - 5 << "\" y=\"" << py(t) + 4
-      << "\" text-anchor=\"end\">" << short_number(t) << "</text>\n";
+      << "\" text-anchor=\"end\">" << tick_label(t, ya) << "</text>\n";
   }
   o << "<text x=\"" << kLeft + plot_w / 2 << "\" y=\"" << c.height - 6
     << "\" text-anchor=\"middle\">" << escape(c.x_label) << "</text>\n"
-    << "<text transform=\"translate(14," << kTop + plot_h / 2
+    << "<text transform=\"translate(14," << top + plot_h / 2
     << ") rotate(-90)\" text-anchor=\"middle\">" << escape(c.y_label) << "</text>\n";
   // A nested viewport in the outer coordinates clips what lies beyond the axes (the pen circle).
-  o << "<svg x=\"" << kLeft << "\" y=\"" << kTop << "\" width=\"" << plot_w << "\" height=\""
-    << plot_h << "\" viewBox=\"" << kLeft << " " << kTop << " " << plot_w << " " << plot_h
+  o << "<svg x=\"" << kLeft << "\" y=\"" << top << "\" width=\"" << plot_w << "\" height=\""
+    << plot_h << "\" viewBox=\"" << kLeft << " " << top << " " << plot_w << " " << plot_h
     << "\">\n";
   if (std::isfinite(c.circle_radius_m)) {
     o << "<circle cx=\"" << px(0) << "\" cy=\"" << py(0) << "\" r=\""
@@ -501,19 +524,18 @@ std::string global_pose_section(const Run& run) {
     html += svg(c);
   }
 
-  Chart top;
-  top.title = "Track seen from above (x = r_g cos rho_g, y = r_g sin rho_g)";
-  top.x_label = "x [m]";
-  top.y_label = "y [m] (down the page: P's z points into it)";
-  top.equal_aspect = true;
-  top.width = 640;
-  top.height = 560;
+  // Two views from above: the whole pen, and the track itself with the net's arc beside it.
+  Chart pen;
+  pen.title = "Track in the pen, seen from above";
+  pen.x_label = "x = r_g cos rho_g [m]";
+  pen.y_label = "y = r_g sin rho_g [m]";
+  pen.equal_aspect = true;
+  pen.width = pen.height = 490;
   if (run.dataset) {
-    // A pen is drawn whole; beyond a few tens of metres the "pen" is a flat net (dataset-format.md)
-    // and its arc near the track is what matters.
-    top.circle_radius_m = run.dataset->scene.pen_radius_m;
-    top.fit_circle = top.circle_radius_m <= 30;
-    top.series.push_back({"pen net (scene.yaml pen_radius_m)", kPenColour, {}, {}, false});
+    // A flat net is a pen of a large radius (dataset-format.md): then only its arc is drawn.
+    pen.circle_radius_m = run.dataset->scene.pen_radius_m;
+    pen.fit_circle = pen.circle_radius_m <= 30;
+    pen.series.push_back({"net", kPenColour, {}, {}, false});
   }
   for (const Track& tr : tracks) {
     std::vector<double> x, y;
@@ -521,10 +543,17 @@ std::string global_pose_section(const Run& run) {
       x.push_back(r.r_g_m * std::cos(r.rho_g_rad));
       y.push_back(r.r_g_m * std::sin(r.rho_g_rad));
     }
-    top.series.push_back({tr.name, tr.colour, std::move(x), std::move(y), tr.dashed});
+    pen.series.push_back({tr.name, tr.colour, std::move(x), std::move(y), tr.dashed});
   }
-  if (!truth.empty()) top.series.push_back({"truth", kTruthColour, truth_x, truth_y, true});
-  html += svg(top);
+  if (!truth.empty()) pen.series.push_back({"truth", kTruthColour, truth_x, truth_y, true});
+  Chart track = pen;
+  track.title = "The track, seen from above";
+  track.fit_circle = false;
+  track.min_span_m = 2;
+  html += "<div class=\"pair\">\n" + svg(pen) + svg(track) + "</div>\n";
+  html +=
+      "<p>Seen from above: the pen frame's z points down, into the page, so x to the right "
+      "and y down the page turn clockwise, as yaw does.</p>\n";
 
   std::vector<std::string> notes;
   if (run.published.empty()) notes.push_back("published node: " + run.published_problem);
@@ -743,6 +772,7 @@ th, td { border: 1px solid #ccc; padding: 0.25em 0.6em; text-align: left; }
 td.n { text-align: right; font-variant-numeric: tabular-nums; }
 pre { background: #f4f4f4; padding: 0.8em; overflow-x: auto; }
 .absent { color: #777; font-style: italic; }
+.pair { display: flex; gap: 0.5em; flex-wrap: wrap; }
 .overlays { display: grid; grid-template-columns: 1fr 1fr; gap: 0.8em; }
 figure { margin: 0; } figure img { width: 100%; height: auto; display: block; }
 figcaption { font-size: 0.85em; color: #555; }
