@@ -264,43 +264,71 @@ TEST_F(ReportTest, MissingEstimatesIsAnErrorNamingIt) {
   EXPECT_FALSE(fs::exists(dir_ / "report.html"));
 }
 
-// Opens the page as a user would: every image must decode and no script may fail. The page marks
-// that itself on <html data-self-check>; Chromium's console log must hold no uncaught error.
-// PENSIGHT_REPORT_TEST_OUT=DIR keeps the page and its screenshot there to look at.
+// Debian's Chromium, headless, as a user would open the page; a fresh profile per call.
+class HeadlessChromium {
+ public:
+  static constexpr const char* kPath = "/usr/bin/chromium";
+  explicit HeadlessChromium(fs::path work) : work_(std::move(work)) {}
+
+  // The page's own verdict (<html data-self-check="ok"> or "failed: ..."; empty when the check
+  // did not run) and Chromium's console log.
+  std::pair<std::string, std::string> self_check(const fs::path& page) {
+    const fs::path dom = next("dom.html"), log = next("dom.log");
+    run("--dump-dom file://" + page.string() + " > " + dom.string() + " 2> " + log.string(), log);
+    const std::string html = read_text(dom), marker = "data-self-check=\"";
+    const size_t at = html.find(marker);
+    if (at == std::string::npos) return {"", read_text(log)};
+    const size_t value = at + marker.size();
+    return {html.substr(value, html.find('"', value) - value), read_text(log)};
+  }
+  void screenshot(const fs::path& page, const fs::path& png) {
+    const fs::path log = next("shot.log");
+    run("--screenshot=" + png.string() + " file://" + page.string() + " > " + log.string() +
+            " 2>&1",
+        log);
+  }
+
+ private:
+  fs::path next(const std::string& name) { return work_ / (std::to_string(runs_) + "_" + name); }
+  void run(const std::string& args, const fs::path& log) {
+    const std::string command =
+        std::string("timeout 120 ") + kPath +
+        " --headless --no-sandbox --disable-gpu --disable-quic --no-first-run"
+        " --disable-background-networking --disable-component-update --disable-sync"
+        " --enable-logging=stderr --v=0 --virtual-time-budget=10000 --window-size=1200,3000"
+        " --user-data-dir=" +
+        next("profile").string() + " " + args;
+    ++runs_;
+    ASSERT_EQ(std::system(command.c_str()), 0) << command << "\n" << read_text(log);
+  }
+
+  fs::path work_;
+  int runs_ = 0;
+};
+
+// Every image must decode and no script may fail: the page checks that itself once loaded, and
+// Chromium's console log must hold no uncaught error. A page with a broken image and a failing
+// script shows that the check sees both. PENSIGHT_REPORT_TEST_OUT=DIR keeps the page and its
+// screenshot there to look at.
 TEST_F(ReportTest, OpensInHeadlessChromium) {
-  const fs::path chromium = "/usr/bin/chromium";
-  if (!fs::exists(chromium)) {
-    GTEST_SKIP() << "no " << chromium << ": apt-get install chromium (scripts/packages.txt)";
+  if (!fs::exists(HeadlessChromium::kPath)) {
+    GTEST_SKIP() << "no " << HeadlessChromium::kPath
+                 << ": apt-get install chromium (scripts/packages.txt) to open the report";
   }
   const fs::path out = dir_ / "OUT";
   fs::create_directories(out);
   const Dataset ds = write_run(out, true);
   write_report_html(out, &ds);
-  const std::string common =
-      "timeout 120 " + chromium.string() +
-      " --headless --no-sandbox --disable-gpu --disable-quic --no-first-run "
-      "--disable-background-networking --disable-component-update --disable-sync "
-      "--enable-logging=stderr --v=0 --virtual-time-budget=10000 --window-size=1200,3000 ";
-  const std::string url = " file://" + (out / "report.html").string();
-  const std::string dom_cmd = common + "--user-data-dir=" + (dir_ / "profile1").string() +
-                              " --dump-dom" + url + " > " + (dir_ / "dom.html").string() + " 2> " +
-                              (dir_ / "dom.log").string();
-  ASSERT_EQ(std::system(dom_cmd.c_str()), 0) << dom_cmd << "\n" << read_text(dir_ / "dom.log");
-  const std::string dom = read_text(dir_ / "dom.html");
-  const std::string log = read_text(dir_ / "dom.log");
-  const size_t mark = dom.find("data-self-check=\"");
-  ASSERT_NE(mark, std::string::npos) << "the page's check did not run:\n" << log;
-  const size_t value = mark + std::string("data-self-check=\"").size();
-  EXPECT_EQ(dom.substr(value, dom.find('"', value) - value), "ok");
+  HeadlessChromium chromium(dir_);
+
+  const auto [verdict, log] = chromium.self_check(out / "report.html");
+  EXPECT_EQ(verdict, "ok") << log;
   EXPECT_EQ(log.find("Uncaught"), std::string::npos) << log;
 
   const fs::path shot = dir_ / "shot.png";
-  const std::string shot_cmd = common + "--user-data-dir=" + (dir_ / "profile2").string() +
-                               " --screenshot=" + shot.string() + url + " > " +
-                               (dir_ / "shot.log").string() + " 2>&1";
-  ASSERT_EQ(std::system(shot_cmd.c_str()), 0) << shot_cmd << "\n" << read_text(dir_ / "shot.log");
+  chromium.screenshot(out / "report.html", shot);
   const cv::Mat image = cv::imread(shot.string(), cv::IMREAD_COLOR);
-  ASSERT_FALSE(image.empty()) << read_text(dir_ / "shot.log");
+  ASSERT_FALSE(image.empty());
   EXPECT_EQ(image.cols, 1200);
   EXPECT_EQ(image.rows, 3000);
   if (const char* keep = std::getenv("PENSIGHT_REPORT_TEST_OUT")) {
@@ -309,6 +337,17 @@ TEST_F(ReportTest, OpensInHeadlessChromium) {
                   fs::copy_options::overwrite_existing);
     fs::copy_file(shot, fs::path(keep) / "shot.png", fs::copy_options::overwrite_existing);
   }
+
+  std::string broken = read_text(out / "report.html");
+  const size_t png = broken.find("base64,") + 7;
+  broken.replace(png, 16, "////////////////");
+  broken.insert(broken.find("</body>"), "<script>no_such_function();</script>\n");
+  std::ofstream(dir_ / "broken.html") << broken;
+  const auto [broken_verdict, broken_log] = chromium.self_check(dir_ / "broken.html");
+  EXPECT_EQ(broken_verdict.rfind("failed: ", 0), 0u) << broken_verdict;
+  EXPECT_NE(broken_verdict.find("no_such_function"), std::string::npos) << broken_verdict;
+  EXPECT_NE(broken_verdict.find("broken image 000000.png"), std::string::npos) << broken_verdict;
+  EXPECT_NE(broken_log.find("Uncaught"), std::string::npos) << broken_log;
 }
 
 }  // namespace
