@@ -80,7 +80,7 @@ std::string format(const char* spec, double v) {
   return buf;
 }
 
-// Table cells and axis labels: integers as such, otherwise about three significant digits.
+// Table cells: integers as such, otherwise about three significant digits.
 std::string short_number(double v) {
   if (!std::isfinite(v)) return "n/a";
   if (v == std::round(v) && std::abs(v) < 1e9) return format("%.0f", v);
@@ -139,8 +139,10 @@ Axis nice_axis(double lo, double hi) {
     }
   }
   Axis a{std::floor(lo / step) * step, std::ceil(hi / step) * step, {}};
-  for (double t = a.lo; t <= a.hi + 0.5 * step; t += step)
-    a.ticks.push_back(std::abs(t) < 1e-12 * step ? 0 : t);
+  for (int k = 0; a.lo + k * step <= a.hi + 0.5 * step; ++k) {
+    const double t = a.lo + k * step;
+    a.ticks.push_back(std::abs(t) < 1e-9 * step ? 0 : t);  // never "-0"
+  }
   return a;
 }
 
@@ -309,7 +311,7 @@ NamedTable read_named(const std::filesystem::path& file,
   return t;
 }
 
-// The column as numbers; a malformed field reads as NaN (the table is shown, not checked).
+// The column as numbers; a field that is not a number reads as NaN: the report shows what it can.
 std::vector<double> numbers(const NamedTable& t, const std::string& name) {
   std::vector<double> v;
   const size_t c = t.column.at(name);
