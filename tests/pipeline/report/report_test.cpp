@@ -252,6 +252,22 @@ TEST_F(ReportTest, OptionalFilesAbsent) {
             std::string::npos);
 }
 
+TEST_F(ReportTest, EmptyAndAllNanRuns) {
+  EstimatesCsvWriter(dir_ / "estimates.csv").finish();
+  write_report_html(dir_, nullptr);
+  EXPECT_NE(read_text(dir_ / "report.html").find("0 frames over 0.0 s"), std::string::npos);
+
+  EstimatesCsvWriter estimates(dir_ / "estimates.csv");
+  for (int i = 0; i < 3; ++i) estimates.write({.timestamp_ns = kStartNs + i * kFrameNs});
+  estimates.finish();
+  write_report_html(dir_, nullptr);
+  const std::string html = read_text(dir_ / "report.html");
+  EXPECT_NE(html.find("3 frames over 0.2 s"), std::string::npos);
+  for (const char* bad : {"nan", "inf"}) {
+    EXPECT_EQ(html.find(bad), std::string::npos) << "no " << bad << " coordinates or labels";
+  }
+}
+
 TEST_F(ReportTest, MissingEstimatesIsAnErrorNamingIt) {
   try {
     write_report_html(dir_, nullptr);
