@@ -12,11 +12,13 @@
 #include <sstream>
 #include <string>
 
+#include "pipeline/dataset/diagnostics_csv.h"
 #include "pipeline/dataset/estimates_csv.h"
 #include "pipeline/dataset/global_pose_csv.h"
 #include "pipeline/net_detector.h"
 #include "pipeline/report/overlay.h"
 #include "pipeline/report/report_html.h"
+#include "pipeline/timing_table.h"
 #include "runtime/error.h"
 #include "tests/support/net_image.h"
 #include "tests/support/vulkan_fixture.h"
@@ -75,7 +77,8 @@ class ReportTest : public ::testing::Test {
     }
   }
 
-  // A synthetic run: the vehicle passes along the net of a 12 m pen at r 11 m, turning.
+  // A synthetic run: the vehicle passes along the net of a 12 m pen at r 11 m, turning; the
+  // optional files come from the writers `pensight run` uses.
   Dataset write_run(const fs::path& out, bool optional_files) const {
     Dataset ds;
     ds.root = "synthetic-dataset";
@@ -83,14 +86,7 @@ class ReportTest : public ::testing::Test {
     ds.groundtruth0.emplace();
     EstimatesCsvWriter estimates(out / "estimates.csv");
     GlobalPoseCsvWriter published(out / kPublishedGlobalPoseFile);
-    std::ofstream diagnostics(out / "diagnostics.csv");
-    diagnostics << "#timestamp [ns],valid_rois,inlier_rois,plane_rms [m],fft_reason,"
-                   "mesh_angle [deg],dvl_plane_d [m],dvl_plane_psi [rad]";
-    for (const char* sensor :
-         {"dvl_velocity", "dvl_plane", "depth", "attitude", "vision_fix", "vision_relative"}) {
-      diagnostics << "," << sensor << "_accepted," << sensor << "_rejected";
-    }
-    diagnostics << "\n";
+    DiagnosticsCsvWriter diagnostics(out / kDiagnosticsFile);
     const double rho0 = 0.4;
     for (int i = 0; i < 80; ++i) {
       const int64_t t = kStartNs + i * kFrameNs;
@@ -125,28 +121,31 @@ class ReportTest : public ::testing::Test {
       p.r_g_m = r - 0.05;
       published.write(p);
 
-      diagnostics << t << "," << e.valid_rois << "," << (nan_frame ? 0 : 25) << ","
-                  << (nan_frame ? "nan" : "0.004") << ","
-                  << (nan_frame ? (i % 2 ? "too few ROIs <3> & no plane" : "open water") : "")
-                  << ",89.5," << g.d_net_m + 0.03 << "," << (i % 4 ? g.psi_net_rad : NAN);
-      for (int k = 0; k < 6; ++k) diagnostics << "," << (k + i) % 3 << "," << (k == 1 && i % 7);
-      diagnostics << "\n";
+      DiagnosticsRow d{.timestamp_ns = t, .valid_rois = e.valid_rois};
+      d.inlier_rois = nan_frame ? 0 : 25;
+      d.plane_rms_m = nan_frame ? kNaN : 0.004;
+      if (nan_frame) d.fft_reason = i % 2 ? "too few ROIs <3> & no plane" : "open water";
+      d.dvl_plane_d_m = g.d_net_m + 0.03;
+      d.dvl_plane_psi_rad = i % 4 ? g.psi_net_rad : kNaN;
+      for (int k = 0; k < 6; ++k) {
+        d.accepted[k] = (k + i) % 3;
+        d.rejected[k] = k == 1 && i % 7;
+      }
+      diagnostics.write(d);
     }
     estimates.finish();
     published.finish();
-    diagnostics.close();
+    diagnostics.finish();
     if (!optional_files) {
       fs::remove(out / kPublishedGlobalPoseFile);
-      fs::remove(out / "diagnostics.csv");
+      fs::remove(out / kDiagnosticsFile);
       return ds;
     }
-    std::ofstream timing(out / "timing.csv");
-    timing << "#node,count,mean_ms,p95_ms,max_ms,rate_hz,latency_mean_ms,latency_p95_ms,"
-              "published_mean_ms,published_rate_hz\n"
-              "fft net detection,80,4.61,5.2,9.8,10,4.7,5.4,47.8,nan\n"
-              "relative pose (fft),80,0.31,0.4,0.9,10,5.1,5.8,13.2,nan\n"
-              "global pose,80,0.02,0.03,0.05,10,5.2,5.9,8.7,4\n"
-              "end-to-end (camera -> global pose),80,nan,nan,nan,10,5.2,5.9,nan,nan\n";
+    const std::vector<StageStats> stages = {
+        {"fft net detection", 80, 0, 4.61, 5.2, 9.8, 10, 4.7, 5.4},
+        {"relative pose (fft)", 80, 0, 0.31, 0.4, 0.9, 10, 5.1, 5.8},
+        {"global pose", 80, 0, 0.02, 0.03, 0.05, 10, 5.2, 5.9}};
+    write_timing_csv(out / kTimingFile, timing_table(stages));
     write_overlays(out / "overlays", 7);
     return ds;
   }
