@@ -18,6 +18,17 @@ std::string trim(const std::string& s) {
   return s.substr(b, e - b + 1);
 }
 
+std::vector<std::string> split(const std::string& line) {
+  std::vector<std::string> fields;
+  size_t start = 0;
+  while (true) {
+    const size_t comma = line.find(',', start);
+    fields.push_back(trim(line.substr(start, comma - start)));
+    if (comma == std::string::npos) return fields;
+    start = comma + 1;
+  }
+}
+
 }  // namespace
 
 CsvTable::CsvTable(const std::filesystem::path& file, size_t min_fields, size_t max_fields)
@@ -27,15 +38,12 @@ CsvTable::CsvTable(const std::filesystem::path& file, size_t min_fields, size_t 
   std::string line;
   for (int number = 1; std::getline(in, line); ++number) {
     const std::string t = trim(line);
-    if (t.empty() || t[0] == '#') continue;
-    Row row{number, {}};
-    size_t start = 0;
-    while (true) {
-      const size_t comma = t.find(',', start);
-      row.fields.push_back(trim(t.substr(start, comma - start)));
-      if (comma == std::string::npos) break;
-      start = comma + 1;
+    if (t.empty()) continue;
+    if (t[0] == '#') {
+      if (header_.empty()) header_ = split(t.substr(1));
+      continue;
     }
+    Row row{number, split(t)};
     if (row.fields.size() < min_fields || row.fields.size() > max_fields) {
       throw Error(file_ + ":" + std::to_string(number) + ": expected " +
                   (min_fields == max_fields

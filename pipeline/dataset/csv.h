@@ -14,6 +14,8 @@ class CsvTable {
   // Reads `file`; every row must have between min_fields and max_fields fields.
   CsvTable(const std::filesystem::path& file, size_t min_fields, size_t max_fields);
 
+  // The column names of the first '#' line (its '#' dropped), for files read by column name.
+  const std::vector<std::string>& header() const { return header_; }
   size_t rows() const { return rows_.size(); }
   size_t fields(size_t row) const { return rows_[row].fields.size(); }
   const std::string& text(size_t row, size_t field) const { return rows_[row].fields[field]; }
@@ -29,6 +31,7 @@ class CsvTable {
   [[noreturn]] void fail(size_t row, size_t field, const std::string& message) const;
 
   std::string file_;
+  std::vector<std::string> header_;
   std::vector<Row> rows_;
 };
 

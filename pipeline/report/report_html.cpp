@@ -1,0 +1,825 @@
+#include "pipeline/report/report_html.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <initializer_list>
+#include <iterator>
+#include <limits>
+#include <map>
+#include <optional>
+#include <span>
+#include <sstream>
+#include <string>
+#include <string_view>
+#include <unordered_map>
+#include <vector>
+
+#include "pipeline/dataset/atomic_file.h"
+#include "pipeline/dataset/csv.h"
+#include "pipeline/dataset/estimates_csv.h"
+#include "pipeline/dataset/global_pose_csv.h"
+#include "pipeline/evaluation/evaluation.h"
+#include "runtime/error.h"
+
+namespace pensight {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kRadToDeg = 180.0 / kPi;
+
+std::string escape(std::string_view s) {
+  std::string out;
+  out.reserve(s.size());
+  for (const char c : s) {
+    switch (c) {
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      case '\'':
+        out += "&#39;";
+        break;
+      default:
+        out += c;
+    }
+  }
+  return out;
+}
+
+std::string base64(std::string_view bytes) {
+  static constexpr char kDigits[] =
+      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  out.reserve((bytes.size() + 2) / 3 * 4);
+  for (size_t i = 0; i < bytes.size(); i += 3) {
+    const size_t n = std::min<size_t>(3, bytes.size() - i);
+    uint32_t v = 0;
+    for (size_t k = 0; k < 3; ++k) {
+      v = (v << 8) | (k < n ? static_cast<unsigned char>(bytes[i + k]) : 0u);
+    }
+    for (size_t k = 0; k < 4; ++k) {
+      out += k <= n ? kDigits[(v >> (18 - 6 * k)) & 63] : '=';
+    }
+  }
+  return out;
+}
+
+std::string format(const char* spec, double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, spec, v);
+  return buf;
+}
+
+// Table cells: integers as such, otherwise about three significant digits.
+std::string short_number(double v) {
+  if (!std::isfinite(v)) return "n/a";
+  if (v == std::round(v) && std::abs(v) < 1e9) return format("%.0f", v);
+  if (std::abs(v) >= 100) return format("%.0f", v);
+  return format("%.3g", v);
+}
+
+// Angles as a continuous curve (no jumps of 2 pi where an angle crosses +-pi).
+void unwrap(std::vector<double>& angles_rad) {
+  double last = kNaN, turns = 0;
+  for (double& a : angles_rad) {
+    if (!std::isfinite(a)) continue;
+    if (std::isfinite(last)) turns += 2 * kPi * std::round((last - (a + turns)) / (2 * kPi));
+    a += turns;
+    last = a;
+  }
+}
+
+// ---- Inline SVG charts -------------------------------------------------------------------------
+
+struct Series {
+  std::string name;
+  std::string colour;
+  std::vector<double> x, y;  // a non-finite point breaks the line
+  bool dashed = false;
+};
+
+struct Chart {
+  std::string title;
+  std::string x_label, y_label;
+  std::vector<Series> series;
+  bool equal_aspect = false;      // top views: one metre is as long on both axes
+  double circle_radius_m = kNaN;  // the pen, centred on the origin
+  bool fit_circle = false;        // the axes cover the whole circle, not only the data
+  double min_span_m = 0;          // equal_aspect: the axes cover at least this much
+  int width = 960, height = 250;
+};
+
+constexpr const char* kPenColour = "#3a9a6a";
+
+struct Axis {
+  double lo = 0, hi = 1;
+  std::vector<double> ticks;
+};
+
+// Covers [lo, hi] with ticks at 1, 2 or 5 times a power of ten.
+Axis nice_axis(double lo, double hi) {
+  if (!(lo <= hi)) lo = 0, hi = 1;
+  if (hi - lo < 1e-9 * std::max(1.0, std::abs(lo))) lo -= 0.5, hi += 0.5;
+  const double raw = (hi - lo) / 5, magnitude = std::pow(10.0, std::floor(std::log10(raw)));
+  double step = 10 * magnitude;
+  for (const double m : {1.0, 2.0, 5.0}) {
+    if (m * magnitude >= raw) {
+      step = m * magnitude;
+      break;
+    }
+  }
+  Axis a{std::floor(lo / step) * step, std::ceil(hi / step) * step, {}};
+  for (int k = 0; a.lo + k * step <= a.hi + 0.5 * step; ++k) {
+    const double t = a.lo + k * step;
+    a.ticks.push_back(std::abs(t) < 1e-9 * step ? 0 : t);  // never "-0"
+  }
+  return a;
+}
+
+// As many decimals as the tick step needs (0.05 -> 2).
+std::string tick_label(double t, const Axis& a) {
+  const double step = a.ticks.size() > 1 ? a.ticks[1] - a.ticks[0] : 1;
+  const int decimals = std::max(0, -static_cast<int>(std::floor(std::log10(step) + 1e-9)));
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, t);
+  return buf;
+}
+
+std::string svg(const Chart& c) {
+  constexpr double kLeft = 64, kRight = 16, kBottom = 40;
+  // Legend entries left to right under the title, wrapping to more rows; the plot starts below.
+  std::vector<std::pair<double, double>> legend_at;
+  double legend_x = kLeft, legend_y = 30;
+  for (const Series& s : c.series) {
+    const double w = 45 + 6.5 * static_cast<double>(s.name.size());
+    if (legend_x > kLeft && legend_x + w > c.width - kRight) legend_x = kLeft, legend_y += 16;
+    legend_at.emplace_back(legend_x, legend_y);
+    legend_x += w;
+  }
+  const double top = legend_y + 14;
+  double x_lo = std::numeric_limits<double>::infinity(), x_hi = -x_lo, y_lo = x_lo, y_hi = -x_lo;
+  for (const Series& s : c.series) {
+    for (size_t i = 0; i < s.x.size(); ++i) {
+      if (!std::isfinite(s.x[i]) || !std::isfinite(s.y[i])) continue;
+      x_lo = std::min(x_lo, s.x[i]), x_hi = std::max(x_hi, s.x[i]);
+      y_lo = std::min(y_lo, s.y[i]), y_hi = std::max(y_hi, s.y[i]);
+    }
+  }
+  const double plot_w = c.width - kLeft - kRight, plot_h = c.height - top - kBottom;
+  if (c.equal_aspect) {
+    if (c.fit_circle) {
+      x_lo = std::min(x_lo, -c.circle_radius_m), x_hi = std::max(x_hi, c.circle_radius_m);
+      y_lo = std::min(y_lo, -c.circle_radius_m), y_hi = std::max(y_hi, c.circle_radius_m);
+    }
+    if (!(x_lo <= x_hi)) x_lo = y_lo = -1, x_hi = y_hi = 1;
+    // Both axes span the same metres per pixel, centred on the data, with a margin of 10 %.
+    const double m_per_px = std::max({(x_hi - x_lo) / plot_w, (y_hi - y_lo) / plot_h,
+                                      c.min_span_m / std::min(plot_w, plot_h)}) *
+                                1.2 +
+                            1e-9;
+    const double xc = 0.5 * (x_lo + x_hi), yc = 0.5 * (y_lo + y_hi);
+    x_lo = xc - 0.5 * m_per_px * plot_w, x_hi = xc + 0.5 * m_per_px * plot_w;
+    y_lo = yc - 0.5 * m_per_px * plot_h, y_hi = yc + 0.5 * m_per_px * plot_h;
+  }
+  Axis xa = nice_axis(x_lo, x_hi), ya = nice_axis(y_lo, y_hi);
+  if (c.equal_aspect) {
+    // Keep the equal scale: the ticks fall inside, the range stays as computed.
+    std::erase_if(xa.ticks, [&](double t) { return t < x_lo || t > x_hi; });
+    std::erase_if(ya.ticks, [&](double t) { return t < y_lo || t > y_hi; });
+    xa.lo = x_lo, xa.hi = x_hi, ya.lo = y_lo, ya.hi = y_hi;
+  }
+  // Top views are seen from above with P's z down: x to the right and y down the page turn
+  // clockwise, as yaw does. Time charts put y up.
+  const auto px = [&](double x) { return kLeft + (x - xa.lo) / (xa.hi - xa.lo) * plot_w; };
+  const auto py = [&](double y) {
+    const double f = (y - ya.lo) / (ya.hi - ya.lo);
+    return top + (c.equal_aspect ? f : 1 - f) * plot_h;
+  };
+
+  std::ostringstream o;
+  o << "<svg width=\"" << c.width << "\" height=\"" << c.height << "\" viewBox=\"0 0 " << c.width
+    << " " << c.height << "\" font-family=\"sans-serif\" font-size=\"12\">\n"
+    << "<text x=\"" << kLeft << "\" y=\"16\" font-weight=\"bold\">" << escape(c.title)
+    << "</text>\n";
+  for (size_t i = 0; i < c.series.size(); ++i) {
+    const Series& s = c.series[i];
+    const auto [x, y] = legend_at[i];
+    o << "<line x1=\"" << x << "\" y1=\"" << y << "\" x2=\"" << x + 22 << "\" y2=\"" << y
+      << "\" stroke=\"" << s.colour << "\" stroke-width=\"2\""
+      << (s.dashed ? " stroke-dasharray=\"5 3\"" : "") << "/><text x=\"" << x + 27 << "\" y=\""
+      << y + 4 << "\">" << escape(s.name) << "</text>\n";
+  }
+  o << "<rect x=\"" << kLeft << "\" y=\"" << top << "\" width=\"" << plot_w << "\" height=\""
+    << plot_h << "\" fill=\"#fafafa\" stroke=\"#999\"/>\n";
+  for (const double t : xa.ticks) {
+    o << "<line x1=\"" << px(t) << "\" y1=\"" << top << "\" x2=\"" << px(t) << "\" y2=\""
+      << top + plot_h << "\" stroke=\"#e4e4e4\"/><text x=\"" << px(t) << "\" y=\""
+      << top + plot_h + 15 << "\" text-anchor=\"middle\">" << tick_label(t, xa) << "</text>\n";
+  }
+  for (const double t : ya.ticks) {
+    o << "<line x1=\"" << kLeft << "\" y1=\"" << py(t) << "\" x2=\"" << kLeft + plot_w << "\" y2=\""
+      << py(t) << "\" stroke=\"#e4e4e4\"/><text x=\"" << kLeft - 5 << "\" y=\"" << py(t) + 4
+      << "\" text-anchor=\"end\">" << tick_label(t, ya) << "</text>\n";
+  }
+  o << "<text x=\"" << kLeft + plot_w / 2 << "\" y=\"" << c.height - 6
+    << "\" text-anchor=\"middle\">" << escape(c.x_label) << "</text>\n"
+    << "<text transform=\"translate(14," << top + plot_h / 2
+    << ") rotate(-90)\" text-anchor=\"middle\">" << escape(c.y_label) << "</text>\n";
+  // A nested viewport in the outer coordinates clips what lies beyond the axes (the pen circle).
+  o << "<svg x=\"" << kLeft << "\" y=\"" << top << "\" width=\"" << plot_w << "\" height=\""
+    << plot_h << "\" viewBox=\"" << kLeft << " " << top << " " << plot_w << " " << plot_h
+    << "\">\n";
+  if (std::isfinite(c.circle_radius_m)) {
+    o << "<circle cx=\"" << px(0) << "\" cy=\"" << py(0) << "\" r=\""
+      << c.circle_radius_m / (xa.hi - xa.lo) * plot_w << "\" fill=\"none\" stroke=\"" << kPenColour
+      << "\" stroke-width=\"2\"/>\n";
+  }
+  for (const Series& s : c.series) {
+    // One path per run of finite points; a lone point between NaNs gets a dot.
+    std::string path;
+    size_t run = 0;
+    for (size_t i = 0; i <= s.x.size(); ++i) {
+      const bool ok = i < s.x.size() && std::isfinite(s.x[i]) && std::isfinite(s.y[i]);
+      if (ok) {
+        path +=
+            (run == 0 ? "M" : "L") + format("%.1f", px(s.x[i])) + "," + format("%.1f", py(s.y[i]));
+        ++run;
+        continue;
+      }
+      if (run == 1) {
+        o << "<circle cx=\"" << px(s.x[i - 1]) << "\" cy=\"" << py(s.y[i - 1])
+          << "\" r=\"1.8\" fill=\"" << s.colour << "\"/>\n";
+      }
+      run = 0;
+    }
+    if (!path.empty()) {
+      o << "<path d=\"" << path << "\" fill=\"none\" stroke=\"" << s.colour
+        << "\" stroke-width=\"1.5\"" << (s.dashed ? " stroke-dasharray=\"5 3\"" : "") << "/>\n";
+    }
+  }
+  o << "</svg></svg>\n";
+  return o.str();
+}
+
+// ---- Reading the run's files ------------------------------------------------------------------
+
+// A CSV file read by column name (diagnostics.csv, timing.csv).
+struct NamedTable {
+  std::optional<CsvTable> table;
+  std::unordered_map<std::string, size_t> column;
+  std::string problem;  // why the table is absent: not written, or unreadable
+
+  bool has(const std::string& name) const { return column.count(name) > 0; }
+};
+
+NamedTable read_named(const std::filesystem::path& file,
+                      std::initializer_list<std::string_view> required) {
+  NamedTable t;
+  if (!std::filesystem::exists(file)) {
+    t.problem = file.filename().string() + " was not written by this run";
+    return t;
+  }
+  try {
+    CsvTable table(file, 1, std::numeric_limits<size_t>::max());
+    for (size_t i = 0; i < table.header().size(); ++i) t.column[table.header()[i]] = i;
+    for (const std::string_view name : required) {
+      if (!t.has(std::string(name))) {
+        throw Error(file.string() + ": the header has no column '" + std::string(name) + "'");
+      }
+    }
+    for (size_t r = 0; r < table.rows(); ++r) {
+      if (table.fields(r) != table.header().size()) {
+        throw Error(file.string() + ": data row " + std::to_string(r + 1) + " has " +
+                    std::to_string(table.fields(r)) + " fields, the header names " +
+                    std::to_string(table.header().size()));
+      }
+    }
+    t.table.emplace(std::move(table));
+  } catch (const Error& e) {
+    t.problem = std::string("cannot read it: ") + e.what();
+  }
+  return t;
+}
+
+// The column as numbers; a field that is not a number reads as NaN: the report shows what it can.
+std::vector<double> numbers(const NamedTable& t, const std::string& name) {
+  std::vector<double> v;
+  const size_t c = t.column.at(name);
+  for (size_t r = 0; r < t.table->rows(); ++r) {
+    try {
+      v.push_back(t.table->number(r, c));
+    } catch (const Error&) {
+      v.push_back(kNaN);
+    }
+  }
+  return v;
+}
+
+// The timestamp column in seconds of the run; a malformed field reads as NaN.
+std::vector<double> seconds(const NamedTable& t, int64_t t0_ns) {
+  std::vector<double> v;
+  const size_t c = t.column.at("timestamp [ns]");
+  for (size_t r = 0; r < t.table->rows(); ++r) {
+    try {
+      v.push_back(1e-9 * static_cast<double>(t.table->integer(r, c) - t0_ns));
+    } catch (const Error&) {
+      v.push_back(kNaN);
+    }
+  }
+  return v;
+}
+
+std::string not_available(const std::string& why) {
+  return "<p class=\"absent\">" + escape(why) + ".</p>\n";
+}
+
+// ---- The page ----------------------------------------------------------------------------------
+
+constexpr const char* kEstimateColour = "#1f5fbf";
+constexpr const char* kTruthColour = "#222";
+constexpr const char* kDvlColour = "#d2691e";
+constexpr const char* kPublishedColour = "#b03060";
+
+struct Run {
+  std::filesystem::path out_dir;
+  const Dataset* dataset;
+  std::vector<EstimateRow> rows;
+  int64_t t0_ns = 0;
+  std::vector<EstimateRow> published;
+  std::string published_problem;
+  NamedTable diagnostics;
+  NamedTable timing;
+  const GroundTruth* truth = nullptr;
+
+  double seconds(int64_t t_ns) const { return 1e-9 * static_cast<double>(t_ns - t0_ns); }
+  std::vector<double> times(std::span<const EstimateRow> r) const {
+    std::vector<double> t;
+    for (const EstimateRow& e : r) t.push_back(seconds(e.timestamp_ns));
+    return t;
+  }
+  // Truth rows inside the run's time span.
+  std::vector<const GroundTruthRow*> truth_rows() const {
+    std::vector<const GroundTruthRow*> out;
+    if (!truth || rows.empty()) return out;
+    for (const GroundTruthRow& g : truth->rows) {
+      if (g.timestamp_ns >= rows.front().timestamp_ns && g.timestamp_ns <= rows.back().timestamp_ns)
+        out.push_back(&g);
+    }
+    return out;
+  }
+};
+
+template <class Row, class F>
+std::vector<double> column(std::span<const Row> rows, F f) {
+  std::vector<double> v;
+  for (const Row& r : rows) v.push_back(f(r));
+  return v;
+}
+
+std::string net_pose_section(const Run& run) {
+  std::string html = "<h2>Net-relative pose (FFT)</h2>\n";
+  const std::vector<double> t = run.times(run.rows);
+  const auto truth = run.truth_rows();
+  std::vector<double> t_truth;
+  for (const GroundTruthRow* g : truth) t_truth.push_back(run.seconds(g->timestamp_ns));
+  std::vector<double> t_dvl, dvl_d, dvl_psi;
+  const NamedTable& diag = run.diagnostics;
+  const bool dvl = diag.table && diag.has("dvl_plane_d [m]") && diag.has("dvl_plane_psi [rad]");
+  if (dvl) {
+    t_dvl = seconds(diag, run.t0_ns);
+    dvl_d = numbers(diag, "dvl_plane_d [m]");
+    dvl_psi = numbers(diag, "dvl_plane_psi [rad]");
+    for (double& v : dvl_psi) v *= kRadToDeg;
+  }
+  struct Quantity {
+    const char* title;
+    const char* unit;
+    double EstimateRow::*estimate;
+    double GroundTruthRow::*truth;
+    double scale;
+    const std::vector<double>* dvl;
+  };
+  const Quantity quantities[] = {
+      {"d_net: distance to the net along the optical axis", "m", &EstimateRow::d_net_fft_m,
+       &GroundTruthRow::d_net_m, 1.0, &dvl_d},
+      {"psi_net: heading against the net", "deg", &EstimateRow::psi_net_fft_rad,
+       &GroundTruthRow::psi_net_rad, kRadToDeg, &dvl_psi},
+      {"pitch_net: pitch against the net", "deg", &EstimateRow::pitch_net_fft_rad,
+       &GroundTruthRow::pitch_net_rad, kRadToDeg, nullptr}};
+  for (const Quantity& q : quantities) {
+    Chart c;
+    c.title = q.title;
+    c.x_label = "time [s]";
+    c.y_label = std::string(q.unit);
+    c.series.push_back({"estimate (estimates.csv)", kEstimateColour, t,
+                        column<EstimateRow>(run.rows, [&](const EstimateRow& r) {
+                          return r.*q.estimate * q.scale;
+                        })});
+    if (dvl && q.dvl) c.series.push_back({"DVL net plane", kDvlColour, t_dvl, *q.dvl, true});
+    if (!truth.empty()) {
+      std::vector<double> y;
+      for (const GroundTruthRow* g : truth) y.push_back(g->*q.truth * q.scale);
+      c.series.push_back({"truth", kTruthColour, t_truth, y, true});
+    }
+    html += svg(c);
+  }
+  std::string notes;
+  if (!dvl) {
+    notes += diag.table ? "diagnostics.csv has no DVL net plane columns"
+                        : "DVL net plane: " + diag.problem;
+  }
+  if (truth.empty()) {
+    if (!notes.empty()) notes += "; ";
+    notes += run.dataset ? "the dataset has no groundtruth0 for these frames"
+                         : "no dataset given: no ground truth";
+  }
+  if (!notes.empty()) html += not_available(notes);
+  return html;
+}
+
+std::string global_pose_section(const Run& run) {
+  std::string html = "<h2>Global pose in the pen</h2>\n";
+  const auto truth = run.truth_rows();
+  std::vector<double> t_truth, truth_x, truth_y, truth_r, truth_rho, truth_z, truth_psi;
+  for (const GroundTruthRow* g : truth) {
+    t_truth.push_back(run.seconds(g->timestamp_ns));
+    const Eigen::Vector3d& p = g->p_world_body_m;
+    truth_r.push_back(std::hypot(p.x(), p.y()));
+    truth_rho.push_back(std::atan2(p.y(), p.x()));
+    truth_z.push_back(p.z());
+    truth_psi.push_back(g->yaw_rad);
+  }
+  // The pen's azimuth origin is not observable (dataset-format.md): as `pensight evaluate`
+  // compares changes, the truth's rho and yaw are shifted to agree with the estimate at the first
+  // frame with rho_g, psi_g and a truth row, and the truth's track is turned by the same rho.
+  double rho_offset = 0, psi_offset = 0;
+  bool aligned = false;
+  for (const EstimateRow& r : run.rows) {
+    if (!std::isfinite(r.rho_g_rad) || !std::isfinite(r.psi_g_rad)) continue;
+    const auto it = std::find_if(truth.begin(), truth.end(), [&](const GroundTruthRow* g) {
+      return g->timestamp_ns == r.timestamp_ns;
+    });
+    if (it == truth.end()) continue;
+    rho_offset = r.rho_g_rad - std::atan2((*it)->p_world_body_m.y(), (*it)->p_world_body_m.x());
+    psi_offset = r.psi_g_rad - (*it)->yaw_rad;
+    aligned = true;
+    break;
+  }
+  for (size_t i = 0; i < truth.size(); ++i) {
+    truth_rho[i] += rho_offset;
+    truth_psi[i] += psi_offset;
+    truth_x.push_back(truth_r[i] * std::cos(truth_rho[i]));
+    truth_y.push_back(truth_r[i] * std::sin(truth_rho[i]));
+  }
+  unwrap(truth_rho);
+  unwrap(truth_psi);
+
+  struct Track {
+    std::string name;
+    const char* colour;
+    std::span<const EstimateRow> rows;
+    bool dashed;
+  };
+  std::vector<Track> tracks = {{"fused (estimates.csv)", kEstimateColour, run.rows, false}};
+  if (!run.published.empty()) {
+    tracks.push_back({"published node", kPublishedColour, run.published, false});
+  }
+  struct Quantity {
+    const char* title;
+    const char* unit;
+    double EstimateRow::*value;
+    bool angle;
+    const std::vector<double>* truth;
+  };
+  const Quantity quantities[] = {
+      {"r_g: distance from the pen axis", "m", &EstimateRow::r_g_m, false, &truth_r},
+      {"rho_g: azimuth in the pen", "deg", &EstimateRow::rho_g_rad, true, &truth_rho},
+      {"z_g: depth", "m", &EstimateRow::z_g_m, false, &truth_z},
+      {"psi_g: yaw in the pen", "deg", &EstimateRow::psi_g_rad, true, &truth_psi}};
+  for (const Quantity& q : quantities) {
+    Chart c;
+    c.title = q.title;
+    c.x_label = "time [s]";
+    c.y_label = q.unit;
+    for (const Track& tr : tracks) {
+      std::vector<double> y =
+          column<EstimateRow>(tr.rows, [&](const EstimateRow& r) { return r.*q.value; });
+      if (q.angle) unwrap(y);
+      for (double& v : y) v *= q.angle ? kRadToDeg : 1.0;
+      c.series.push_back({tr.name, tr.colour, run.times(tr.rows), std::move(y), tr.dashed});
+    }
+    if (!truth.empty()) {
+      std::vector<double> y = *q.truth;
+      for (double& v : y) v *= q.angle ? kRadToDeg : 1.0;
+      c.series.push_back({"truth", kTruthColour, t_truth, std::move(y), true});
+    }
+    html += svg(c);
+  }
+
+  // Two views from above: the whole pen, and the track itself with the net's arc beside it.
+  Chart pen;
+  pen.title = "Track in the pen, seen from above";
+  pen.x_label = "x = r_g cos rho_g [m]";
+  pen.y_label = "y = r_g sin rho_g [m]";
+  pen.equal_aspect = true;
+  pen.width = pen.height = 490;
+  if (run.dataset) {
+    // A flat net is a pen of a large radius (dataset-format.md): then only its arc is drawn.
+    pen.circle_radius_m = run.dataset->scene.pen_radius_m;
+    pen.fit_circle = pen.circle_radius_m <= 30;
+    pen.series.push_back({"net", kPenColour, {}, {}, false});
+  }
+  for (const Track& tr : tracks) {
+    std::vector<double> x, y;
+    for (const EstimateRow& r : tr.rows) {
+      x.push_back(r.r_g_m * std::cos(r.rho_g_rad));
+      y.push_back(r.r_g_m * std::sin(r.rho_g_rad));
+    }
+    pen.series.push_back({tr.name, tr.colour, std::move(x), std::move(y), tr.dashed});
+  }
+  if (!truth.empty()) pen.series.push_back({"truth", kTruthColour, truth_x, truth_y, true});
+  Chart track = pen;
+  track.title = "The track, seen from above";
+  track.fit_circle = false;
+  track.min_span_m = 2;
+  html += "<div class=\"pair\">\n" + svg(pen) + svg(track) + "</div>\n";
+  html +=
+      "<p>Seen from above: the pen frame's z points down, into the page, so x to the right "
+      "and y down the page turn clockwise, as yaw does.</p>\n";
+
+  std::vector<std::string> notes;
+  if (run.published.empty()) notes.push_back("published node: " + run.published_problem);
+  if (!truth.empty()) {
+    notes.push_back(aligned
+                        ? "truth rho and yaw shifted by " + format("%.1f", rho_offset * kRadToDeg) +
+                              " and " + format("%.1f", psi_offset * kRadToDeg) +
+                              " deg to agree at the first frame with rho_g and psi_g (the "
+                              "pen's azimuth origin is not observable)"
+                        : "no frame with rho_g and psi_g: truth azimuth and yaw as recorded");
+  }
+  if (!run.dataset) notes.push_back("no dataset given: no pen circle");
+  std::string joined;
+  for (const std::string& n : notes) joined += (joined.empty() ? "" : "; ") + n;
+  if (!joined.empty()) html += not_available(joined);
+  return html;
+}
+
+std::string evaluation_section(const Run& run) {
+  std::string html = "<h2>Errors against the ground truth (pensight evaluate)</h2>\n";
+  if (!run.dataset) return html + not_available("No dataset given: no ground truth");
+  if (!run.truth) return html + not_available("The dataset has no groundtruth0/");
+  const AccuracyEnvelope envelope;
+  html +=
+      "<pre>" +
+      escape(format("measurable: net fraction >= %.2f, ", envelope.min_net_fraction) +
+             format("%.1f", envelope.min_d_net_m) + "-" + format("%.1f m, ", envelope.max_d_net_m) +
+             format("|psi_net| <= %.0f deg\n", envelope.max_abs_psi_net_rad * kRadToDeg) +
+             "net pose from FFT:\n" +
+             describe(score_net_pose(*run.dataset, run.rows, NetPoseSource::kFft, envelope)) +
+             "global pose (all frames; rho_g and psi_g as changes from the first frame with "
+             "both):\n" +
+             describe(score_global_pose(*run.dataset, run.rows)));
+  if (!run.published.empty()) {
+    html += escape(std::string("global pose of the published node (") + kPublishedGlobalPoseFile +
+                   ", the baseline):\n" + describe(score_global_pose(*run.dataset, run.published)));
+  }
+  return html + "</pre>\n";
+}
+
+std::string diagnostics_section(const Run& run) {
+  std::string html = "<h2>Diagnostics</h2>\n";
+  const NamedTable& d = run.diagnostics;
+  if (!d.table) return html + not_available(d.problem);
+  const CsvTable& t = *d.table;
+  std::map<std::string, size_t> reasons;
+  const size_t reason_column = d.column.at("fft_reason");
+  for (size_t r = 0; r < t.rows(); ++r) {
+    if (!t.text(r, reason_column).empty()) ++reasons[t.text(r, reason_column)];
+  }
+  size_t nan_frames = 0;
+  for (const auto& [reason, count] : reasons) nan_frames += count;
+  html += "<p>" + std::to_string(t.rows()) + " frames, " + std::to_string(nan_frames) +
+          " with the FFT pose NaN.</p>\n";
+  if (!reasons.empty()) {
+    std::vector<std::pair<std::string, size_t>> sorted(reasons.begin(), reasons.end());
+    std::stable_sort(sorted.begin(), sorted.end(),
+                     [](const auto& a, const auto& b) { return a.second > b.second; });
+    html += "<table><tr><th>why the FFT pose is NaN (fft_reason)</th><th>frames</th></tr>\n";
+    for (const auto& [reason, count] : sorted) {
+      html += "<tr><td>" + escape(reason) + "</td><td class=\"n\">" + std::to_string(count) +
+              "</td></tr>\n";
+    }
+    html += "</table>\n";
+  }
+  // The estimator's outcome per sensor: the <sensor>_accepted / <sensor>_rejected column pairs.
+  std::string sensors;
+  for (const std::string& name : t.header()) {
+    const std::string suffix = "_accepted";
+    if (name.size() <= suffix.size() || !name.ends_with(suffix)) continue;
+    const std::string sensor = name.substr(0, name.size() - suffix.size());
+    if (!d.has(sensor + "_rejected")) continue;
+    double accepted = 0, rejected = 0;
+    for (const double v : numbers(d, name)) accepted += std::isfinite(v) ? v : 0;
+    for (const double v : numbers(d, sensor + "_rejected")) rejected += std::isfinite(v) ? v : 0;
+    sensors += "<tr><td>" + escape(sensor) + "</td><td class=\"n\">" + short_number(accepted) +
+               "</td><td class=\"n\">" + short_number(rejected) + "</td></tr>\n";
+  }
+  if (!sensors.empty()) {
+    html += "<table><tr><th>sensor</th><th>accepted</th><th>rejected</th></tr>\n" + sensors +
+            "</table>\n";
+  }
+  if (d.has("valid_rois") && d.has("inlier_rois")) {
+    const std::vector<double> ts = seconds(d, run.t0_ns);
+    Chart c;
+    c.title = "ROIs per frame";
+    c.x_label = "time [s]";
+    c.y_label = "ROIs";
+    c.height = 200;
+    c.series.push_back(
+        {"with a lattice (valid_rois)", kEstimateColour, ts, numbers(d, "valid_rois")});
+    c.series.push_back(
+        {"inliers of the pose (inlier_rois)", "#2a2", ts, numbers(d, "inlier_rois")});
+    html += svg(c);
+  }
+  return html;
+}
+
+std::string timing_section(const Run& run) {
+  std::string html = "<h2>Per-stage timing</h2>\n";
+  const NamedTable& tm = run.timing;
+  if (!tm.table) return html + not_available(tm.problem);
+  const CsvTable& t = *tm.table;
+  static const std::map<std::string, std::string> kLabel = {
+      {"node", "node"},
+      {"count", "count"},
+      {"mean_ms", "mean [ms]"},
+      {"p95_ms", "p95 [ms]"},
+      {"max_ms", "max [ms]"},
+      {"rate_hz", "rate [Hz]"},
+      {"latency_mean_ms", "latency mean [ms]"},
+      {"latency_p95_ms", "latency p95 [ms]"},
+      {"published_mean_ms", "published (Orin) mean [ms]"},
+      {"published_rate_hz", "published rate [Hz]"}};
+  html += "<table><tr>";
+  for (const std::string& name : t.header()) {
+    const auto it = kLabel.find(name);
+    html += "<th>" + escape(it == kLabel.end() ? name : it->second) + "</th>";
+  }
+  html += "</tr>\n";
+  const size_t node = tm.column.at("node");
+  for (size_t r = 0; r < t.rows(); ++r) {
+    html += "<tr>";
+    for (size_t f = 0; f < t.fields(r); ++f) {
+      if (f == node) {
+        html += "<td>" + escape(t.text(r, f)) + "</td>";
+        continue;
+      }
+      std::string cell;
+      try {
+        cell = short_number(t.number(r, f));
+      } catch (const Error&) {
+        cell = t.text(r, f);
+      }
+      html += "<td class=\"n\">" + escape(cell) + "</td>";
+    }
+    html += "</tr>\n";
+  }
+  return html + "</table>\n";
+}
+
+std::string overlays_section(const Run& run) {
+  std::string html = "<h2>Overlay frames</h2>\n";
+  const std::filesystem::path dir = run.out_dir / "overlays";
+  std::vector<std::filesystem::path> files;
+  if (std::filesystem::is_directory(dir)) {
+    for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+      if (entry.is_regular_file() && entry.path().extension() == ".png") {
+        files.push_back(entry.path());
+      }
+    }
+  }
+  if (files.empty()) return html + not_available("overlays/*.png were not written by this run");
+  std::sort(files.begin(), files.end());
+  // Up to four, evenly spaced over the run, first and last included.
+  const size_t shown = std::min<size_t>(4, files.size());
+  html += "<p>" + std::to_string(shown) + " of the " + std::to_string(files.size()) +
+          " overlays in overlays/. Squares: the ROIs (green: inlier of the pose, orange: valid but "
+          "not an inlier, red: no usable lattice); parallelograms: cells of each ROI's lattice."
+          "</p>\n<div class=\"overlays\">\n";
+  for (size_t k = 0; k < shown; ++k) {
+    const size_t i = shown == 1 ? 0 : k * (files.size() - 1) / (shown - 1);
+    std::ifstream in(files[i], std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::string name = escape(files[i].filename().string());
+    html += "<figure><img src=\"data:image/png;base64," + base64(bytes) + "\" alt=\"" + name +
+            "\"><figcaption>" + name + "</figcaption></figure>\n";
+  }
+  return html + "</div>\n";
+}
+
+std::string summary_section(const Run& run) {
+  size_t fft = 0, global = 0;
+  for (const EstimateRow& r : run.rows) {
+    fft += std::isfinite(r.d_net_fft_m);
+    global += std::isfinite(r.r_g_m);
+  }
+  const double span_s = run.rows.empty() ? 0 : run.seconds(run.rows.back().timestamp_ns);
+  std::string html = "<p>Output folder: <code>" + escape(run.out_dir.string()) + "</code><br>\n";
+  html += run.dataset ? "Dataset: <code>" + escape(run.dataset->root.string()) + "</code>"
+                      : std::string("Dataset: none given (no ground truth)");
+  html += "<br>\n" + std::to_string(run.rows.size()) + " frames over " + format("%.1f", span_s) +
+          " s (time 0: the first frame, timestamp " + std::to_string(run.t0_ns) +
+          " ns); FFT net pose in " + std::to_string(fft) + ", global pose in " +
+          std::to_string(global) + ".</p>\n";
+  return html;
+}
+
+// The page checks itself once loaded: every image decoded and no script error. It marks the
+// result on <html data-self-check="ok|..."> for tests in a headless browser and for a reader's
+// developer console; the page's title stays the run's.
+constexpr const char* kSelfCheck = R"(<script>
+(function () {
+  var problems = [];
+  window.addEventListener('error', function (e) {
+    problems.push(e.message || ('cannot load ' + ((e.target && e.target.alt) || 'a resource')));
+  }, true);
+  window.addEventListener('load', function () {
+    for (var i = 0; i < document.images.length; ++i) {
+      var img = document.images[i];
+      if (!img.complete || img.naturalWidth === 0) problems.push('broken image ' + img.alt);
+    }
+    document.documentElement.setAttribute('data-self-check',
+        problems.length ? 'failed: ' + problems.join('; ') : 'ok');
+  });
+})();
+</script>
+)";
+
+constexpr const char* kStyle = R"(<style>
+body { font-family: sans-serif; max-width: 1000px; margin: 1em auto; padding: 0 1em; color: #222; }
+h2 { border-bottom: 1px solid #ccc; padding-bottom: 0.2em; margin-top: 1.6em; }
+svg { display: block; margin: 0.6em 0; max-width: 100%; height: auto; }
+table { border-collapse: collapse; margin: 0.6em 0; }
+th, td { border: 1px solid #ccc; padding: 0.25em 0.6em; text-align: left; }
+td.n { text-align: right; font-variant-numeric: tabular-nums; }
+pre { background: #f4f4f4; padding: 0.8em; overflow-x: auto; }
+.absent { color: #777; font-style: italic; }
+.pair { display: flex; gap: 0.5em; flex-wrap: wrap; }
+.overlays { display: grid; grid-template-columns: 1fr 1fr; gap: 0.8em; }
+figure { margin: 0; } figure img { width: 100%; height: auto; display: block; }
+figcaption { font-size: 0.85em; color: #555; }
+</style>
+)";
+
+}  // namespace
+
+void write_report_html(const std::filesystem::path& out_dir, const Dataset* dataset) {
+  const std::filesystem::path estimates = out_dir / "estimates.csv";
+  if (!std::filesystem::exists(estimates)) {
+    throw Error("report: '" + estimates.string() + "' not found; `pensight run DATASET --out " +
+                out_dir.string() + "` writes it, run that first (or pass the folder it wrote)");
+  }
+  Run run{out_dir, dataset, read_estimates_csv(estimates), 0, {}, {}, {}, {}, nullptr};
+  if (!run.rows.empty()) run.t0_ns = run.rows.front().timestamp_ns;
+  if (dataset && dataset->groundtruth0) run.truth = &*dataset->groundtruth0;
+  const std::filesystem::path published = out_dir / kPublishedGlobalPoseFile;
+  if (!std::filesystem::exists(published)) {
+    run.published_problem = std::string(kPublishedGlobalPoseFile) + " was not written by this run";
+  } else {
+    try {
+      run.published = read_global_pose_csv(published);
+    } catch (const Error& e) {
+      run.published_problem = std::string("cannot read it: ") + e.what();
+    }
+  }
+  run.diagnostics = read_named(out_dir / "diagnostics.csv", {"timestamp [ns]", "fft_reason"});
+  run.timing = read_named(out_dir / "timing.csv", {"node"});
+
+  std::string html =
+      "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>pensight "
+      "report: " +
+      escape(out_dir.filename().empty() ? out_dir.parent_path().filename().string()
+                                        : out_dir.filename().string()) +
+      "</title>\n" + kSelfCheck + kStyle + "</head>\n<body>\n<h1>pensight run report</h1>\n";
+  html += summary_section(run);
+  html += net_pose_section(run);
+  html += global_pose_section(run);
+  html += evaluation_section(run);
+  html += diagnostics_section(run);
+  html += timing_section(run);
+  html += overlays_section(run);
+  html += "</body>\n</html>\n";
+  write_file_atomically(out_dir / "report.html", html);
+}
+
+}  // namespace pensight
