@@ -38,6 +38,9 @@ int cmd_run(const Args& args) {
   cli.add_flag("--realtime", options.realtime,
                "push each sample at its timestamp (the timing a vehicle sees) instead of as fast "
                "as possible");
+  cli.add_flag("--overlays", options.overlays,
+               "write OUT/overlays/<frame>.png for every frame (ROI grid, lattices, pose); "
+               "without it, for 4 frames the report shows");
   cli.add_flag("--quiet", quiet, "no progress bar");
   try {
     cli.parse(std::vector<std::string>(args.rbegin(), args.rend()));
@@ -59,7 +62,8 @@ int cmd_run(const Args& args) {
               options.realtime ? "paced by the timestamps" : "as fast as possible",
               format_timing_table(s.timing).c_str());
   std::printf("global pose sensors:\n%s", s.global_pose_counters.c_str());
-  std::printf("wrote %s/estimates.csv, %s, %s\n", out_dir.c_str(), kDiagnosticsFile, kTimingFile);
+  std::printf("wrote %s/estimates.csv, %s, %s, overlays/, report.html\n", out_dir.c_str(),
+              kDiagnosticsFile, kTimingFile);
   if (options.write_published_global_pose)
     std::printf("wrote %s/%s (published global-pose node, the baseline)\n", out_dir.c_str(),
                 kPublishedGlobalPoseFile);

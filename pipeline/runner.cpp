@@ -1,5 +1,6 @@
 #include "pipeline/runner.h"
 
+#include <algorithm>
 #include <chrono>
 #include <mutex>
 #include <optional>
@@ -11,6 +12,8 @@
 #include "pipeline/dataset/estimates_csv.h"
 #include "pipeline/dataset/global_pose_csv.h"
 #include "pipeline/pipeline.h"
+#include "pipeline/report/overlay.h"
+#include "pipeline/report/report_html.h"
 #include "runtime/error.h"
 #include "runtime/log.h"
 #include "runtime/timing.h"
@@ -108,6 +111,16 @@ class RunWriter {
     skipped_.assign(d.frames.size(), false);
   }
 
+  // Overlays of the frames i with every_nth divides i, into `dir`.
+  void overlays(std::filesystem::path dir, std::vector<kernels::RoiOrigin> rois, int roi_size_px,
+                size_t every_nth) {
+    std::filesystem::create_directories(dir);
+    overlay_dir_ = std::move(dir);
+    rois_ = std::move(rois);
+    roi_size_px_ = roi_size_px;
+    overlay_every_ = std::max<size_t>(every_nth, 1);
+  }
+
   void skip(size_t i) {
     std::lock_guard lock(mutex_);
     skipped_[i] = true;
@@ -143,6 +156,11 @@ class RunWriter {
       if (r.published) fill_global_pose(published_row, *r.published);
       diag.dvl_plane_d_m = r.dvl_plane.d_net_m;
       diag.dvl_plane_psi_rad = r.dvl_plane.psi_net_rad;
+      if (!overlay_dir_.empty() && next_ % overlay_every_ == 0 && r.image) {
+        const std::filesystem::path name =
+            std::filesystem::path(d_.frames[next_].filename).stem().string() + ".png";
+        write_overlay_png(overlay_dir_ / name, *r.image, r.detection, rois_, roi_size_px_);
+      }
     }
     count_outcomes(r.counters, diag);
     write_rows(row, published_row, diag);
@@ -206,6 +224,10 @@ class RunWriter {
   DiagnosticsCsvWriter diagnostics_;
   std::optional<GlobalPoseCsvWriter> published_;
   std::vector<bool> skipped_;
+  std::filesystem::path overlay_dir_;  // empty: no overlays
+  std::vector<kernels::RoiOrigin> rois_;
+  int roi_size_px_ = 0;
+  size_t overlay_every_ = 1;
   size_t next_ = 0;  // frames with a row
   global_pose::GlobalPoseCounters last_;
 };
@@ -234,6 +256,8 @@ RunSummary run_dataset(const Dataset& dataset, const std::filesystem::path& out_
   };
   Pipeline pipeline(config, device);
   summary.backend = pipeline.backend_description();
+  writer.overlays(out_dir / "overlays", pipeline.rois(), pipeline.roi_size_px(),
+                  options.overlays ? 1 : (total + kReportOverlays - 1) / kReportOverlays);
 
   const auto start = std::chrono::steady_clock::now();
   const int64_t t0 = total ? dataset.frames.front().timestamp_ns : 0;
@@ -269,6 +293,7 @@ RunSummary run_dataset(const Dataset& dataset, const std::filesystem::path& out_
   summary.timing = timing_table(stages);
   summary.global_pose_counters = global_pose::describe(pipeline.global_pose_counters());
   write_timing_csv(out_dir / kTimingFile, summary.timing);
+  write_report_html(out_dir, &dataset);
   return summary;
 }
 

@@ -1,7 +1,7 @@
 #pragma once
 // `pensight run`: a dataset replayed through pensight::Pipeline (the code a vehicle runs), writing
-// OUT/estimates.csv, OUT/diagnostics.csv, OUT/timing.csv and, as the baseline, the published
-// global-pose node's output OUT/global_pose_published.csv.
+// OUT/estimates.csv, OUT/diagnostics.csv, OUT/timing.csv, OUT/overlays/, OUT/report.html and, as
+// the baseline, the published global-pose node's output OUT/global_pose_published.csv.
 #include <cstddef>
 #include <filesystem>
 #include <functional>
@@ -15,6 +15,8 @@
 
 namespace pensight {
 
+inline constexpr size_t kReportOverlays = 4;
+
 struct RunOptions {
   // The camera and the mesh size come from the dataset; everything else from here.
   NetDetectorConfig detector;
@@ -23,6 +25,9 @@ struct RunOptions {
   // Push each sample at its timestamp (relative to the first) instead of as fast as possible, so
   // the timing is a vehicle's at the dataset's rates.
   bool realtime = false;
+  // OUT/overlays/<cam0 file>.png for every frame (pipeline/report/overlay.h); without it, for
+  // kReportOverlays evenly spaced frames, which OUT/report.html shows.
+  bool overlays = false;
   // Called after each frame with (frames done, total frames), on the pipeline's delivery thread.
   std::function<void(size_t, size_t)> on_progress;
 };

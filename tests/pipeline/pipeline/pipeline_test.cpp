@@ -171,7 +171,7 @@ TEST(Pipeline, ReplayOfARenderedSequenceEqualsTheDirectCalls) {
 }
 
 // The start of the sweep faces open water, then turns onto the net: diagnostics.csv says why each
-// NaN frame is NaN, and timing.csv has the published nodes beside ours.
+// NaN frame is NaN, timing.csv has the published nodes beside ours, report.html shows overlays.
 TEST(Pipeline, RunWritesDiagnosticsAndTiming) {
   const testing::RenderedDataset rendered(testing::shipped_scenario("sweep.yaml", 1.5));
   const Dataset& d = rendered.dataset();
@@ -208,6 +208,14 @@ TEST(Pipeline, RunWritesDiagnosticsAndTiming) {
   }
   EXPECT_TRUE(fft && orin);
   EXPECT_EQ(summary.timing.size(), timing.rows());
+  // The report and the overlays it shows (kReportOverlays evenly spaced frames, the first one).
+  EXPECT_TRUE(std::filesystem::is_regular_file(out / "report.html"));
+  size_t overlays = 0;
+  for (const auto& e : std::filesystem::directory_iterator(out / "overlays"))
+    overlays += e.is_regular_file();
+  EXPECT_EQ(overlays, kReportOverlays);
+  EXPECT_TRUE(std::filesystem::is_regular_file(
+      out / "overlays" / (std::filesystem::path(d.frames[0].filename).stem().string() + ".png")));
   std::filesystem::remove_all(out);
 }
 

@@ -215,7 +215,7 @@ TEST_F(ReportTest, ReportHasEverySectionAndFetchesNothing) {
   }
   EXPECT_EQ(html.find("not written by this run"), std::string::npos);
   EXPECT_EQ(count(html, "<svg width="), 10u);  // 3 net pose, 4 global pose, 2 top views, ROIs
-  EXPECT_EQ(count(html, "<img src=\"data:image/png;base64,"), 4u);
+  EXPECT_EQ(count(html, "<img src=\"data:image/jpeg;base64,"), 4u);
   for (const char* shown : {"000000.png", "000002.png", "000004.png", "000006.png"}) {
     EXPECT_NE(html.find(shown), std::string::npos) << shown;  // evenly spaced, first and last
   }
