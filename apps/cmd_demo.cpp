@@ -92,7 +92,10 @@ int cmd_demo(const Args& args) {
       describe(score_global_pose(dataset, read_global_pose_csv(out_dir / kPublishedGlobalPoseFile)))
           .c_str());
   std::printf("rendering took %.1f s%s\n", render_s,
-              keep.empty() ? "" : ("; dataset and estimates kept in " + keep).c_str());
+              keep.empty() ? ""
+                           : ("; dataset and estimates kept in " + keep + " (open " +
+                              (out_dir / "report.html").string() + ")")
+                                 .c_str());
   return 0;
 }
 
