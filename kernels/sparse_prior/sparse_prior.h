@@ -73,7 +73,7 @@ class SparsePriorVk {
  private:
   const vk::Context* ctx_;
   SparsePriorShape shape_;
-  vk::Pipeline pipeline_;
+  const vk::Pipeline* pipeline_;  // borrowed from the context's registry
 };
 
 #if PENSIGHT_HAS_CUDA

@@ -21,13 +21,13 @@ struct Push {
 SparsePriorVk::SparsePriorVk(const vk::Context& ctx, const SparsePriorShape& shape)
     : ctx_(&ctx),
       shape_((validate(shape, {}), shape)),
-      pipeline_(ctx, {.shader = "sparse_prior/sparse_prior",
-                      .num_buffers = 2,
-                      .push_constant_bytes = sizeof(Push),
-                      .specialization = {static_cast<uint32_t>(shape.width),
-                                         static_cast<uint32_t>(shape.height),
-                                         std::bit_cast<uint32_t>(detail::inv_two_sigma2(shape))}}) {
-}
+      pipeline_(&ctx.pipeline(
+          {.shader = "sparse_prior/sparse_prior",
+           .num_buffers = 2,
+           .push_constant_bytes = sizeof(Push),
+           .specialization = {static_cast<uint32_t>(shape.width),
+                              static_cast<uint32_t>(shape.height),
+                              std::bit_cast<uint32_t>(detail::inv_two_sigma2(shape))}})) {}
 
 void SparsePriorVk::record(vk::CommandStream& stream, const vk::Buffer& points, uint32_t num_points,
                            const vk::Buffer& out, uint32_t out_offset) const {
@@ -45,7 +45,7 @@ void SparsePriorVk::record(vk::CommandStream& stream, const vk::Buffer& points, 
   }
   const vk::Groups groups{(static_cast<uint32_t>(shape_.width) + kTile - 1) / kTile,
                           (static_cast<uint32_t>(shape_.height) + kTile - 1) / kTile, 1};
-  stream.dispatch(pipeline_, {vk::in(points), vk::out(out)}, groups, Push{num_points, out_offset},
+  stream.dispatch(*pipeline_, {vk::in(points), vk::out(out)}, groups, Push{num_points, out_offset},
                   "sparse_prior");
 }
 
