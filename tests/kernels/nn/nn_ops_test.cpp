@@ -315,8 +315,10 @@ TEST_F(VulkanTest, SparsePriorFeedsTheModelInputOnDevice) {
   const kernels::SparsePriorVk prior(ctx(), shape);
   vk::Buffer point_buf(ctx(), pts.size() * sizeof(kernels::SparsePoint));
   point_buf.upload(pts.data(), pts.size() * sizeof(kernels::SparsePoint));
+  vk::TypedBuffer<kernels::SparsePriorParams> params(ctx(), 1);
+  params.fill({static_cast<uint32_t>(pts.size())});
   vk::CommandStream stream(ctx());
-  prior.record(stream, point_buf, static_cast<uint32_t>(pts.size()), model.input_buffer(1));
+  prior.record(stream, point_buf, params, model.input_buffer(1));
   model.record(stream);
   EXPECT_EQ(stream.num_commands(), 1 + model.num_dispatches());
   stream.submit_and_wait();
@@ -356,6 +358,8 @@ TEST_F(VulkanTest, SparsePriorAtAnOffsetAndModelInOneSubmission) {
   const kernels::SparsePriorVk prior(ctx(), shape);
   vk::Buffer point_buf(ctx(), pts.size() * sizeof(kernels::SparsePoint));
   point_buf.upload(pts.data(), pts.size() * sizeof(kernels::SparsePoint));
+  vk::TypedBuffer<kernels::SparsePriorParams> params(ctx(), 1);
+  params.fill({static_cast<uint32_t>(pts.size())});
   for (const bool fp16 : {false, true}) {
     if (fp16 && !ctx().info().fp16_storage) continue;
     SCOPED_TRACE(fp16 ? "fp16 storage" : "fp32");
@@ -363,8 +367,7 @@ TEST_F(VulkanTest, SparsePriorAtAnOffsetAndModelInOneSubmission) {
     model.fill_activations(pensight::testing::kPoison);
     model.input_buffer(0).upload(image.data.data(), plane * sizeof(float));
     vk::CommandStream stream(ctx());
-    prior.record(stream, point_buf, static_cast<uint32_t>(pts.size()), model.input_buffer(0),
-                 static_cast<uint32_t>(plane));
+    prior.record(stream, point_buf, params, model.input_buffer(0), static_cast<uint32_t>(plane));
     model.record(stream);
     stream.submit_and_wait();
     Tensor got{want[0].shape, std::vector<float>(want[0].data.size())};
