@@ -413,6 +413,8 @@ Context::~Context() {
 
 // Runs also when the constructor throws half-way, so it must cope with any prefix of handles.
 Context::Impl::~Impl() {
+  // The registry's pipelines hold handles of this device: destroy them while it still exists.
+  pipelines.entries.clear();
   if (device) {
     if (pipeline_cache) vk.vkDestroyPipelineCache(device, pipeline_cache, nullptr);
     vk.vkDestroyDevice(device, nullptr);

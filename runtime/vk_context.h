@@ -1,6 +1,7 @@
 #pragma once
-// The Vulkan context: instance, one chosen device, its compute queue and the on-disk pipeline
-// cache. Create one per process (or per device) and share it; everything else borrows it.
+// The Vulkan context: instance, one chosen device, its compute queue, the on-disk pipeline cache
+// and the in-process pipeline registry. Create one per process (or per device) and share it;
+// everything else borrows it.
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -9,6 +10,9 @@
 #include <vector>
 
 namespace pensight::vk {
+
+struct PipelineDesc;
+class Pipeline;
 
 enum class DeviceKind { kDiscrete, kIntegrated, kVirtual, kCpu, kOther };
 const char* to_string(DeviceKind kind);
@@ -62,6 +66,15 @@ class Context {
   // Writes the pipeline cache to disk now (it is also written on destruction).
   void save_pipeline_cache() const;
   std::filesystem::path pipeline_cache_path() const;
+
+  // The context's one pipeline for `desc` (shader, buffers, push-constant size, specialization),
+  // built on the first request and kept until the context is destroyed, so every kernel family
+  // and every instance of one borrows the same object and the reference stays valid. Thread-safe:
+  // different descriptions build concurrently, the same one is built once while others wait.
+  // Throws like the Pipeline constructor; a failed build is retried on the next request.
+  const Pipeline& pipeline(const PipelineDesc& desc) const;
+  // Distinct pipelines built through pipeline() so far.
+  size_t num_pipelines() const;
 
   // All devices the loader reports; throws like the constructor when there is no loader.
   static std::vector<DeviceInfo> list_devices();

@@ -4,6 +4,8 @@
 #include <volk.h>
 
 #include <atomic>
+#include <map>
+#include <memory>
 #include <mutex>
 #include <string>
 
@@ -17,6 +19,20 @@ const char* result_name(VkResult r);
 // Throws VulkanError naming `call` unless r is VK_SUCCESS.
 void check(VkResult r, const char* call);
 #define PENSIGHT_VK(call) ::pensight::vk::check((call), #call)
+
+// The pipelines of one context, one per distinct description. std::map nodes never move, so the
+// references Context::pipeline() hands out stay valid until the registry is cleared. The map
+// mutex is held only to find or insert an entry; each entry's own mutex serialises its build, so
+// slow driver compiles of different pipelines run in parallel.
+struct PipelineRegistry {
+  struct Entry {
+    std::mutex build;
+    std::unique_ptr<Pipeline> pipeline;
+  };
+  std::mutex mutex;
+  std::map<PipelineDesc, Entry> entries;
+  std::atomic<size_t> built{0};
+};
 
 struct Context::Impl {
   ContextOptions options;
@@ -34,6 +50,7 @@ struct Context::Impl {
   std::filesystem::path cache_path;
   VkPhysicalDeviceMemoryProperties memory{};
   std::atomic<uint64_t> validation_errors{0};
+  PipelineRegistry pipelines;
   ~Impl();
 
   // Index of a memory type allowed by `type_bits` with all of `required` (and as many of

@@ -98,4 +98,23 @@ const PipelineDesc& Pipeline::desc() const {
   return impl_->desc;
 }
 
+const Pipeline& Context::pipeline(const PipelineDesc& desc) const {
+  PipelineRegistry& r = impl_->pipelines;
+  PipelineRegistry::Entry* entry;
+  {
+    std::lock_guard lock(r.mutex);
+    entry = &r.entries.try_emplace(desc).first->second;
+  }
+  std::lock_guard lock(entry->build);
+  if (!entry->pipeline) {
+    entry->pipeline = std::make_unique<Pipeline>(*this, desc);
+    ++r.built;
+  }
+  return *entry->pipeline;
+}
+
+size_t Context::num_pipelines() const {
+  return impl_->pipelines.built.load();
+}
+
 }  // namespace pensight::vk

@@ -148,7 +148,7 @@ size_t CommandStream::num_barriers() const {
   return impl_->barriers;
 }
 
-void CommandStream::dispatch(const Pipeline& pipeline, std::initializer_list<Binding> buffers,
+void CommandStream::dispatch(const Pipeline& pipeline, std::span<const Binding> buffers,
                              Groups groups, const void* push_constants, size_t push_bytes,
                              std::string name) {
   Impl& s = *impl_;

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <cstring>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -59,8 +60,14 @@ class CommandStream {
   CommandStream& operator=(const CommandStream&) = delete;
 
   // Records a dispatch. `name` labels its timing (default: the shader name).
-  void dispatch(const Pipeline& pipeline, std::initializer_list<Binding> buffers, Groups groups,
+  void dispatch(const Pipeline& pipeline, std::span<const Binding> buffers, Groups groups,
                 const void* push_constants = nullptr, size_t push_bytes = 0, std::string name = {});
+  void dispatch(const Pipeline& pipeline, std::initializer_list<Binding> buffers, Groups groups,
+                const void* push_constants = nullptr, size_t push_bytes = 0,
+                std::string name = {}) {
+    dispatch(pipeline, std::span<const Binding>(buffers.begin(), buffers.size()), groups,
+             push_constants, push_bytes, std::move(name));
+  }
   template <class Push>
   void dispatch(const Pipeline& pipeline, std::initializer_list<Binding> buffers, Groups groups,
                 const Push& push, std::string name = {}) {

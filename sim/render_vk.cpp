@@ -203,10 +203,10 @@ RenderVk::RenderVk(const vk::Context& ctx, const Scenario& s, const RenderOption
     : ctx_(&ctx),
       s_(s),
       options_(options),
-      pipeline_(ctx, {.shader = "sim/render",
-                      .num_buffers = 4,
-                      .push_constant_bytes = 0,
-                      .specialization = specialization(s, options)}) {}
+      pipeline_(&ctx.pipeline({.shader = "sim/render",
+                               .num_buffers = 4,
+                               .push_constant_bytes = 0,
+                               .specialization = specialization(s, options)})) {}
 
 int RenderVk::width() const {
   return s_.camera.calibration.camera.width_px;
@@ -270,7 +270,7 @@ void RenderVk::record(vk::CommandStream& stream, const vk::Buffer& frame, const 
   const uint32_t columns = static_cast<uint32_t>(width());
   const uint32_t rows =
       (static_cast<uint32_t>(height()) + kRowsPerInvocation - 1) / kRowsPerInvocation;
-  stream.dispatch(pipeline_, {vk::in(frame), vk::in(tiles), vk::out(image), vk::out(depth)},
+  stream.dispatch(*pipeline_, {vk::in(frame), vk::in(tiles), vk::out(image), vk::out(depth)},
                   {(columns + kGroupX - 1) / kGroupX, (rows + kGroupY - 1) / kGroupY, 1}, nullptr,
                   0, "sim_render");
 }

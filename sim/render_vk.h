@@ -43,7 +43,7 @@ class RenderVk {
   const vk::Context* ctx_;
   Scenario s_;
   RenderOptions options_;
-  vk::Pipeline pipeline_;
+  const vk::Pipeline* pipeline_;  // borrowed from the context's registry
   struct Resources;
   std::shared_ptr<Resources> res_;  // created on the first render()
 };

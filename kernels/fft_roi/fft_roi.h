@@ -135,10 +135,11 @@ class FftRoiVk {
  private:
   const vk::Context* ctx_;
   FftRoiShape shape_;
-  vk::Pipeline extract_;
-  vk::Pipeline rows_;
-  vk::Pipeline cols_;
-  vk::Pipeline peaks_;
+  // Borrowed from the context's registry: every FftRoiVk of one shape shares them.
+  const vk::Pipeline* extract_;
+  const vk::Pipeline* rows_;
+  const vk::Pipeline* cols_;
+  const vk::Pipeline* peaks_;
 };
 
 #if PENSIGHT_HAS_CUDA

@@ -42,23 +42,23 @@ std::vector<uint32_t> peak_constants(const FftRoiShape& s, const PeakParams& p) 
 FftRoiVk::FftRoiVk(const vk::Context& ctx, const FftRoiShape& shape, const PeakParams& params)
     : ctx_(&ctx),
       shape_(checked(shape)),
-      extract_(ctx, {.shader = "fft_roi/extract",
-                     .num_buffers = 4,
-                     .push_constant_bytes = sizeof(Push),
-                     .specialization = {u32(shape.width), u32(shape.roi_size), u32(shape.fft_size),
-                                        shape.window ? 1u : 0u}}),
-      rows_(ctx, {.shader = "fft_roi/fft_rows",
-                  .num_buffers = 2,
-                  .push_constant_bytes = sizeof(Push),
-                  .specialization = {u32(shape.fft_size), u32(shape.fft_size / 2)}}),
-      cols_(ctx, {.shader = "fft_roi/fft_cols",
-                  .num_buffers = 1,
-                  .push_constant_bytes = sizeof(Push),
-                  .specialization = {u32(shape.fft_size), u32(shape.fft_size / 2)}}),
-      peaks_(ctx, {.shader = "fft_roi/peaks",
-                   .num_buffers = 2,
-                   .push_constant_bytes = sizeof(Push),
-                   .specialization = peak_constants(shape, params)}) {}
+      extract_(&ctx.pipeline({.shader = "fft_roi/extract",
+                              .num_buffers = 4,
+                              .push_constant_bytes = sizeof(Push),
+                              .specialization = {u32(shape.width), u32(shape.roi_size),
+                                                 u32(shape.fft_size), shape.window ? 1u : 0u}})),
+      rows_(&ctx.pipeline({.shader = "fft_roi/fft_rows",
+                           .num_buffers = 2,
+                           .push_constant_bytes = sizeof(Push),
+                           .specialization = {u32(shape.fft_size), u32(shape.fft_size / 2)}})),
+      cols_(&ctx.pipeline({.shader = "fft_roi/fft_cols",
+                           .num_buffers = 1,
+                           .push_constant_bytes = sizeof(Push),
+                           .specialization = {u32(shape.fft_size), u32(shape.fft_size / 2)}})),
+      peaks_(&ctx.pipeline({.shader = "fft_roi/peaks",
+                            .num_buffers = 2,
+                            .push_constant_bytes = sizeof(Push),
+                            .specialization = peak_constants(shape, params)})) {}
 
 size_t FftRoiVk::image_bytes() const {
   return (static_cast<size_t>(shape_.width) * shape_.height + 3) / 4 * 4;
@@ -81,9 +81,9 @@ void FftRoiVk::record_fft(vk::CommandStream& stream, const vk::Buffer& samples,
                 std::to_string(num_rois) + " ROIs need");
   }
   const uint32_t half = u32(shape_.fft_size / 2);
-  stream.dispatch(rows_, {vk::in(samples), vk::out(spectrum)}, {half, num_rois, 1}, Push{num_rois},
+  stream.dispatch(*rows_, {vk::in(samples), vk::out(spectrum)}, {half, num_rois, 1}, Push{num_rois},
                   "fft_rows");
-  stream.dispatch(cols_, {vk::inout(spectrum)}, {half + 1, num_rois, 1}, Push{num_rois},
+  stream.dispatch(*cols_, {vk::inout(spectrum)}, {half + 1, num_rois, 1}, Push{num_rois},
                   "fft_cols");
 }
 
@@ -96,10 +96,10 @@ void FftRoiVk::record(vk::CommandStream& stream, const vk::Buffer& image, const 
         "FftRoiVk::record: the image, ROI or lattice buffer is smaller than the shape and " +
         std::to_string(num_rois) + " ROIs need");
   }
-  stream.dispatch(extract_, {vk::in(image), vk::in(rois), vk::out(samples), vk::out(lattices)},
+  stream.dispatch(*extract_, {vk::in(image), vk::in(rois), vk::out(samples), vk::out(lattices)},
                   {num_rois, 1, 1}, Push{num_rois}, "fft_extract");
   record_fft(stream, samples, spectrum, num_rois);
-  stream.dispatch(peaks_, {vk::in(spectrum), vk::out(lattices)}, {num_rois, 1, 1}, Push{num_rois},
+  stream.dispatch(*peaks_, {vk::in(spectrum), vk::out(lattices)}, {num_rois, 1, 1}, Push{num_rois},
                   "fft_peaks");
 }
 

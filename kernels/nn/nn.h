@@ -128,9 +128,11 @@ struct VkModelOptions {
   bool fp16_storage = false;
 };
 
-// Vulkan executor. The constructor builds every pipeline, uploads the constants and assigns each
-// intermediate tensor to a pooled buffer (a buffer is reused once its tensor's last reader has
-// run); the whole graph is recorded once into a command stream and resubmitted per inference.
+// Vulkan executor. The constructor borrows every pipeline from the context (shared with other
+// models and kernel families on it), uploads the constants, assigns each intermediate tensor to
+// a pooled buffer (a buffer is reused once its tensor's last reader has run) and plans the
+// graph's commands once. record() appends them to a caller's stream, e.g. after the kernels that
+// fill input_buffer(); submit() and run() replay the model's own stream, recorded the same way.
 class VkModel {
  public:
   VkModel(const vk::Context& ctx, const Graph& graph, VkModelOptions options = {});
@@ -143,12 +145,17 @@ class VkModel {
   vk::Buffer& output_buffer(size_t i);
   // Fills every activation buffer (tests: poison them so an unwritten element shows).
   void fill_activations(float value);
-  // Runs the recorded stream (inputs already in their buffers).
+  // Appends the whole graph (its dispatches on the model's own buffers) to `stream`; the stream's
+  // hazard tracking orders it after whatever the caller recorded into the input buffers. The
+  // stream must not run while the model's own submit() does: they share the buffers.
+  void record(vk::CommandStream& stream) const;
+  // Runs the model's own recorded stream (inputs already in their buffers).
   void submit();
   // Upload, submit, download.
   std::vector<Tensor> run(std::span<const Tensor> inputs);
 
   size_t num_dispatches() const;
+  // Distinct pipelines this model uses (each built once per context, shared with other users).
   size_t num_pipelines() const;
   // Bytes of the pooled activation buffers, and what one buffer per tensor would take.
   size_t activation_bytes() const;

@@ -1,10 +1,13 @@
 // Vulkan executor: fuses activations into convolutions, plans activation buffers by liveness,
-// builds one pipeline per (shader, specialization) and records the whole graph once.
+// borrows one pipeline per (shader, specialization) from the context and plans the graph's
+// commands once, so they can be appended to any command stream.
 #include <Eigen/Core>
 #include <algorithm>
 #include <bit>
-#include <map>
+#include <cstring>
+#include <initializer_list>
 #include <optional>
+#include <set>
 
 #include "kernels/nn/nn.h"
 #include "kernels/nn/nn_detail.h"
@@ -68,6 +71,39 @@ struct ExecNode {
   Attrs act_attrs;
 };
 
+// One command of the graph as planned in the constructor: a dispatch, or a copy when `pipeline`
+// is null. The buffers are the model's own, so the same list can be recorded into any stream.
+struct Step {
+  const vk::Pipeline* pipeline = nullptr;
+  std::vector<vk::Binding> bindings;
+  vk::Groups groups;
+  std::vector<uint32_t> push;  // push-constant words
+  std::string name;
+  const vk::Buffer* src = nullptr;
+  const vk::Buffer* dst = nullptr;
+  size_t bytes = 0;
+};
+
+// Collects the graph's commands through the same calls vk::CommandStream takes.
+struct StepList {
+  std::vector<Step> steps;
+
+  void dispatch(const vk::Pipeline& pipeline, std::initializer_list<vk::Binding> buffers,
+                vk::Groups groups, const void* push, size_t push_bytes, std::string name) {
+    Step step{&pipeline, buffers, groups, std::vector<uint32_t>(push_bytes / 4), std::move(name)};
+    if (push_bytes) std::memcpy(step.push.data(), push, push_bytes);
+    steps.push_back(std::move(step));
+  }
+  template <class Push>
+  void dispatch(const vk::Pipeline& pipeline, std::initializer_list<vk::Binding> buffers,
+                vk::Groups groups, const Push& push, std::string name) {
+    dispatch(pipeline, buffers, groups, &push, sizeof(Push), std::move(name));
+  }
+  void copy(const vk::Buffer& src, const vk::Buffer& dst, size_t bytes) {
+    steps.push_back({.name = "copy", .src = &src, .dst = &dst, .bytes = bytes});
+  }
+};
+
 }  // namespace
 
 struct VkModel::Impl {
@@ -77,32 +113,25 @@ struct VkModel::Impl {
   size_t elem = sizeof(float);       // bytes per stored element
   std::vector<vk::Buffer> boundary;  // fp16 mode: fp32 graph inputs, then outputs
   std::vector<ExecNode> exec;
-  std::map<std::pair<std::string, std::vector<uint32_t>>, vk::Pipeline> pipelines;
-  std::vector<vk::Buffer> constants;   // per constant value, or a zero/dummy buffer
-  std::vector<int> storage_of;         // value id -> buffer slot, -1 constant
-  std::vector<vk::Buffer> pool;        // planned activation buffers
-  std::vector<vk::Buffer*> buffer_of;  // value id -> buffer
+  std::set<const vk::Pipeline*> pipelines;  // borrowed from the context: the ones this model uses
+  std::vector<vk::Buffer> constants;        // per constant value, or a zero/dummy buffer
+  std::vector<int> storage_of;              // value id -> buffer slot, -1 constant
+  std::vector<vk::Buffer> pool;             // planned activation buffers
+  std::vector<vk::Buffer*> buffer_of;       // value id -> buffer
   size_t activation_bytes = 0, unplanned_bytes = 0;
-  std::unique_ptr<vk::CommandStream> stream;
+  StepList plan_steps;                        // the graph's commands, in order
+  std::unique_ptr<vk::CommandStream> stream;  // plan_steps recorded once, for submit()
 
   const vk::Pipeline& pipeline(const std::string& shader, uint32_t buffers, uint32_t push,
                                std::vector<uint32_t> spec) {
-    auto key = std::make_pair(shader, spec);
-    auto it = pipelines.find(key);
-    if (it == pipelines.end()) {
-      it = pipelines
-               .emplace(key,
-                        vk::Pipeline(
-                            *ctx,
-                            {.shader = "nn/" + shader +
-                                       (fp16 && shader != "to_half" && shader != "to_float" ? "_f16"
-                                                                                            : ""),
-                             .num_buffers = buffers,
-                             .push_constant_bytes = push,
-                             .specialization = std::move(spec)}))
-               .first;
-    }
-    return it->second;
+    const vk::Pipeline& p = ctx->pipeline(
+        {.shader =
+             "nn/" + shader + (fp16 && shader != "to_half" && shader != "to_float" ? "_f16" : ""),
+         .num_buffers = buffers,
+         .push_constant_bytes = push,
+         .specialization = std::move(spec)});
+    pipelines.insert(&p);
+    return p;
   }
 
   vk::Buffer& make_const(std::span<const float> data) {
@@ -122,8 +151,8 @@ struct VkModel::Impl {
 
   void fuse(const VkModelOptions& options);
   void plan();
-  void record();
-  void record_node(const ExecNode& e);
+  void plan_commands();
+  void plan_node(const ExecNode& e);
   const vk::Buffer& buf(int v) const { return *buffer_of[static_cast<size_t>(v)]; }
   // 1-D shaders loop over their elements (grid stride): a CPU driver pays per workgroup, so it
   // gets a few fat ones; a GPU gets one invocation per element up to 65535 workgroups.
@@ -238,10 +267,10 @@ void VkModel::Impl::plan() {
   }
 }
 
-void VkModel::Impl::record_node(const ExecNode& e) {
+void VkModel::Impl::plan_node(const ExecNode& e) {
   const Node& n = *e.node;
   const Attrs& a = n.attrs;
-  vk::CommandStream& s = *stream;
+  StepList& s = plan_steps;
   const int x = n.inputs[0];
   const Dims& xs = shape(x);
   const Dims& ys = shape(e.output);
@@ -438,24 +467,24 @@ void VkModel::Impl::record_node(const ExecNode& e) {
   }
 }
 
-void VkModel::Impl::record() {
-  stream = std::make_unique<vk::CommandStream>(*ctx);
+void VkModel::Impl::plan_commands() {
+  StepList& s = plan_steps;
   if (fp16) {
     boundary.reserve(graph.inputs().size() + graph.outputs().size());
     for (int v : graph.inputs()) {
       const auto n = num_elements(shape(v));
       boundary.emplace_back(*ctx, static_cast<size_t>(n) * sizeof(float));
-      stream->dispatch(pipeline("to_half", 2, 4, {}), {vk::in(boundary.back()), vk::out(buf(v))},
-                       groups1d(n), u32(n), "input_to_half");
+      s.dispatch(pipeline("to_half", 2, 4, {}), {vk::in(boundary.back()), vk::out(buf(v))},
+                 groups1d(n), u32(n), "input_to_half");
     }
   }
-  for (const ExecNode& e : exec) record_node(e);
+  for (const ExecNode& e : exec) plan_node(e);
   if (fp16) {
     for (int v : graph.outputs()) {
       const auto n = num_elements(shape(v));
       boundary.emplace_back(*ctx, static_cast<size_t>(n) * sizeof(float));
-      stream->dispatch(pipeline("to_float", 2, 4, {}), {vk::in(buf(v)), vk::out(boundary.back())},
-                       groups1d(n), u32(n), "output_to_float");
+      s.dispatch(pipeline("to_float", 2, 4, {}), {vk::in(buf(v)), vk::out(boundary.back())},
+                 groups1d(n), u32(n), "output_to_float");
     }
   }
 }
@@ -481,7 +510,9 @@ VkModel::VkModel(const vk::Context& ctx, const Graph& graph, VkModelOptions opti
   }
   m.fuse(options);
   m.plan();
-  m.record();
+  m.plan_commands();
+  m.stream = std::make_unique<vk::CommandStream>(ctx);
+  record(*m.stream);
 }
 
 VkModel::~VkModel() = default;
@@ -504,6 +535,17 @@ void VkModel::fill_activations(float value) {
   for (vk::Buffer& b : m.boundary) {
     const std::vector<float> v(b.size_bytes() / sizeof(float), value);
     b.upload(v.data(), v.size() * sizeof(float));
+  }
+}
+
+void VkModel::record(vk::CommandStream& stream) const {
+  for (const Step& step : impl_->plan_steps.steps) {
+    if (step.pipeline) {
+      stream.dispatch(*step.pipeline, step.bindings, step.groups, step.push.data(),
+                      step.push.size() * sizeof(uint32_t), step.name);
+    } else {
+      stream.copy(*step.src, *step.dst, step.bytes);
+    }
   }
 }
 

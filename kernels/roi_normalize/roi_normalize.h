@@ -58,7 +58,7 @@ class RoiNormalizeVk {
 
   const vk::Context* ctx_;
   RoiNormalizeShape shape_;
-  vk::Pipeline pipeline_;
+  const vk::Pipeline* pipeline_;  // borrowed from the context's registry
 };
 
 #if PENSIGHT_HAS_CUDA

@@ -16,13 +16,13 @@ struct Push {
 RoiNormalizeVk::RoiNormalizeVk(const vk::Context& ctx, const RoiNormalizeShape& shape)
     : ctx_(&ctx),
       shape_((validate(shape, {}), shape)),
-      pipeline_(ctx,
-                {.shader = "roi_normalize/roi_normalize",
-                 .num_buffers = 3,
-                 .push_constant_bytes = sizeof(Push),
-                 .specialization = {
-                     static_cast<uint32_t>(shape.width), static_cast<uint32_t>(shape.height),
-                     static_cast<uint32_t>(shape.bits), static_cast<uint32_t>(shape.roi_size)}}) {}
+      pipeline_(&ctx.pipeline({.shader = "roi_normalize/roi_normalize",
+                               .num_buffers = 3,
+                               .push_constant_bytes = sizeof(Push),
+                               .specialization = {static_cast<uint32_t>(shape.width),
+                                                  static_cast<uint32_t>(shape.height),
+                                                  static_cast<uint32_t>(shape.bits),
+                                                  static_cast<uint32_t>(shape.roi_size)}})) {}
 
 size_t RoiNormalizeVk::image_bytes() const {
   const size_t bytes = static_cast<size_t>(shape_.width) * shape_.height * (shape_.bits / 8);
@@ -37,7 +37,7 @@ void RoiNormalizeVk::record(vk::CommandStream& stream, const vk::Buffer& image,
       out.size_bytes() < num_rois * n * sizeof(float)) {
     throw Error("RoiNormalizeVk::record: a buffer is smaller than the shape needs");
   }
-  stream.dispatch(pipeline_, {vk::in(image), vk::in(rois), vk::out(out)}, {num_rois, 1, 1},
+  stream.dispatch(*pipeline_, {vk::in(image), vk::in(rois), vk::out(out)}, {num_rois, 1, 1},
                   Push{num_rois}, "roi_normalize");
 }
 

@@ -11,6 +11,7 @@
 #include <span>
 #include <vector>
 
+#include "runtime/vk_buffer.h"
 #include "runtime/vk_pipeline.h"
 #include "runtime/vk_stream.h"
 
@@ -55,6 +56,15 @@ void sparse_prior_cpu_reference(const SparsePriorShape& shape, std::span<const S
 void sparse_prior_cpu(const SparsePriorShape& shape, std::span<const SparsePoint> points,
                       std::span<float> out);
 
+// The per-frame scalars of SparsePriorVk::record. The shader reads them from a small device
+// buffer when the stream runs (they are not baked into the recording), so the caller updates the
+// buffer each frame, e.g. params.fill({n}), and resubmits the same stream.
+struct SparsePriorParams {
+  // Points used from the points buffer; the shader clamps it to the buffer's capacity and to
+  // kMaxSparsePoints.
+  uint32_t num_points = 0;
+};
+
 // Vulkan: one 16x16 tile per workgroup; the tile keeps only the points that can be nearest to
 // one of its pixels (bounded by the smallest farthest-corner distance), then searches them.
 class SparsePriorVk {
@@ -62,10 +72,12 @@ class SparsePriorVk {
   SparsePriorVk(const vk::Context& ctx, const SparsePriorShape& shape);
 
   const SparsePriorShape& shape() const { return shape_; }
-  // points: SparsePoint[num_points] (<= kMaxSparsePoints, validated by the caller: invalid points
-  // are clamped into the image); out: floats, S1 at out_offset, S2 at out_offset + W*H.
-  void record(vk::CommandStream& stream, const vk::Buffer& points, uint32_t num_points,
-              const vk::Buffer& out, uint32_t out_offset = 0) const;
+  // points: SparsePoint[capacity] holding params.num_points valid points (validated by the
+  // caller: invalid points are clamped into the image); params: read when the stream runs; out:
+  // floats, S1 at out_offset, S2 at out_offset + W*H (fixed per recording).
+  void record(vk::CommandStream& stream, const vk::Buffer& points,
+              const vk::TypedBuffer<SparsePriorParams>& params, const vk::Buffer& out,
+              uint32_t out_offset = 0) const;
 
   // One-off convenience: validate, upload, run, download both planes.
   std::vector<float> run(std::span<const SparsePoint> points) const;
@@ -73,7 +85,7 @@ class SparsePriorVk {
  private:
   const vk::Context* ctx_;
   SparsePriorShape shape_;
-  vk::Pipeline pipeline_;
+  const vk::Pipeline* pipeline_;  // borrowed from the context's registry
 };
 
 #if PENSIGHT_HAS_CUDA

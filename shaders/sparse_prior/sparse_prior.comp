@@ -3,7 +3,9 @@
 // smallest farthest-tile-corner squared distance over all points) from some point, so a point
 // whose nearest tile distance exceeds `bound` cannot be nearest to any pixel: the tile keeps the
 // rest (ties included) and each pixel searches only those. Distances are integers, so the result
-// is exact; ties go to the lowest point index.
+// is exact; ties go to the lowest point index. The point count is read from a parameter buffer
+// when the dispatch runs, so a stream recorded once follows a count that changes every frame; it
+// is clamped to the points buffer, so a stale count never reads past it.
 
 layout(local_size_x = 16, local_size_y = 16) in;
 layout(constant_id = 0) const int WIDTH = 320;
@@ -16,8 +18,10 @@ layout(std430, binding = 0) readonly buffer Points {
 layout(std430, binding = 1) writeonly buffer Out {
   float values[];
 };
-layout(push_constant) uniform Push {
+layout(std430, binding = 2) readonly buffer Params {
   uint num_points;
+};  // SparsePriorParams
+layout(push_constant) uniform Push {
   uint out_offset;
 };
 
@@ -34,7 +38,7 @@ ivec2 snapped(uint i) {
 
 void main() {
   uint lid = gl_LocalInvocationIndex;
-  uint n = min(num_points, kMaxPoints);
+  uint n = min(min(num_points, kMaxPoints), uint(pts.length()) / 3u);
   ivec2 lo = ivec2(gl_WorkGroupID.xy) * 16;
   ivec2 hi = min(lo + 15, ivec2(WIDTH - 1, HEIGHT - 1));
   if (lid == 0) {

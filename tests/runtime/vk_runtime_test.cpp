@@ -1,9 +1,11 @@
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <filesystem>
 #include <fstream>
 #include <numeric>
 #include <random>
+#include <thread>
 
 #include "runtime/error.h"
 #include "runtime/vk_buffer.h"
@@ -25,6 +27,13 @@ vk::Pipeline make_axpy(const vk::Context& ctx) {
   return vk::Pipeline(
       ctx,
       {.shader = "runtime_test/axpy", .num_buffers = 2, .push_constant_bytes = sizeof(AxpyPush)});
+}
+
+vk::PipelineDesc axpy_desc(float scale) {
+  return {.shader = "runtime_test/axpy",
+          .num_buffers = 2,
+          .push_constant_bytes = sizeof(AxpyPush),
+          .specialization = {std::bit_cast<uint32_t>(scale)}};
 }
 
 vk::Groups groups_for(uint32_t n) {
@@ -149,6 +158,73 @@ TEST_F(VulkanTest, DispatchChecksBindingsAndPushConstants) {
   vk::CommandStream stream(ctx());
   EXPECT_THROW(stream.dispatch(axpy, {vk::in(b)}, {1}, AxpyPush{1.f, 4}), Error);
   EXPECT_THROW(stream.dispatch(axpy, {vk::in(b), vk::inout(b)}, {1}, 1.0f), Error);
+}
+
+// Scales unlikely to be used by any other test of this binary, so the counts below are this
+// test's own.
+constexpr float kScaleA = 3.25f, kScaleB = -0.5f;
+
+TEST_F(VulkanTest, ContextBuildsEachPipelineOnce) {
+  const size_t before = ctx().num_pipelines();
+  const vk::Pipeline& a = ctx().pipeline(axpy_desc(kScaleA));
+  EXPECT_EQ(ctx().num_pipelines(), before + 1);
+  EXPECT_EQ(&ctx().pipeline(axpy_desc(kScaleA)), &a);  // same description: the same object
+  EXPECT_EQ(ctx().num_pipelines(), before + 1);
+  const vk::Pipeline& b = ctx().pipeline(axpy_desc(kScaleB));
+  EXPECT_NE(&b, &a);  // different specialization: a pipeline of its own
+  EXPECT_EQ(ctx().num_pipelines(), before + 2);
+  EXPECT_EQ(b.desc(), axpy_desc(kScaleB));
+
+  // Each computes with its own specialization.
+  std::mt19937_64 rng(testing::fresh_seed());
+  const uint32_t n = 500;
+  const auto x = random_floats(n, rng);
+  vk::TypedBuffer<float> bx(ctx(), n), ya(ctx(), n), yb(ctx(), n);
+  bx.upload(x);
+  ya.fill(0.f);
+  yb.fill(0.f);
+  vk::CommandStream stream(ctx());
+  stream.dispatch(a, {vk::in(bx), vk::inout(ya)}, groups_for(n), AxpyPush{2.f, n});
+  stream.dispatch(b, {vk::in(bx), vk::inout(yb)}, groups_for(n), AxpyPush{2.f, n});
+  stream.submit_and_wait();
+  const auto got_a = ya.to_vector(), got_b = yb.to_vector();
+  for (uint32_t i = 0; i < n; ++i) {
+    ASSERT_FLOAT_EQ(got_a[i], kScaleA * 2.f * x[i]) << i;
+    ASSERT_FLOAT_EQ(got_b[i], kScaleB * 2.f * x[i]) << i;
+  }
+}
+
+TEST_F(VulkanTest, PipelineRequestsFromManyThreadsAgree) {
+  // Fresh descriptions (scales no other test uses), requested from all threads at once in
+  // different orders: each is built once and every thread gets the same object.
+  constexpr int kThreads = 8, kDescs = 6;
+  std::vector<vk::PipelineDesc> descs;
+  for (int d = 0; d < kDescs; ++d) descs.push_back(axpy_desc(100.f + static_cast<float>(d)));
+  const size_t before = ctx().num_pipelines();
+  std::vector<std::vector<const vk::Pipeline*>> got(kThreads,
+                                                    std::vector<const vk::Pipeline*>(kDescs));
+  std::vector<std::thread> threads;
+  for (int t = 0; t < kThreads; ++t) {
+    threads.emplace_back([&, t] {
+      for (int i = 0; i < kDescs; ++i) {
+        const int d = (t % 2 ? kDescs - 1 - i : i + t) % kDescs;
+        got[t][d] = &ctx().pipeline(descs[d]);
+      }
+    });
+  }
+  for (auto& th : threads) th.join();
+  EXPECT_EQ(ctx().num_pipelines(), before + kDescs);
+  for (int d = 0; d < kDescs; ++d) {
+    EXPECT_EQ(got[0][d]->desc(), descs[d]);
+    for (int t = 1; t < kThreads; ++t) EXPECT_EQ(got[t][d], got[0][d]) << t << " " << d;
+  }
+}
+
+TEST_F(VulkanTest, FailedPipelineIsNamedAndNotKept) {
+  const size_t before = ctx().num_pipelines();
+  EXPECT_THROW(ctx().pipeline({.shader = "no/such_shader"}), Error);
+  EXPECT_THROW(ctx().pipeline({.shader = "no/such_shader"}), Error);
+  EXPECT_EQ(ctx().num_pipelines(), before);
 }
 
 TEST_F(VulkanTest, PipelineCacheIsPersisted) {

@@ -238,6 +238,21 @@ TEST_F(VulkanTest, StageMatchesCpuOnRandomImages) {
   }
 }
 
+// A second stage of the same shape on one context builds no pipeline of its own: it borrows the
+// first one's from the context, and computes the same.
+TEST_F(VulkanTest, StagesOfOneShapeShareTheirPipelines) {
+  std::mt19937_64 rng(testing::fresh_seed());
+  const FftRoiShape shape{.fft_size = 128, .window = false};
+  const FftRoiVk first(ctx(), shape);
+  const size_t built = ctx().num_pipelines();
+  const FftRoiVk second(ctx(), shape);
+  EXPECT_EQ(ctx().num_pipelines(), built);
+  const auto rois = roi_grid(720, 540, {});
+  const ImageU8 img = random_image(720, 540, rng);
+  expect_same_lattices(run_vulkan(ctx(), second, img, rois),
+                       FftRoiCpu(shape, {}, 1, false).run(img, rois), shape.roi_size);
+}
+
 TEST_F(VulkanTest, StageMatchesCpuOnNetImages) {
   std::mt19937_64 rng(testing::fresh_seed());
   std::uniform_real_distribution<double> dist(0.4, 2.5), psi(-0.6, 0.6), pitch(-0.3, 0.3);

@@ -295,7 +295,8 @@ namespace pensight::nn {
 namespace {
 
 // S1/S2 written by the sparse_prior kernel straight into the model's "prior" input buffer, then
-// the compact net, all on the device; against the CPU prior + CPU reference executor.
+// the compact net, recorded into one stream and submitted once; against the CPU prior + CPU
+// reference executor. The stream's hazard tracking orders the net after the prior.
 TEST_F(VulkanTest, SparsePriorFeedsTheModelInputOnDevice) {
   std::mt19937_64 rng(pensight::testing::fresh_seed());
   const Graph g = compact_depth_net({48, 32}, rng());
@@ -314,13 +315,83 @@ TEST_F(VulkanTest, SparsePriorFeedsTheModelInputOnDevice) {
   const kernels::SparsePriorVk prior(ctx(), shape);
   vk::Buffer point_buf(ctx(), pts.size() * sizeof(kernels::SparsePoint));
   point_buf.upload(pts.data(), pts.size() * sizeof(kernels::SparsePoint));
+  vk::TypedBuffer<kernels::SparsePriorParams> params(ctx(), 1);
+  params.fill({static_cast<uint32_t>(pts.size())});
   vk::CommandStream stream(ctx());
-  prior.record(stream, point_buf, static_cast<uint32_t>(pts.size()), model.input_buffer(1));
+  prior.record(stream, point_buf, params, model.input_buffer(1));
+  model.record(stream);
+  EXPECT_EQ(stream.num_commands(), 1 + model.num_dispatches());
   stream.submit_and_wait();
-  model.submit();
   Tensor got{want[0].shape, std::vector<float>(want[0].data.size())};
   model.output_buffer(0).download(got.data.data(), got.data.size() * sizeof(float));
   testutil::expect_close(got, want[0], 1e-4f);
+}
+
+// One network input holding the image in channel 0 and S1/S2 in channels 1, 2: the prior lands at
+// an offset inside the model's input buffer, and prior + model run as one submission. fp16
+// storage too, where its fp32 input buffer is converted on the device after the prior.
+TEST_F(VulkanTest, SparsePriorAtAnOffsetAndModelInOneSubmission) {
+  std::mt19937_64 rng(pensight::testing::fresh_seed());
+  const int w = 40, h = 24;
+  const size_t plane = static_cast<size_t>(w) * h;
+  Graph g;
+  const int x = g.add_input("rgbd", {1, 3, h, w});
+  Attrs same;
+  same.pads = {1, 1, 1, 1};
+  const int c1 = g.add(Op::kConv,
+                       {x, g.add_constant("w1", random_tensor({8, 3, 3, 3}, rng)),
+                        g.add_constant("b1", random_tensor({8}, rng))},
+                       same);
+  const int r1 = g.add(Op::kRelu, {c1});
+  g.mark_output(g.add(Op::kConv, {r1, g.add_constant("w2", random_tensor({1, 8, 1, 1}, rng))}));
+
+  const kernels::SparsePriorShape shape{w, h, 6};
+  std::uniform_real_distribution<float> ux(0, w - 1), uy(0, h - 1), ud(1, 4);
+  std::vector<kernels::SparsePoint> pts(12);
+  for (auto& p : pts) p = {ux(rng), uy(rng), ud(rng)};
+  const Tensor image = random_tensor({1, 1, h, w}, rng, 0, 1);
+  Tensor input{{1, 3, h, w}, std::vector<float>(3 * plane)};
+  std::copy(image.data.begin(), image.data.end(), input.data.begin());
+  kernels::sparse_prior_cpu(shape, pts, std::span(input.data).subspan(plane));
+  const auto want = run_cpu(g, std::vector<Tensor>{input});
+
+  const kernels::SparsePriorVk prior(ctx(), shape);
+  vk::Buffer point_buf(ctx(), pts.size() * sizeof(kernels::SparsePoint));
+  point_buf.upload(pts.data(), pts.size() * sizeof(kernels::SparsePoint));
+  vk::TypedBuffer<kernels::SparsePriorParams> params(ctx(), 1);
+  params.fill({static_cast<uint32_t>(pts.size())});
+  for (const bool fp16 : {false, true}) {
+    if (fp16 && !ctx().info().fp16_storage) continue;
+    SCOPED_TRACE(fp16 ? "fp16 storage" : "fp32");
+    VkModel model(ctx(), g, {.fp16_storage = fp16});
+    model.fill_activations(pensight::testing::kPoison);
+    model.input_buffer(0).upload(image.data.data(), plane * sizeof(float));
+    vk::CommandStream stream(ctx());
+    prior.record(stream, point_buf, params, model.input_buffer(0), static_cast<uint32_t>(plane));
+    model.record(stream);
+    stream.submit_and_wait();
+    Tensor got{want[0].shape, std::vector<float>(want[0].data.size())};
+    model.output_buffer(0).download(got.data.data(), got.data.size() * sizeof(float));
+    if (fp16) {
+      EXPECT_LT(testutil::relative_l2(got, want[0]), 1e-2);
+    } else {
+      testutil::expect_close(got, want[0], 1e-4f);
+    }
+  }
+}
+
+// Two models of one graph on one context: the second builds no pipeline, and reports the same
+// distinct pipelines as the first.
+TEST_F(VulkanTest, ModelsShareTheirPipelines) {
+  std::mt19937_64 rng(pensight::testing::fresh_seed());
+  const Graph g = compact_depth_net({24, 16}, rng());
+  const VkModel first(ctx(), g);
+  const size_t built = ctx().num_pipelines();
+  const VkModel second(ctx(), g);
+  EXPECT_EQ(ctx().num_pipelines(), built);
+  EXPECT_GT(first.num_pipelines(), 0u);
+  EXPECT_LE(first.num_pipelines(), built);
+  EXPECT_EQ(second.num_pipelines(), first.num_pipelines());
 }
 
 }  // namespace

@@ -177,10 +177,12 @@ std::vector<float> run_vulkan(const vk::Context& ctx, const SparsePriorVk& kerne
                               std::span<const SparsePoint> pts, uint32_t offset, size_t total) {
   vk::Buffer point_buf(ctx, std::max<size_t>(pts.size_bytes(), 16));
   if (!pts.empty()) point_buf.upload(pts.data(), pts.size_bytes());
+  vk::TypedBuffer<SparsePriorParams> params(ctx, 1);
+  params.fill({static_cast<uint32_t>(pts.size())});
   vk::TypedBuffer<float> out(ctx, total);
   out.fill(testing::kPoison);
   vk::CommandStream stream(ctx);
-  kernel.record(stream, point_buf, static_cast<uint32_t>(pts.size()), out.raw(), offset);
+  kernel.record(stream, point_buf, params, out.raw(), offset);
   stream.submit_and_wait();
   return out.to_vector();
 }
@@ -211,6 +213,56 @@ TEST_F(VulkanTest, SparsePriorWithoutPoints) {
   sparse_prior_cpu_reference(s, {}, want);
   expect_prior(run_vulkan(ctx(), SparsePriorVk(ctx(), s), {}, 0, 2400), want, 0, 1e-6f);
   EXPECT_THROW(SparsePriorVk(ctx(), s).run(std::vector<SparsePoint>{{-3, 0, 1}}), Error);
+}
+
+// One stream recorded once serves frames with different point counts: the count lives in the
+// parameter buffer, read when the stream runs. Outputs are poisoned before each frame.
+TEST_F(VulkanTest, SparsePriorStreamRecordedOnceFollowsThePointCount) {
+  std::mt19937_64 rng(testing::fresh_seed());
+  const SparsePriorShape s{96, 70, 8};
+  const size_t plane = static_cast<size_t>(s.width) * s.height;
+  const SparsePriorVk kernel(ctx(), s);
+  vk::Buffer point_buf(ctx(), 64 * sizeof(SparsePoint));
+  vk::TypedBuffer<SparsePriorParams> params(ctx(), 1);
+  vk::TypedBuffer<float> out(ctx(), 3 * plane);
+  vk::CommandStream stream(ctx());
+  kernel.record(stream, point_buf, params, out.raw(), static_cast<uint32_t>(plane));
+  for (const int n : {30, 7, 0, 64}) {
+    SCOPED_TRACE(std::to_string(n) + " points");
+    const auto pts = random_points(s, n, rng);
+    std::vector<float> want(2 * plane);
+    sparse_prior_cpu_reference(s, pts, want);
+    if (n > 0) point_buf.upload(pts.data(), pts.size() * sizeof(SparsePoint));
+    params.fill({static_cast<uint32_t>(n)});
+    out.fill(testing::kPoison);
+    stream.submit_and_wait();
+    const auto got = out.to_vector();
+    expect_prior(got, want, plane, 1e-6f);
+    for (size_t i = 0; i < plane; ++i) ASSERT_TRUE(std::isnan(got[i])) << i;
+  }
+  EXPECT_EQ(stream.num_commands(), 1u);
+}
+
+// A count larger than the points buffer holds (a stale count, a buffer shrunk) reads only the
+// points the buffer has, never past its end.
+TEST_F(VulkanTest, SparsePriorCountIsClampedToThePointsBuffer) {
+  std::mt19937_64 rng(testing::fresh_seed());
+  const SparsePriorShape s{50, 40, 10};
+  const auto pts = random_points(s, 20, rng);
+  std::vector<float> want(2 * 2000);
+  sparse_prior_cpu_reference(s, pts, want);
+  const SparsePriorVk kernel(ctx(), s);
+  vk::Buffer point_buf(ctx(), pts.size() * sizeof(SparsePoint));
+  point_buf.upload(pts.data(), pts.size() * sizeof(SparsePoint));
+  vk::TypedBuffer<SparsePriorParams> params(ctx(), 1);
+  params.fill({500});
+  vk::TypedBuffer<float> out(ctx(), 2 * 2000);
+  out.fill(testing::kPoison);
+  vk::CommandStream stream(ctx());
+  kernel.record(stream, point_buf, params, out.raw());
+  stream.submit_and_wait();
+  expect_prior(out.to_vector(), want, 0, 1e-6f);
+  EXPECT_THROW(kernel.record(stream, point_buf, params, out.raw(), 1), Error);  // output too small
 }
 
 TEST(SparsePriorCuda, MatchesReference) {
