@@ -39,9 +39,16 @@ struct Delivered {
   Clock::time_point pushed;
 };
 
-global_pose::NetObservation observation(int64_t t_ns, const NetDetection& d) {
+// Sensor samples newer than the frame being worked on, per sensor in timestamp order (equal
+// timestamps in arrival order).
+template <class Sample>
+using Held = std::multimap<int64_t, Sample>;
+
+}  // namespace
+
+global_pose::NetObservation net_observation(const NetDetection& d) {
   global_pose::NetObservation obs;
-  obs.t_ns = t_ns;
+  obs.t_ns = d.timestamp_ns;
   for (const RoiNetPoint& p : d.points) {
     obs.points_C.push_back(p.valid() ? p.p_C : Eigen::Vector3d::Constant(kNaN));
     obs.quality.push_back(p.valid() ? std::max(p.quality, 1e-6) : 1.0);
@@ -52,13 +59,6 @@ global_pose::NetObservation observation(int64_t t_ns, const NetDetection& d) {
   }
   return obs;
 }
-
-// Sensor samples newer than the frame being worked on, per sensor in timestamp order (equal
-// timestamps in arrival order).
-template <class Sample>
-using Held = std::multimap<int64_t, Sample>;
-
-}  // namespace
 
 struct Pipeline::Impl {
   PipelineConfig config;
@@ -145,7 +145,7 @@ struct Pipeline::Impl {
     FrameResult& r = d.result;
     if (r.error.empty()) {
       feed_until(r.timestamp_ns);
-      const global_pose::NetObservation obs = observation(r.timestamp_ns, r.detection);
+      const global_pose::NetObservation obs = net_observation(r.detection);
       estimator.add(obs);
       r.global_pose = estimator.estimate(r.timestamp_ns);
       if (published) r.published = published->add(obs);

@@ -70,6 +70,10 @@ struct PipelineConfig {
   bool lossless_results = false;
 };
 
+// The global-pose stage's input from one frame's detection: every ROI's net point (NaN where the
+// ROI has none) with its quality, and the FFT d_net / psi_net when the pose is valid.
+global_pose::NetObservation net_observation(const NetDetection& detection);
+
 class Pipeline {
  public:
   // Builds the stages (plans, pipelines and buffers on `device`, which must outlive the pipeline)

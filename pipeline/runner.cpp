@@ -21,18 +21,6 @@
 namespace pensight {
 namespace {
 
-global_pose::GlobalPoseEstimatorConfig global_pose_config(const Dataset& d) {
-  global_pose::GlobalPoseEstimatorConfig c;
-  c.pen_radius_m = d.scene.pen_radius_m;
-  c.initial_rho_rad = d.scene.initial_rho_rad.value_or(0.0);
-  c.T_body_camera = d.cam0.T_BS;
-  if (d.dvl0) c.dvl_beams = d.dvl0->calibration;
-  c.has_dvl = d.dvl0.has_value();
-  c.has_attitude = d.imu0.has_value();
-  c.has_pressure = d.pressure0.has_value();
-  return c;
-}
-
 // The published node as the paper ran it: roll = pitch = 0, the latest sample of each sensor.
 global_pose::PublishedGlobalPoseConfig published_config(const Dataset& d) {
   global_pose::PublishedGlobalPoseConfig c;
@@ -233,6 +221,18 @@ class RunWriter {
 };
 
 }  // namespace
+
+global_pose::GlobalPoseEstimatorConfig global_pose_config(const Dataset& d) {
+  global_pose::GlobalPoseEstimatorConfig c;
+  c.pen_radius_m = d.scene.pen_radius_m;
+  c.initial_rho_rad = d.scene.initial_rho_rad.value_or(0.0);
+  c.T_body_camera = d.cam0.T_BS;
+  if (d.dvl0) c.dvl_beams = d.dvl0->calibration;
+  c.has_dvl = d.dvl0.has_value();
+  c.has_attitude = d.imu0.has_value();
+  c.has_pressure = d.pressure0.has_value();
+  return c;
+}
 
 RunSummary run_dataset(const Dataset& dataset, const std::filesystem::path& out_dir,
                        const RunOptions& options, Device& device) {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "pipeline/dataset/dataset_reader.h"
+#include "pipeline/global_pose/global_pose_estimator.h"
 #include "pipeline/net_detector.h"
 #include "pipeline/timing_table.h"
 #include "runtime/device.h"
@@ -40,6 +41,10 @@ struct RunSummary {
   std::vector<TimingRow> timing;     // as OUT/timing.csv
   std::string global_pose_counters;  // per-sensor accepted / rejected / late counts
 };
+
+// The estimators' settings from the dataset: pen radius, camera mount, DVL beams, which sensors
+// are present.
+global_pose::GlobalPoseEstimatorConfig global_pose_config(const Dataset& dataset);
 
 // Writes the outputs whole (temporary name, then rename), creating out_dir if needed. Runs the
 // detector's Vulkan backend on `device`.

@@ -89,15 +89,7 @@ std::vector<EstimateRow> direct_rows(const Dataset& d) {
   config.backend = Backend::kCpu;
   config.mesh_m = d.scene.net_mesh_size_m;
   NetDetector detector(d.cam0.camera, config, test_device());
-  global_pose::GlobalPoseEstimatorConfig gc;
-  gc.pen_radius_m = d.scene.pen_radius_m;
-  gc.initial_rho_rad = d.scene.initial_rho_rad.value_or(0.0);
-  gc.T_body_camera = d.cam0.T_BS;
-  if (d.dvl0) gc.dvl_beams = d.dvl0->calibration;
-  gc.has_dvl = d.dvl0.has_value();
-  gc.has_attitude = d.imu0.has_value();
-  gc.has_pressure = d.pressure0.has_value();
-  global_pose::GlobalPoseEstimator est(gc);
+  global_pose::GlobalPoseEstimator est(global_pose_config(d));
   size_t dvl = 0, depth = 0, att = 0;
   std::vector<EstimateRow> rows;
   for (size_t i = 0; i < d.frames.size(); ++i) {
@@ -120,17 +112,7 @@ std::vector<EstimateRow> direct_rows(const Dataset& d) {
       est.add((*d.pressure0)[depth]);
     for (; d.imu0 && att < d.imu0->size() && (*d.imu0)[att].timestamp_ns <= row.timestamp_ns; ++att)
       est.add((*d.imu0)[att]);
-    global_pose::NetObservation obs;
-    obs.t_ns = row.timestamp_ns;
-    for (const RoiNetPoint& p : det.points) {
-      obs.points_C.push_back(p.valid() ? p.p_C : Eigen::Vector3d::Constant(kNaN));
-      obs.quality.push_back(p.valid() ? std::max(p.quality, 1e-6) : 1.0);
-    }
-    if (det.pose.valid()) {
-      obs.d_net_m = det.pose.d_net_m;
-      obs.psi_net_rad = det.pose.psi_net_rad;
-    }
-    est.add(obs);
+    est.add(net_observation(det));
     const global_pose::GlobalPose g = est.estimate(row.timestamp_ns);
     row.r_g_m = g.r_g_m;
     row.rho_g_rad = g.rho_g_rad;
