@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Builds pensight (installing its packages if needed) and runs every test on lavapipe with the
-# Khronos validation layer on. --sanitize: the same with AddressSanitizer + UBSan (build-asan/).
-# --tsan: the tests labelled `threads` with ThreadSanitizer (build-tsan/).
+# Khronos validation layer on, then the installed-package example (scripts/example.sh).
+# --sanitize: the tests with AddressSanitizer + UBSan (build-asan/). --tsan: the tests labelled
+# `threads` with ThreadSanitizer (build-tsan/).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 mode="${1:-}"
@@ -38,3 +39,4 @@ fi
 # Vulkan tests run on lavapipe unless the caller picks another device.
 export PENSIGHT_VK_DEVICE="${PENSIGHT_VK_DEVICE:-llvmpipe}"
 ctest --test-dir "$PENSIGHT_BUILD_DIR" --output-on-failure -j2 --timeout 600 "${ctest_args[@]}"
+if [ -z "$mode" ]; then scripts/example.sh; fi
