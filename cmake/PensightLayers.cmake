@@ -24,7 +24,8 @@ function(pensight_add_layer name)
   target_link_libraries(pensight INTERFACE ${name})
   set_property(GLOBAL APPEND PROPERTY PENSIGHT_LAYERS ${name})
   file(RELATIVE_PATH folder ${PROJECT_SOURCE_DIR} ${CMAKE_CURRENT_SOURCE_DIR})
-  install(DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/ DESTINATION ${PENSIGHT_INSTALL_INCLUDEDIR}/${folder}
+  install(DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/
+          DESTINATION ${PENSIGHT_INSTALL_INCLUDEDIR}/${folder}
           FILES_MATCHING PATTERN "*.h" PATTERN "*_detail.h" EXCLUDE)
 endfunction()
 
