@@ -6,6 +6,7 @@
 
 #include "pipeline/dataset/dataset_reader.h"
 #include "pipeline/net_detector.h"
+#include "runtime/device.h"
 
 int main(int argc, char** argv) {
   if (argc != 2) {
@@ -17,7 +18,8 @@ int main(int argc, char** argv) {
     pensight::NetDetectorConfig config;
     config.backend = pensight::Backend::kCpu;
     config.mesh_m = dataset.scene.net_mesh_size_m;
-    pensight::NetDetector detector(dataset.cam0.camera, config);
+    pensight::Device device;  // one per process; the CPU backend opens nothing on it
+    pensight::NetDetector detector(dataset.cam0.camera, config, device);
 
     int with_pose = 0;
     for (size_t i = 0; i < dataset.frames.size(); ++i) {
