@@ -22,10 +22,11 @@ elif [ "$mode" = "--tsan" ]; then
   # ThreadSanitizer makes them 5-15x slower. CUDA is off as in the ASan build.
   PENSIGHT_BUILD_TARGET=pensight_tests_threads scripts/setup.sh -DCMAKE_BUILD_TYPE=RelWithDebInfo \
     -DPENSIGHT_TSAN=ON -DPENSIGHT_CUDA=OFF -DPENSIGHT_BUILD_BENCH=OFF
-  # libgomp is not instrumented: TSan does not see its barriers and cannot restore its workers'
-  # stacks for a suppression, so a `threads` test runs OpenMP regions on one thread (e.g.
-  # NetDetectorConfig::cpu_threads = 1) and checks only our own threads.
-  export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1"
+  # libgomp is not instrumented: TSan does not see its barriers (every OpenMP loop reads as a race)
+  # and cannot restore its workers' stacks for a suppression. One thread per OpenMP region, so TSan
+  # checks our own threads (Pipeline's workers, the renderer's rows).
+  export OMP_THREAD_LIMIT=1
+  export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1:suppressions=$PWD/scripts/tsan.supp"
   ctest_args=(-L threads)
 else
   export PENSIGHT_BUILD_DIR=build
