@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages pensight needs (scripts/packages.txt) and builds it into
-# $PENSIGHT_BUILD_DIR (default build/). Extra CMake arguments may be passed through.
+# $PENSIGHT_BUILD_DIR (default build/); only $PENSIGHT_BUILD_TARGET when set (default: all). Extra
+# CMake arguments may be passed through.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -20,4 +21,4 @@ fi
 
 build_dir="${PENSIGHT_BUILD_DIR:-build}"
 cmake -S . -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE=Release -DPENSIGHT_WERROR=ON "$@" >/dev/null
-cmake --build "$build_dir"
+cmake --build "$build_dir" ${PENSIGHT_BUILD_TARGET:+--target "$PENSIGHT_BUILD_TARGET"}
