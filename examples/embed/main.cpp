@@ -1,11 +1,15 @@
-// Reads a dataset folder and runs the FFT net detection on the CPU on each frame, printing the
-// net-relative distance and heading; at the end, how many frames gave a pose.
+// A vehicle program in miniature: one pensight::Pipeline fed with a dataset's camera frames and
+// DVL, pressure and attitude samples in timestamp order, as a vehicle's drivers would push them.
+// Prints each frame's net-relative distance and heading and its global pose in the pen; at the
+// end, how many frames gave a net pose.
+#include <atomic>
 #include <cstdio>
 #include <exception>
 #include <numbers>
 
 #include "pipeline/dataset/dataset_reader.h"
-#include "pipeline/net_detector.h"
+#include "pipeline/pipeline.h"
+#include "pipeline/runner.h"
 #include "runtime/device.h"
 
 int main(int argc, char** argv) {
@@ -15,21 +19,37 @@ int main(int argc, char** argv) {
   }
   try {
     const pensight::Dataset dataset = pensight::read_dataset(argv[1]);
-    pensight::NetDetectorConfig config;
-    config.backend = pensight::Backend::kCpu;
-    config.mesh_m = dataset.scene.net_mesh_size_m;
-    pensight::Device device;  // one per process; the CPU backend opens nothing on it
-    pensight::NetDetector detector(dataset.cam0.camera, config, device);
+    pensight::PipelineConfig config;
+    config.camera = dataset.cam0.camera;
+    config.detector.backend = pensight::Backend::kCpu;
+    config.detector.mesh_m = dataset.scene.net_mesh_size_m;
+    config.global_pose = pensight::global_pose_config(dataset);
+    std::atomic<int> with_pose{0};
+    config.on_frame = [&](const pensight::FrameResult& r) {  // on the pipeline's delivery thread
+      with_pose += r.detection.pose.valid();
+      std::printf("%lld d_net %.3f m psi_net %.2f deg r_g %.3f m\n",
+                  static_cast<long long>(r.timestamp_ns), r.detection.pose.d_net_m,
+                  r.detection.pose.psi_net_rad * 180.0 / std::numbers::pi, r.global_pose.r_g_m);
+    };
+    config.lossless_results = true;  // a replay: wait for the printer instead of dropping
+    pensight::Device device;         // one per process; every stage borrows it
+    pensight::Pipeline pipeline(config, device);
 
-    int with_pose = 0;
+    size_t dvl = 0, depth = 0;
     for (size_t i = 0; i < dataset.frames.size(); ++i) {
       const int64_t t = dataset.frames[i].timestamp_ns;
-      const pensight::NetDetection d = detector.detect(dataset.load_frame(i), t);
-      if (d.pose.valid()) ++with_pose;
-      std::printf("%lld d_net %.3f m psi_net %.2f deg\n", static_cast<long long>(t), d.pose.d_net_m,
-                  d.pose.psi_net_rad * 180.0 / std::numbers::pi);
+      for (; dataset.dvl0 && dvl < dataset.dvl0->samples.size() &&
+             dataset.dvl0->samples[dvl].timestamp_ns <= t;
+           ++dvl)
+        pipeline.push(dataset.dvl0->samples[dvl]);
+      for (; dataset.pressure0 && depth < dataset.pressure0->size() &&
+             (*dataset.pressure0)[depth].timestamp_ns <= t;
+           ++depth)
+        pipeline.push((*dataset.pressure0)[depth]);
+      pipeline.push(pensight::CameraFrame{t, dataset.load_frame(i)});
     }
-    std::printf("%d of %zu frames with a pose\n", with_pose, dataset.frames.size());
+    pipeline.finish();  // every pushed frame has been printed when this returns
+    std::printf("%d of %zu frames with a pose\n", with_pose.load(), dataset.frames.size());
   } catch (const std::exception& e) {
     std::fprintf(stderr, "embed: %s\n", e.what());
     return 1;
