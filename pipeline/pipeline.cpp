@@ -9,6 +9,7 @@
 
 #include "pipeline/bounded_queue.h"
 #include "runtime/error.h"
+#include "runtime/log.h"
 #include "runtime/timing.h"
 
 namespace pensight {
@@ -18,6 +19,8 @@ using Clock = StageMeter::Clock;
 
 // A DVL plane older than two DVL periods (4 Hz) no longer describes the frame.
 constexpr int64_t kMaxPlaneAgeNs = 500'000'000;
+// Sensor samples held per sensor for the next frame: 50 s of 200 Hz attitude.
+constexpr size_t kMaxHeld = 10'000;
 
 // A detected frame on its way to the global-pose worker.
 struct Detected {
@@ -116,7 +119,7 @@ struct Pipeline::Impl {
         std::lock_guard lock(stats_mutex);
         fft.add(d->result.detection.fft_ms, d->pushed);
         relative.add(d->result.detection.pose_ms, d->pushed);
-      } catch (const Error& e) {
+      } catch (const std::exception& e) {
         d->result.error = e.what();
       }
       pose_q.push({.kind = PoseInput::kFrame, .frame = std::move(d)});
@@ -140,18 +143,30 @@ struct Pipeline::Impl {
     feed_until(held_attitude, t_ns);
   }
 
+  // Without camera frames (a stopped camera driver) the held samples would grow without bound:
+  // beyond kMaxHeld per sensor the oldest go to the estimators without waiting for a frame.
+  template <class Sample>
+  void hold(Held<Sample>& held, const Sample& s) {
+    held.emplace(s.timestamp_ns, s);
+    if (held.size() > kMaxHeld) feed_until(held, held.begin()->first);
+  }
+
   void process(Detected& d) {
     Stopwatch sw;
     FrameResult& r = d.result;
     if (r.error.empty()) {
-      feed_until(r.timestamp_ns);
-      const global_pose::NetObservation obs = net_observation(r.detection);
-      estimator.add(obs);
-      r.global_pose = estimator.estimate(r.timestamp_ns);
-      if (published) r.published = published->add(obs);
-      if (const auto plane = estimator.last_dvl_plane();
-          plane && std::abs(r.timestamp_ns - plane->first) <= kMaxPlaneAgeNs) {
-        r.dvl_plane = plane->second.in_camera(config.global_pose.T_body_camera);
+      try {
+        feed_until(r.timestamp_ns);
+        const global_pose::NetObservation obs = net_observation(r.detection);
+        estimator.add(obs);
+        r.global_pose = estimator.estimate(r.timestamp_ns);
+        if (published) r.published = published->add(obs);
+        if (const auto plane = estimator.last_dvl_plane();
+            plane && std::abs(r.timestamp_ns - plane->first) <= kMaxPlaneAgeNs) {
+          r.dvl_plane = plane->second.in_camera(config.global_pose.T_body_camera);
+        }
+      } catch (const std::exception& e) {
+        r.error = std::string("global pose: ") + e.what();
       }
     }
     r.counters = estimator.counters();
@@ -170,13 +185,13 @@ struct Pipeline::Impl {
           process(*item->frame);
           break;
         case PoseInput::kDvl:
-          held_dvl.emplace(item->dvl.timestamp_ns, item->dvl);
+          hold(held_dvl, item->dvl);
           break;
         case PoseInput::kDepth:
-          held_depth.emplace(item->depth.timestamp_ns, item->depth);
+          hold(held_depth, item->depth);
           break;
         case PoseInput::kAttitude:
-          held_attitude.emplace(item->attitude.timestamp_ns, item->attitude);
+          hold(held_attitude, item->attitude);
           break;
       }
     }
@@ -188,7 +203,13 @@ struct Pipeline::Impl {
   void deliver_loop() {
     while (auto item = result_q.pop()) {
       Stopwatch sw;
-      config.on_frame(item->result);
+      try {
+        config.on_frame(item->result);
+      } catch (const std::exception& e) {
+        // The caller's error; it must not end the delivery of later results.
+        log_warning("Pipeline: on_frame threw for the frame at t = " +
+                    std::to_string(item->result.timestamp_ns) + " ns: " + e.what());
+      }
       std::lock_guard lock(stats_mutex);
       delivery.add(sw.elapsed_ms(), item->pushed);
     }

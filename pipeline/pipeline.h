@@ -42,8 +42,8 @@ struct CameraFrame {
 struct FrameResult {
   int64_t timestamp_ns = 0;
   std::shared_ptr<const ImageU8> image;  // the frame as pushed (for overlays), shared, not copied
-  // Why the frame was not processed (e.g. wrong image size); when set, everything below is
-  // empty or NaN and the estimators did not see the frame.
+  // Why the frame was not processed (e.g. wrong image size) or its global pose failed; when set,
+  // the estimates below are empty or NaN.
   std::string error;
   NetDetection detection;
   global_pose::GlobalPose global_pose;
@@ -61,8 +61,8 @@ struct PipelineConfig {
   global_pose::GlobalPoseEstimatorConfig global_pose;
   // Also run the published global-pose node (the baseline) on the same inputs.
   std::optional<global_pose::PublishedGlobalPoseConfig> published;
-  // Called on the pipeline's delivery thread for each result, in frame order. Without it,
-  // results wait for poll().
+  // Called on the pipeline's delivery thread for each result, in frame order (an exception it
+  // throws is logged and delivery goes on). Without it, results wait for poll().
   std::function<void(const FrameResult&)> on_frame;
   size_t camera_queue = 4;   // frames waiting for detection; push(CameraFrame) waits beyond
   size_t result_queue = 64;  // results waiting for the caller

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <exception>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -250,8 +251,16 @@ RunSummary run_dataset(const Dataset& dataset, const std::filesystem::path& out_
   config.global_pose = global_pose_config(dataset);
   if (options.write_published_global_pose) config.published = published_config(dataset);
   config.lossless_results = true;
+  // A failed write (disk full) ends the run after the pipeline drains, with no output renamed.
+  std::exception_ptr write_error;
   config.on_frame = [&](const FrameResult& r) {
-    writer.write(r);
+    if (write_error) return;
+    try {
+      writer.write(r);
+    } catch (...) {
+      write_error = std::current_exception();
+      return;
+    }
     if (options.on_progress) options.on_progress(writer.frames_done(), total);
   };
   Pipeline pipeline(config, device);
@@ -286,6 +295,7 @@ RunSummary run_dataset(const Dataset& dataset, const std::filesystem::path& out_
   }
   sensors.until(std::numeric_limits<int64_t>::max());
   pipeline.finish();
+  if (write_error) std::rethrow_exception(write_error);
   writer.finish();
 
   std::vector<StageStats> stages = pipeline.stats();

@@ -306,6 +306,22 @@ TEST(Pipeline, PollDeliversResultsAndErrorsInOrder) {
   EXPECT_EQ(p.global_pose_counters().vision_fix.received, 2);
 }
 
+// A callback that throws loses its own result only: delivery goes on.
+TEST(Pipeline, ThrowingCallbackDoesNotStopDelivery) {
+  std::mt19937_64 rng(testing::fresh_seed());
+  const PinholeCamera cam;
+  const Sequence s = sequence(cam, 3, rng);
+  std::atomic<int> calls{0};
+  PipelineConfig c = config_for(cam);
+  c.on_frame = [&](const FrameResult&) {
+    if (calls++ == 0) throw Error("the caller's own failure");
+  };
+  Pipeline p(c, test_device());
+  for (const CameraFrame& f : s.frames) p.push(CameraFrame{f.timestamp_ns, f.image});
+  p.finish();
+  EXPECT_EQ(calls.load(), 3);
+}
+
 TEST(Pipeline, MisuseGivesClearErrors) {
   const PinholeCamera cam;
   PipelineConfig lossless = config_for(cam);
