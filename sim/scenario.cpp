@@ -85,7 +85,7 @@ CameraConfig parse_camera(const YamlMap& y) {
   c.vignetting = ranged(y, "vignetting", c.vignetting, 0, 1);
   c.read_noise = ranged(y, "read_noise", c.read_noise, 0, 100);
   c.shot_noise = ranged(y, "shot_noise", c.shot_noise, 0, 10);
-  y.reject_unknown_keys();
+  y.check_unknown_keys();
   return c;
 }
 
@@ -107,7 +107,7 @@ PenConfig parse_pen(const YamlMap& y) {
   p.height_m = positive(y, "height_m", p.height_m);
   p.wall_gap_m = ranged(y, "wall_gap_m", p.wall_gap_m, 0, 1000);
   p.wall_albedo = ranged(y, "wall_albedo", p.wall_albedo, 0, 1);
-  y.reject_unknown_keys();
+  y.check_unknown_keys();
   return p;
 }
 
@@ -132,11 +132,11 @@ NetConfig parse_net(const YamlMap& y) {
       g.depth_m = b.number("depth_m");
       g.amplitude_m = ranged(b, "amplitude_m", 0, -5, 5);
       g.radius_m = positive(b, "radius_m", 1.0);
-      b.reject_unknown_keys();
+      b.check_unknown_keys();
       n.bulges.push_back(g);
     }
   }
-  y.reject_unknown_keys();
+  y.check_unknown_keys();
   return n;
 }
 
@@ -151,7 +151,7 @@ WaterConfig parse_water(const YamlMap& y) {
   w.snow_brightness = ranged(y, "snow_brightness", w.snow_brightness, 0, 10);
   w.current_mps = vec3(y, "current_mps", w.current_mps);
   if (!(w.current_mps.norm() <= 3)) y.fail("current_mps", "a water current of at most 3 m/s");
-  y.reject_unknown_keys();
+  y.check_unknown_keys();
   return w;
 }
 
@@ -177,13 +177,13 @@ LightConfig parse_light(const YamlMap& y) {
       lamp.direction_B.normalize();
       lamp.intensity = ranged(m, "intensity", lamp.intensity, 0, 1000);
       lamp.half_angle_rad = ranged(m, "half_angle_rad", lamp.half_angle_rad, 0.01, 1.5);
-      m.reject_unknown_keys();
+      m.check_unknown_keys();
       l.lamps.push_back(lamp);
     }
   } else {
     l.lamps = default_lamps();
   }
-  y.reject_unknown_keys();
+  y.check_unknown_keys();
   return l;
 }
 
@@ -201,7 +201,7 @@ std::vector<Fish> parse_fish(const YamlMap& y) {
     f.length_m = positive(m, "length_m", f.length_m);
     f.thickness_m = positive(m, "thickness_m", f.thickness_m);
     f.albedo = ranged(m, "albedo", f.albedo, 0, 1);
-    m.reject_unknown_keys();
+    m.check_unknown_keys();
     out.push_back(f);
   }
   return out;
@@ -229,11 +229,11 @@ DvlConfig parse_dvl(const YamlMap& y) {
       spike.t_s = ranged(m, "t_s", 0, 0, 1e6);
       spike.duration_s = positive(m, "duration_s", spike.duration_s);
       spike.velocity_B_mps = vec3(m, "velocity_mps", spike.velocity_B_mps);
-      m.reject_unknown_keys();
+      m.check_unknown_keys();
       d.spikes.push_back(spike);
     }
   }
-  y.reject_unknown_keys();
+  y.check_unknown_keys();
   return d;
 }
 
@@ -243,7 +243,7 @@ PressureConfig parse_pressure(const YamlMap& y) {
   p.rate_hz = ranged(y, "rate_hz", p.rate_hz, 0.1, 1000);
   p.noise_m = ranged(y, "noise_m", p.noise_m, 0, 10);
   p.bias_m = ranged(y, "bias_m", p.bias_m, -10, 10);
-  y.reject_unknown_keys();
+  y.check_unknown_keys();
   return p;
 }
 
@@ -252,7 +252,7 @@ AttitudeConfig parse_attitude(const YamlMap& y) {
   a.enabled = y.boolean("enabled", true);
   a.rate_hz = ranged(y, "rate_hz", a.rate_hz, 0.1, 1000);
   a.noise_rad = ranged(y, "noise_rad", a.noise_rad, 0, 1);
-  y.reject_unknown_keys();
+  y.check_unknown_keys();
   return a;
 }
 
@@ -265,7 +265,7 @@ Waypoint parse_waypoint(const YamlMap& m) {
   w.heading_rad = m.number("heading_rad", 0);
   w.pitch_rad = ranged(m, "pitch_rad", 0, -1.5, 1.5);
   w.roll_rad = ranged(m, "roll_rad", 0, -1.5, 1.5);
-  m.reject_unknown_keys();
+  m.check_unknown_keys();
   return w;
 }
 
@@ -280,7 +280,7 @@ std::vector<Waypoint> lawnmower(const YamlMap& y) {
   const double speed = positive(y, "speed_mps", 0.3);
   const double along0 = y.number("along_m", 0);
   if (!(bottom >= top)) y.fail("depth_to_m", "must not be above depth_from_m");
-  y.reject_unknown_keys();
+  y.check_unknown_keys();
   const int rows = static_cast<int>(std::floor((bottom - top) / spacing + 1e-9)) + 1;
   std::vector<Waypoint> out;
   double t = 0;
@@ -326,7 +326,7 @@ std::vector<Waypoint> parse_trajectory(const YamlMap& y) {
       y.fail("waypoints[" + std::to_string(i) + "].t_s", "waypoint times must increase");
     }
   }
-  y.reject_unknown_keys();
+  y.check_unknown_keys();
   return out;
 }
 
@@ -389,7 +389,7 @@ Scenario parse_scenario(const std::string& text, const std::string& file_name) {
   const double last = s.waypoints.back().t_s;
   s.duration_s = y.number("duration_s", last - s.waypoints.front().t_s);
   if (!(s.duration_s >= 0)) y.fail("duration_s", "must not be negative");
-  y.reject_unknown_keys();
+  y.check_unknown_keys();
   validate(s);
   return s;
 }

@@ -15,13 +15,13 @@ std::string list(const double* v, size_t n) {
   return s + "]";
 }
 
-Eigen::MatrixXd read_matrix(const YamlMap& parent, const std::string& key, int rows, int cols) {
+// A Kalibr-style matrix {cols, rows, data (row-major)}; a wrong size fails with `shape`.
+Eigen::MatrixXd read_matrix(const YamlMap& parent, const std::string& key, int rows, int cols,
+                            const std::string& shape) {
   const YamlMap m = parent.map(key);
-  if (m.integer("rows") != rows || m.integer("cols") != cols) {
-    parent.fail(key, "expected rows: " + std::to_string(rows) + ", cols: " + std::to_string(cols));
-  }
+  if (m.integer("rows") != rows || m.integer("cols") != cols) parent.fail(key, shape);
   const std::vector<double> data = m.numbers("data", static_cast<size_t>(rows * cols));
-  m.reject_unknown_keys();
+  m.check_unknown_keys();
   Eigen::MatrixXd out(rows, cols);
   for (int r = 0; r < rows; ++r) {
     for (int c = 0; c < cols; ++c) out(r, c) = data[static_cast<size_t>(r * cols + c)];
@@ -39,7 +39,7 @@ std::string matrix_yaml(const Eigen::MatrixXd& m) {
 }
 
 Eigen::Isometry3d read_transform(const YamlMap& parent, const std::string& key) {
-  const Eigen::Matrix4d T = read_matrix(parent, key, 4, 4);
+  const Eigen::Matrix4d T = read_matrix(parent, key, 4, 4, "expected rows: 4, cols: 4");
   const Eigen::Matrix3d R = T.topLeftCorner<3, 3>();
   // 1e-5 leaves room for rotations printed with 6 decimals by calibration tools.
   if ((R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() > 1e-5 ||
@@ -63,10 +63,28 @@ double positive(const YamlMap& y, const std::string& key) {
   return v;
 }
 
+// The contract allows both forms because DVL files come from other tools: a Kalibr-style matrix
+// (one beam per row) or a list of 3-vectors.
+Eigen::MatrixXd read_beams(const YamlMap& y) {
+  const std::string key = "beam_directions";
+  const std::string shape =
+      "expected 4 unit vectors in the DVL frame, either as a matrix "
+      "{cols: 3, rows: 4, data: [12 numbers, row-major]} or as a list "
+      "[[x, y, z], [x, y, z], [x, y, z], [x, y, z]]";
+  if (y.is_map(key)) return read_matrix(y, key, 4, 3, shape);
+  if (!y.is_list(key)) y.fail(key, y.has(key) ? shape : "missing; add it, " + shape);
+  const std::vector<std::vector<double>> rows = y.number_rows(key, 4, 3, shape);
+  Eigen::MatrixXd out(4, 3);
+  for (int r = 0; r < 4; ++r) {
+    for (int c = 0; c < 3; ++c) out(r, c) = rows[static_cast<size_t>(r)][static_cast<size_t>(c)];
+  }
+  return out;
+}
+
 }  // namespace
 
 CameraCalibration read_camera_yaml(const std::filesystem::path& file) {
-  const YamlMap y = YamlMap::load_file(file);
+  const YamlMap y = YamlMap::load_file(file, UnknownKeys::kNote);
   y.string("comment", "");
   expect_sensor_type(y, "camera");
   CameraCalibration c;
@@ -94,7 +112,7 @@ CameraCalibration read_camera_yaml(const std::filesystem::path& file) {
   c.camera.p1 = d[2];
   c.camera.p2 = d[3];
   c.T_BS = read_transform(y, "T_BS");
-  y.reject_unknown_keys();
+  y.check_unknown_keys();
   return c;
 }
 
@@ -115,19 +133,19 @@ std::string camera_yaml(const CameraCalibration& c) {
 }
 
 DvlCalibration read_dvl_yaml(const std::filesystem::path& file) {
-  const YamlMap y = YamlMap::load_file(file);
+  const YamlMap y = YamlMap::load_file(file, UnknownKeys::kNote);
   y.string("comment", "");
   expect_sensor_type(y, "dvl");
   DvlCalibration c;
   c.rate_hz = positive(y, "rate_hz");
   c.T_BS = read_transform(y, "T_BS");
-  const Eigen::MatrixXd beams = read_matrix(y, "beam_directions", 4, 3);
+  const Eigen::MatrixXd beams = read_beams(y);
   for (int i = 0; i < 4; ++i) {
     const Eigen::Vector3d b = beams.row(i).transpose();
-    if (std::abs(b.norm() - 1) > 1e-4) y.fail("beam_directions", "rows must be unit vectors");
+    if (std::abs(b.norm() - 1) > 1e-4) y.fail("beam_directions", "each beam must be a unit vector");
     c.beam_directions_S[static_cast<size_t>(i)] = b.normalized();
   }
-  y.reject_unknown_keys();
+  y.check_unknown_keys();
   return c;
 }
 
@@ -143,12 +161,12 @@ std::string dvl_yaml(const DvlCalibration& c) {
 }
 
 SceneConfig read_scene_yaml(const std::filesystem::path& file) {
-  const YamlMap y = YamlMap::load_file(file);
+  const YamlMap y = YamlMap::load_file(file, UnknownKeys::kNote);
   SceneConfig s;
   s.net_mesh_size_m = positive(y, "net_mesh_size_m");
   s.pen_radius_m = positive(y, "pen_radius_m");
   s.initial_rho_rad = y.optional_number("initial_rho_rad");
-  y.reject_unknown_keys();
+  y.check_unknown_keys();
   return s;
 }
 

@@ -1,7 +1,8 @@
 #pragma once
 // The YAML files of the dataset contract: cam0/sensor.yaml (EuRoC / Kalibr keys),
-// dvl0/sensor.yaml and scene.yaml. Parsing is strict (see strict_yaml.h); writing produces files
-// the parser reads back exactly.
+// dvl0/sensor.yaml and scene.yaml. Parsing checks every key pensight reads and notes the keys it
+// does not (other tools write their own; see strict_yaml.h); writing produces files the parser
+// reads back exactly.
 #include <filesystem>
 #include <string>
 
@@ -12,8 +13,9 @@ namespace pensight {
 CameraCalibration read_camera_yaml(const std::filesystem::path& file);
 std::string camera_yaml(const CameraCalibration& calib);
 
-// dvl0/sensor.yaml: sensor_type: dvl, rate_hz, T_BS (4x4, DVL -> body) and beam_directions
-// ({cols: 3, rows: 4, data: [...]}, one unit vector per row, in the DVL frame).
+// dvl0/sensor.yaml: sensor_type: dvl, rate_hz, T_BS (4x4, DVL -> body) and beam_directions (4
+// unit vectors in the DVL frame), read as {cols: 3, rows: 4, data: [...]} (one per row) or as
+// [[x, y, z], ...]; written as the matrix.
 DvlCalibration read_dvl_yaml(const std::filesystem::path& file);
 std::string dvl_yaml(const DvlCalibration& calib);
 

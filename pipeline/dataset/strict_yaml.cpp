@@ -5,21 +5,26 @@
 #include <sstream>
 
 #include "runtime/error.h"
+#include "runtime/log.h"
 
 namespace pensight {
 
-YamlMap::YamlMap(YAML::Node node, std::string file, std::string prefix)
-    : node_(std::move(node)), file_(std::move(file)), prefix_(std::move(prefix)) {}
+YamlMap::YamlMap(YAML::Node node, std::string file, std::string prefix,
+                 std::shared_ptr<FileState> state)
+    : node_(std::move(node)),
+      file_(std::move(file)),
+      prefix_(std::move(prefix)),
+      state_(std::move(state)) {}
 
-YamlMap YamlMap::load_file(const std::filesystem::path& file) {
+YamlMap YamlMap::load_file(const std::filesystem::path& file, UnknownKeys unknown) {
   std::ifstream in(file);
   if (!in) throw Error("cannot open '" + file.string() + "': check that the file exists");
   std::stringstream text;
   text << in.rdbuf();
-  return parse(text.str(), file.string());
+  return parse(text.str(), file.string(), unknown);
 }
 
-YamlMap YamlMap::parse(const std::string& text, const std::string& file) {
+YamlMap YamlMap::parse(const std::string& text, const std::string& file, UnknownKeys unknown) {
   YAML::Node root;
   try {
     root = YAML::Load(text);
@@ -27,7 +32,7 @@ YamlMap YamlMap::parse(const std::string& text, const std::string& file) {
     throw Error(file + ": not valid YAML (line " + std::to_string(e.mark.line + 1) + "): " + e.msg);
   }
   if (!root.IsMap()) throw Error(file + ": expected a YAML mapping of 'key: value' lines");
-  return YamlMap(root, file, "");
+  return YamlMap(root, file, "", std::make_shared<FileState>(FileState{unknown, {}}));
 }
 
 std::string YamlMap::key_path(const std::string& key) const {
@@ -36,6 +41,14 @@ std::string YamlMap::key_path(const std::string& key) const {
 
 bool YamlMap::has(const std::string& key) const {
   return node_[key].IsDefined() && !node_[key].IsNull();
+}
+
+bool YamlMap::is_list(const std::string& key) const {
+  return has(key) && node_[key].IsSequence();
+}
+
+bool YamlMap::is_map(const std::string& key) const {
+  return has(key) && node_[key].IsMap();
 }
 
 void YamlMap::fail(const std::string& key, const std::string& message) const {
@@ -128,10 +141,23 @@ std::vector<double> YamlMap::numbers(const std::string& key, size_t size) const 
   return out;
 }
 
+std::vector<std::vector<double>> YamlMap::number_rows(const std::string& key, size_t rows,
+                                                      size_t cols, const std::string& shape) const {
+  const YAML::Node n = required(key);
+  if (!n.IsSequence() || n.size() != rows) fail(key, shape);
+  std::vector<std::vector<double>> out;
+  for (const auto& row : n) {
+    if (!row.IsSequence() || row.size() != cols) fail(key, shape);
+    std::vector<double>& r = out.emplace_back();
+    for (const auto& e : row) r.push_back(to_number(e, key));
+  }
+  return out;
+}
+
 YamlMap YamlMap::map(const std::string& key) const {
   const YAML::Node n = required(key);
   if (!n.IsMap()) fail(key, "expected a mapping of 'key: value' entries");
-  return YamlMap(n, file_, key_path(key));
+  return YamlMap(n, file_, key_path(key), state_);
 }
 
 std::optional<YamlMap> YamlMap::optional_map(const std::string& key) const {
@@ -149,7 +175,7 @@ std::vector<YamlMap> YamlMap::map_list(const std::string& key) const {
   for (size_t i = 0; i < n.size(); ++i) {
     const std::string item = key + "[" + std::to_string(i) + "]";
     if (!n[i].IsMap()) fail(item, "expected a mapping of 'key: value' entries");
-    out.push_back(YamlMap(n[i], file_, key_path(item)));
+    out.push_back(YamlMap(n[i], file_, key_path(item), state_));
   }
   return out;
 }
@@ -162,14 +188,22 @@ std::optional<std::vector<YamlMap>> YamlMap::optional_map_list(const std::string
   return map_list(key);
 }
 
-void YamlMap::reject_unknown_keys() const {
+void YamlMap::check_unknown_keys() const {
   for (const auto& kv : node_) {
     const std::string key = kv.first.as<std::string>();
-    if (used_->count(key) == 0) {
-      std::string known;
-      for (const auto& k : *used_) known += (known.empty() ? "" : ", ") + k;
-      fail(key, "unknown key (a typo?); known keys here: " + known);
+    if (used_->count(key) != 0) continue;
+    if (state_->unknown == UnknownKeys::kNote) {
+      state_->unknown_found.push_back(key_path(key));
+      continue;
     }
+    std::string known;
+    for (const auto& k : *used_) known += (known.empty() ? "" : ", ") + k;
+    fail(key, "unknown key (a typo?); known keys here: " + known);
+  }
+  if (prefix_.empty() && !state_->unknown_found.empty()) {
+    std::string keys;
+    for (const auto& k : state_->unknown_found) keys += (keys.empty() ? "" : ", ") + k;
+    log_info(file_ + ": keys not used by pensight: " + keys);
   }
 }
 

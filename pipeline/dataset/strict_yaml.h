@@ -1,7 +1,9 @@
 #pragma once
-// Strict reading of YAML mappings for configuration files (sensor.yaml, scene.yaml, scenarios):
-// a missing key, a value of the wrong type and a key nobody asked for are all errors that name
-// the file and the full key path, so a typo never silently falls back to a default.
+// Checked reading of YAML mappings (sensor.yaml, scene.yaml, scenarios): a missing key and a value
+// of the wrong type are errors that name the file and the full key path. A key nobody asks for is
+// an error in the project's own files (UnknownKeys::kReject: a typo never silently falls back to
+// a default) and one note per file in dataset files, which other tools write with keys of their
+// own (UnknownKeys::kNote, ../shared/dataset-format.md).
 #include <yaml-cpp/yaml.h>
 
 #include <cstdint>
@@ -14,17 +16,24 @@
 
 namespace pensight {
 
+enum class UnknownKeys { kReject, kNote };
+
 class YamlMap {
  public:
   // Parses `file`; throws pensight::Error when it is missing, not YAML or not a mapping.
-  static YamlMap load_file(const std::filesystem::path& file);
+  static YamlMap load_file(const std::filesystem::path& file,
+                           UnknownKeys unknown = UnknownKeys::kReject);
   // Parses YAML text; `file` only names the source in messages.
-  static YamlMap parse(const std::string& text, const std::string& file);
+  static YamlMap parse(const std::string& text, const std::string& file,
+                       UnknownKeys unknown = UnknownKeys::kReject);
 
   const std::string& file() const { return file_; }
   // "key" at the top level, "parent.key" below.
   std::string key_path(const std::string& key) const;
   bool has(const std::string& key) const;
+  // The kind of a present value, for keys that come in more than one form.
+  bool is_list(const std::string& key) const;
+  bool is_map(const std::string& key) const;
 
   double number(const std::string& key) const;
   double number(const std::string& key, double fallback) const;
@@ -39,26 +48,39 @@ class YamlMap {
   std::string string(const std::string& key, const std::string& fallback) const;
   // A sequence of numbers; `size` (when not 0) is the required length.
   std::vector<double> numbers(const std::string& key, size_t size = 0) const;
+  // A list of `rows` lists of `cols` numbers ([[1, 2], [3, 4]]); any other shape fails with
+  // `shape`, which says what the value should look like.
+  std::vector<std::vector<double>> number_rows(const std::string& key, size_t rows, size_t cols,
+                                               const std::string& shape) const;
   YamlMap map(const std::string& key) const;
   std::optional<YamlMap> optional_map(const std::string& key) const;
   std::vector<YamlMap> map_list(const std::string& key) const;
-  // nullopt when the key is absent (it still counts as known in reject_unknown_keys' message).
+  // nullopt when the key is absent (it still counts as known in check_unknown_keys' message).
   std::optional<std::vector<YamlMap>> optional_map_list(const std::string& key) const;
 
-  // Throws naming the first key of this mapping that no accessor above has asked for (typos).
-  // Call it once all keys of this level have been read; nested maps check their own keys.
-  void reject_unknown_keys() const;
+  // Deals with the keys of this mapping that no accessor above has asked for. kReject: throws
+  // naming the first (a typo). kNote: collects their paths; on the top-level map it logs them all
+  // in one note per file. Call it once all keys of this level have been read, on nested maps
+  // (which check their own keys) before their parent.
+  void check_unknown_keys() const;
   // Throws "FILE: key 'PATH': MESSAGE".
   [[noreturn]] void fail(const std::string& key, const std::string& message) const;
 
  private:
-  YamlMap(YAML::Node node, std::string file, std::string prefix);
+  // What the maps of one file share: how unknown keys are dealt with, and those found so far.
+  struct FileState {
+    UnknownKeys unknown;
+    std::vector<std::string> unknown_found;
+  };
+
+  YamlMap(YAML::Node node, std::string file, std::string prefix, std::shared_ptr<FileState> state);
   YAML::Node required(const std::string& key) const;
   double to_number(const YAML::Node& n, const std::string& key) const;
 
   YAML::Node node_;
   std::string file_;
   std::string prefix_;
+  std::shared_ptr<FileState> state_;
   std::shared_ptr<std::set<std::string>> used_ = std::make_shared<std::set<std::string>>();
 };
 

@@ -92,6 +92,9 @@ TEST(Scenario, TypoIsNamedWithItsFile) {
   EXPECT_NE(e.find("bad.yaml"), std::string::npos) << e;
   EXPECT_NE(e.find("water.attenuation_per_n"), std::string::npos) << e;
   EXPECT_NE(e.find("unknown key"), std::string::npos) << e;
+  // Scenarios are the project's own input, so unlike dataset files they stay strict at every level.
+  const std::string top = error_of(std::string(kMinimal) + "pen_radius_m: 12\n");
+  EXPECT_NE(top.find("bad.yaml: key 'pen_radius_m': unknown key"), std::string::npos) << top;
 }
 
 TEST(Scenario, ImpossibleValuesAreRefused) {
