@@ -39,8 +39,9 @@ void fill_global_pose(EstimateRow& row, const global_pose::GlobalPose& g) {
   row.psi_g_rad = g.psi_g_rad;
 }
 
-// Pushes every sensor sample up to t_ns (in each sensor's order, as a vehicle would have them by
-// the time the frame arrives), optionally waiting for each one's time first.
+// Pushes every sensor sample up to t_ns, in timestamp order across the sensors (as a vehicle's
+// drivers would have pushed them by the time the frame arrives), optionally waiting for each
+// one's time first.
 class SensorReplay {
  public:
   SensorReplay(const Dataset& d, Pipeline& p, std::function<void(int64_t)> wait)
@@ -100,7 +101,7 @@ class RunWriter {
     skipped_.assign(d.frames.size(), false);
   }
 
-  // Overlays of the frames i with every_nth divides i, into `dir`.
+  // Overlays of frames 0, every_nth, 2 every_nth, ... into `dir`.
   void overlays(std::filesystem::path dir, std::vector<kernels::RoiOrigin> rois, int roi_size_px,
                 size_t every_nth) {
     std::filesystem::create_directories(dir);
