@@ -30,7 +30,6 @@ class BoundedQueue {
     }
     if (closed_) return false;
     items_.push_back(std::move(item));
-    high_water_ = std::max(high_water_, items_.size());
     lock.unlock();
     not_empty_.notify_one();
     return true;
@@ -62,11 +61,6 @@ class BoundedQueue {
     std::lock_guard lock(mutex_);
     return dropped_;
   }
-  // The most items that were queued at once.
-  size_t high_water() const {
-    std::lock_guard lock(mutex_);
-    return high_water_;
-  }
 
  private:
   std::optional<T> take(std::unique_lock<std::mutex>& lock) {
@@ -85,7 +79,6 @@ class BoundedQueue {
   std::deque<T> items_;
   bool closed_ = false;
   size_t dropped_ = 0;
-  size_t high_water_ = 0;
 };
 
 }  // namespace pensight

@@ -3,6 +3,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -16,7 +17,7 @@
 namespace pensight {
 namespace {
 
-constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
+constexpr double kRadToDeg = 180.0 / std::numbers::pi;
 
 // A ROI's part in the frame's pose, which its colour shows (BGR).
 enum class RoiState { kInlier, kOutlier, kNoLattice };

@@ -8,6 +8,7 @@
 #include <iterator>
 #include <limits>
 #include <map>
+#include <numbers>
 #include <optional>
 #include <span>
 #include <sstream>
@@ -20,15 +21,17 @@
 
 #include "pipeline/dataset/atomic_file.h"
 #include "pipeline/dataset/csv.h"
+#include "pipeline/dataset/diagnostics_csv.h"
 #include "pipeline/dataset/estimates_csv.h"
 #include "pipeline/dataset/global_pose_csv.h"
 #include "pipeline/evaluation/evaluation.h"
+#include "pipeline/timing_table.h"
 #include "runtime/error.h"
 
 namespace pensight {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+constexpr double kPi = std::numbers::pi;
 constexpr double kRadToDeg = 180.0 / kPi;
 
 std::string escape(std::string_view s) {
@@ -819,8 +822,8 @@ void write_report_html(const std::filesystem::path& out_dir, const Dataset* data
       run.published_problem = std::string("cannot read it: ") + e.what();
     }
   }
-  run.diagnostics = read_named(out_dir / "diagnostics.csv", {"timestamp [ns]", "fft_reason"});
-  run.timing = read_named(out_dir / "timing.csv", {"node"});
+  run.diagnostics = read_named(out_dir / kDiagnosticsFile, {"timestamp [ns]", "fft_reason"});
+  run.timing = read_named(out_dir / kTimingFile, {"node"});
 
   std::string html =
       "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>pensight "
