@@ -98,7 +98,7 @@ class RunWriter {
         estimates_(out / "estimates.csv"),
         diagnostics_(out / kDiagnosticsFile) {
     if (published) published_.emplace(out / kPublishedGlobalPoseFile);
-    skipped_.assign(d.frames.size(), false);
+    skipped_.assign(d.frames.size(), "");
   }
 
   // Overlays of frames 0, every_nth, 2 every_nth, ... into `dir`.
@@ -111,9 +111,10 @@ class RunWriter {
     overlay_every_ = std::max<size_t>(every_nth, 1);
   }
 
-  void skip(size_t i) {
+  // Frame i could not be loaded, for `reason` (its diagnostics row says so).
+  void skip(size_t i, const std::string& reason) {
     std::lock_guard lock(mutex_);
-    skipped_[i] = true;
+    skipped_[i] = reason;
     ++summary_.frames_skipped;
   }
 
@@ -172,12 +173,12 @@ class RunWriter {
 
  private:
   void write_skipped() {
-    while (next_ < skipped_.size() && skipped_[next_]) {
+    while (next_ < skipped_.size() && !skipped_[next_].empty()) {
       EstimateRow row;
       row.timestamp_ns = d_.frames[next_].timestamp_ns;
       DiagnosticsRow diag;
       diag.timestamp_ns = row.timestamp_ns;
-      diag.fft_reason = "image not readable";
+      diag.fft_reason = skipped_[next_];
       write_rows(row, row, diag);
     }
   }
@@ -213,7 +214,7 @@ class RunWriter {
   EstimatesCsvWriter estimates_;
   DiagnosticsCsvWriter diagnostics_;
   std::optional<GlobalPoseCsvWriter> published_;
-  std::vector<bool> skipped_;
+  std::vector<std::string> skipped_;   // per frame: why it could not be loaded, or empty
   std::filesystem::path overlay_dir_;  // empty: no overlays
   std::vector<kernels::RoiOrigin> rois_;
   int roi_size_px_ = 0;
@@ -287,7 +288,7 @@ RunSummary run_dataset(const Dataset& dataset, const std::filesystem::path& out_
       frame.image = dataset.load_frame(i);
     } catch (const Error& e) {
       log_warning("frame " + std::to_string(i) + " skipped (NaN row): " + e.what());
-      writer.skip(i);
+      writer.skip(i, e.what());
       continue;
     }
     load.add(sw.elapsed_ms(), began);
