@@ -355,7 +355,7 @@ int64_t Scenario::frame_time_ns(int frame) const {
 }
 
 SceneConfig Scenario::scene_config() const {
-  return {net.mesh_m, pen.radius_m, std::nullopt};
+  return {net.mesh_m, pen.radius_m, std::nullopt, std::nullopt, std::nullopt};
 }
 
 Scenario parse_scenario(const std::string& text, const std::string& file_name) {

@@ -1,6 +1,7 @@
 #include "pipeline/dataset/calibration_yaml.h"
 
 #include <cmath>
+#include <numbers>
 #include <sstream>
 
 #include "pipeline/dataset/csv.h"
@@ -160,12 +161,33 @@ std::string dvl_yaml(const DvlCalibration& c) {
   return s.str();
 }
 
+const char* to_string(MeshType type) {
+  return type == MeshType::kDiamond ? "diamond" : "square";
+}
+
 SceneConfig read_scene_yaml(const std::filesystem::path& file) {
   const YamlMap y = YamlMap::load_file(file, UnknownKeys::kNote);
   SceneConfig s;
   s.net_mesh_size_m = positive(y, "net_mesh_size_m");
   s.pen_radius_m = positive(y, "pen_radius_m");
   s.initial_rho_rad = y.optional_number("initial_rho_rad");
+  if (y.has("net_mesh_type")) {
+    const std::string type = y.string("net_mesh_type");
+    if (type == to_string(MeshType::kSquare)) {
+      s.net_mesh_type = MeshType::kSquare;
+    } else if (type == to_string(MeshType::kDiamond)) {
+      s.net_mesh_type = MeshType::kDiamond;
+    } else {
+      y.fail("net_mesh_type", "'" + type + "' is not a mesh type: use square or diamond");
+    }
+  }
+  if (const auto deg = y.optional_number("net_mesh_angle_deg")) {
+    // Beyond 30-150 deg the twines of a hung net would lie almost on top of each other.
+    if (!(*deg >= 30 && *deg <= 150)) {
+      y.fail("net_mesh_angle_deg", "must be within 30-150 deg (90: an undeformed square mesh)");
+    }
+    s.net_mesh_angle_rad = *deg * std::numbers::pi / 180;
+  }
   y.check_unknown_keys();
   return s;
 }
@@ -173,6 +195,11 @@ SceneConfig read_scene_yaml(const std::filesystem::path& file) {
 std::string scene_yaml(const SceneConfig& s) {
   std::string out = "net_mesh_size_m: " + format_number(s.net_mesh_size_m) + "\n" +
                     "pen_radius_m: " + format_number(s.pen_radius_m) + "\n";
+  if (s.net_mesh_type) out += std::string("net_mesh_type: ") + to_string(*s.net_mesh_type) + "\n";
+  if (s.net_mesh_angle_rad) {
+    out += "net_mesh_angle_deg: " + format_number(*s.net_mesh_angle_rad * 180 / std::numbers::pi) +
+           "\n";
+  }
   if (s.initial_rho_rad) out += "initial_rho_rad: " + format_number(*s.initial_rho_rad) + "\n";
   return out;
 }

@@ -22,11 +22,19 @@ struct CameraCalibration {
   double rate_hz = 10.0;
 };
 
+// How the mesh hangs in the net wall (dataset-format.md): square = bars along the wall's
+// horizontal and vertical, diamond = bars at +-angle/2 from the vertical.
+enum class MeshType { kSquare, kDiamond };
+const char* to_string(MeshType type);  // "square" | "diamond", as in scene.yaml
+
 // scene.yaml.
 struct SceneConfig {
-  double net_mesh_size_m = 0.030;  // centre-to-centre twine spacing of the square mesh
+  double net_mesh_size_m = 0.030;  // bar length: knot to knot
   double pen_radius_m = 12.0;      // a flat net is a large radius (e.g. 100)
   std::optional<double> initial_rho_rad;
+  // Optional (contract 1.1): a prior for the detector, which estimates what is absent.
+  std::optional<MeshType> net_mesh_type;
+  std::optional<double> net_mesh_angle_rad;  // nominal opening angle; scene.yaml has degrees
 };
 
 // One line of cam0/data.csv; the image is cam0/data/<filename>, the ground-truth depth (when

@@ -35,7 +35,7 @@ class DatasetTest : public ::testing::Test {
 
   DatasetContents contents() const {
     DatasetContents c;
-    c.scene = {0.025, 6.5, 0.3};
+    c.scene = {0.025, 6.5, 0.3, MeshType::kDiamond, 1.2};
     c.cam0.camera.width_px = 36;
     c.cam0.camera.height_px = 27;
     c.cam0.camera.fx_px = 23.1;
@@ -139,6 +139,9 @@ TEST_F(DatasetTest, RoundTripKeepsEverySensorAndImage) {
   EXPECT_DOUBLE_EQ(d.scene.pen_radius_m, 6.5);
   ASSERT_TRUE(d.scene.initial_rho_rad);
   EXPECT_DOUBLE_EQ(*d.scene.initial_rho_rad, 0.3);
+  EXPECT_EQ(d.scene.net_mesh_type, MeshType::kDiamond);
+  ASSERT_TRUE(d.scene.net_mesh_angle_rad);
+  EXPECT_NEAR(*d.scene.net_mesh_angle_rad, 1.2, 1e-9);  // written in degrees, 10 digits
   EXPECT_EQ(d.cam0.camera.width_px, 36);
   EXPECT_EQ(d.cam0.camera.height_px, 27);
   EXPECT_DOUBLE_EQ(d.cam0.camera.fy_px, 23.2);
@@ -253,6 +256,12 @@ TEST_F(DatasetFilesTest, BadYamlAndMissingKeysAreNamed) {
   EXPECT_NE(e.find("'pen_radius_m': missing"), std::string::npos) << e;
   write_file(scene, "net_mesh_size_m: -0.03\npen_radius_m: 12\n");
   EXPECT_NE(error_of([&] { read_dataset(root_); }).find("positive"), std::string::npos);
+  write_file(scene, "net_mesh_size_m: 0.03\npen_radius_m: 12\nnet_mesh_type: hexagonal\n");
+  e = error_of([&] { read_dataset(root_); });
+  EXPECT_NE(e.find("'net_mesh_type': 'hexagonal' is not a mesh type"), std::string::npos) << e;
+  write_file(scene, "net_mesh_size_m: 0.03\npen_radius_m: 12\nnet_mesh_angle_deg: 170\n");
+  e = error_of([&] { read_dataset(root_); });
+  EXPECT_NE(e.find("'net_mesh_angle_deg': must be within 30-150 deg"), std::string::npos) << e;
   write_file(scene, "net_mesh_size_m: 0.03\npen_radius_m: 12\n");
   write_file(root_ / "cam0" / "sensor.yaml", "sensor_type: camera\nrate_hz: 10\n");
   e = error_of([&] { read_dataset(root_); });
@@ -280,11 +289,13 @@ TEST_F(DatasetFilesTest, KeysOfOtherToolsAreReadWithOneNotePerFile) {
   EXPECT_DOUBLE_EQ(d.scene.pen_radius_m, 25);
   ASSERT_TRUE(d.scene.initial_rho_rad);
   EXPECT_DOUBLE_EQ(*d.scene.initial_rho_rad, 0.25);
+  EXPECT_EQ(d.scene.net_mesh_type, MeshType::kDiamond);
+  ASSERT_TRUE(d.scene.net_mesh_angle_rad);
+  EXPECT_NEAR(*d.scene.net_mesh_angle_rad, 95 * M_PI / 180, 1e-12);
   EXPECT_DOUBLE_EQ(d.cam0.camera.fx_px, 23.1);
   EXPECT_EQ(count_of(log.text(), "keys not used by pensight"), 2u) << log.text();
-  EXPECT_NE(log.text().find("scene.yaml: keys not used by pensight: net_mesh_type, "
-                            "net_mesh_angle_deg, net_type, net_plane_point_m, net_plane_normal, "
-                            "foo\n"),
+  EXPECT_NE(log.text().find("scene.yaml: keys not used by pensight: net_type, net_plane_point_m, "
+                            "net_plane_normal, foo\n"),
             std::string::npos)
       << log.text();
   EXPECT_NE(log.text().find("sensor.yaml: keys not used by pensight: rostopic\n"),
