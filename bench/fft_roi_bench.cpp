@@ -219,7 +219,7 @@ void BM_Pose_Cpu(benchmark::State& state) {
   for (auto _ : state) {
     std::vector<RoiNetPoint> points;
     for (size_t i = 0; i < grid().size(); ++i) {
-      points.push_back(roi_net_point(lattices[i], grid()[i], 300, camera, 0.030));
+      points.push_back(roi_net_point(lattices[i], grid()[i], 300, camera, {0.030}));
     }
     benchmark::DoNotOptimize(relative_pose_fft(points));
   }

@@ -1,5 +1,6 @@
 #include "pipeline/net_detector.h"
 
+#include <Eigen/Geometry>
 #include <optional>
 #include <thread>
 
@@ -78,6 +79,18 @@ struct NetDetector::Impl {
   std::string description;
   std::optional<kernels::FftRoiCpu> cpu;
   std::optional<VulkanStage> vulkan;
+  MeshAngleFilter mesh_filter{std::nullopt};
+
+  // Net points of every ROI for a cell of the given opening angle.
+  void model_points(NetDetection& d, double opening_angle_rad, const Eigen::Vector3d* normal) {
+    d.points.clear();
+    d.points.reserve(rois.size());
+    const MeshModel mesh{config.mesh_m, opening_angle_rad};
+    for (size_t i = 0; i < rois.size(); ++i) {
+      d.points.push_back(roi_net_point(d.lattices[i], rois[i], shape.roi_size, camera, mesh,
+                                       config.points, normal));
+    }
+  }
 #if PENSIGHT_HAS_CUDA
   std::optional<kernels::FftRoiCuda> cuda;
 #endif
@@ -138,6 +151,7 @@ NetDetector::NetDetector(const PinholeCamera& camera, const NetDetectorConfig& c
   }
   m.camera = camera;
   m.config = config;
+  m.mesh_filter = MeshAngleFilter(config.mesh_angle_rad, config.mesh_angle_filter);
   m.rois = kernels::roi_grid(camera.width_px, camera.height_px, config.grid);
   m.shape = {.width = camera.width_px,
              .height = camera.height_px,
@@ -186,12 +200,30 @@ NetDetection NetDetector::detect(const ImageU8& image, int64_t timestamp_ns) {
   }
   d.fft_ms = sw.elapsed_ms();
   sw.restart();
-  d.points.reserve(m.rois.size());
-  for (size_t i = 0; i < m.rois.size(); ++i) {
-    d.points.push_back(roi_net_point(d.lattices[i], m.rois[i], m.shape.roi_size, m.camera,
-                                     m.config.mesh_m, m.config.points));
+  m.model_points(d, m.mesh_filter.angle_rad(), nullptr);
+  // Two rounds of plane from the points alone -> opening angle -> points: the first corrects a
+  // prior 10-30 deg off, the second the plane's small dependence on the angle.
+  RelativePoseFftParams plane_only = m.config.pose;
+  plane_only.check_tilts = false;
+  plane_only.fuse_roi_tilt = false;
+  std::optional<Eigen::Vector3d> normal;
+  for (int round = 0; round < 2; ++round) {
+    const FftRelativePose plane = relative_pose_fft(d.points, plane_only);
+    if (!plane.valid()) break;
+    normal = Eigen::Vector3d(std::tan(plane.psi_net_rad), std::tan(plane.pitch_net_rad), -1)
+                 .normalized();
+    d.mesh_angle_frame = measure_mesh_angle(d.points, plane.inlier, *normal, m.camera,
+                                            m.config.mesh_type, m.config.mesh_angle);
+    if (!d.mesh_angle_frame.valid()) break;
+    const double angle = round == 0 ? m.mesh_filter.update(d.mesh_angle_frame)
+                                    : m.mesh_filter.refine(d.mesh_angle_frame);
+    m.model_points(d, angle, &*normal);
   }
   d.pose = relative_pose_fft(d.points, m.config.pose);
+  if (m.mesh_filter.has_estimate()) d.mesh_angle_rad = m.mesh_filter.angle_rad();
+  d.mesh_type = d.mesh_angle_frame.valid() ? d.mesh_angle_frame.type
+                                           : m.config.mesh_type.value_or(MeshType::kSquare);
+  for (const RoiNetPoint& p : d.points) d.reduced_rois += p.reduced ? 1 : 0;
   if (d.pose.valid()) {
     for (size_t i = 0; i < d.points.size(); ++i) {
       if (!d.pose.inlier[i]) continue;

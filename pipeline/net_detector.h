@@ -5,11 +5,13 @@
 // made in the constructor); detect() is called per frame.
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "kernels/fft_roi/fft_roi.h"
 #include "pipeline/camera.h"
+#include "pipeline/mesh_angle.h"
 #include "pipeline/net_geometry.h"
 #include "pipeline/relative_pose_fft.h"
 #include "runtime/device.h"
@@ -28,7 +30,12 @@ struct NetDetectorConfig {
   kernels::PeakParams peaks;
   NetPointParams points;
   RelativePoseFftParams pose;
-  double mesh_m = 0.030;  // from scene.yaml net_mesh_size_m
+  double mesh_m = 0.030;  // bar length, from scene.yaml net_mesh_size_m
+  // scene.yaml's optional net_mesh_type and net_mesh_angle_deg: a prior; estimated when absent.
+  std::optional<MeshType> mesh_type;
+  std::optional<double> mesh_angle_rad;
+  MeshAngleParams mesh_angle;
+  MeshAngleFilter::Params mesh_angle_filter;
   // kAuto: CUDA when built with it and a device is present, else a real Vulkan GPU, else the CPU
   // (lavapipe is for tests, never chosen automatically).
   Backend backend = Backend::kAuto;
@@ -41,8 +48,14 @@ struct NetDetection {
   std::vector<RoiNetPoint> points;            // per ROI, grid order
   std::vector<SparseDepth> depths;            // ROIs that support the pose (empty when NaN)
   FftRelativePose pose;
-  double fft_ms = 0;   // lattice stage incl. upload/download (wall clock)
-  double pose_ms = 0;  // net points + relative pose
+  // The net's opening angle (mesh_angle.h) the points were modelled with: smoothed over frames;
+  // NaN until a frame has measured it (or the scene gave it).
+  double mesh_angle_rad = kNaN;
+  MeshType mesh_type = MeshType::kSquare;  // given, else what the frame's lattice shows
+  MeshAngleMeasurement mesh_angle_frame;   // this frame's own measurement
+  int reduced_rois = 0;                    // ROIs whose spectral basis held a diagonal
+  double fft_ms = 0;                       // lattice stage incl. upload/download (wall clock)
+  double pose_ms = 0;                      // net points + relative pose
 };
 
 class NetDetector {
@@ -59,7 +72,8 @@ class NetDetector {
   std::string description() const;  // e.g. "cpu (FFTW, 2 threads)" or "vulkan (NVIDIA ...)"
   const std::vector<kernels::RoiOrigin>& rois() const;
 
-  // Throws pensight::Error when the image size differs from the camera's.
+  // Throws pensight::Error when the image size differs from the camera's. Frames are taken in
+  // time order: the opening angle is smoothed across them.
   NetDetection detect(const ImageU8& image, int64_t timestamp_ns = 0);
 
   struct Impl;

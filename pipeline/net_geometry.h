@@ -1,18 +1,27 @@
 #pragma once
 // From one ROI's two base frequency vectors to a point on the net: the image lattice vectors are
-// the dual of the frequency vectors; one net square of known mesh size seen through the camera
-// (distortion included) gives the range along the ROI's centre ray in closed form, the tilt of the
-// net against that ray, and the 3D centre point in the camera frame C.
+// the dual of the frequency vectors; one net cell (a rhombus of two bars of known length meeting
+// at the opening angle) seen through the camera (distortion included) gives the range along the
+// ROI's centre ray in closed form, the tilt of the net against that ray, and the 3D centre point
+// in the camera frame C.
+//
+// Basis: the spectrum's two strongest peaks need not be the bars' (a knot pattern puts a peak on
+// the cell's diagonal, f1 + f2); any two independent peaks of the lattice span it, so the image
+// lattice basis is Lagrange-Gauss reduced to its shortest pair, which for opening angles of
+// 60-120 deg are the bars.
 //
 // Closed form: rotate the camera virtually so that the centre ray becomes the optical axis. There
-// the square's image is, to first order, (mesh / range) times the top two rows of a 3x2 matrix
-// with orthonormal columns, whose largest singular value is 1 and smallest cos(tilt). So
-// range = mesh / sigma_max(lattice in the rotated normalised image) and
-// tilt = acos(sigma_min / sigma_max). The tilt's sign is not observable from one ROI (the affine
-// image of a square is the same for +/- tilt); both normals are returned and the frame-level
-// plane fit (relative_pose_fft.h) settles it from many ROIs.
+// the cell's image is, to first order, (bar / range) J R M0 with J the top two rows of a 3x2
+// matrix with orthonormal columns (the net plane's axes), R an unknown in-plane rotation and
+// M0 = [1 cos(a); 0 sin(a)] the cell of opening angle a. So with B the lattice in the rotated
+// normalised image, range = bar / sigma_max(B M0^-1) and tilt = acos(sigma_min / sigma_max)
+// (a = 90 deg: a square). The tilt's sign is not observable from one ROI (the affine image of a
+// cell is the same for +/- tilt); both normals are returned and the frame-level plane fit
+// (relative_pose_fft.h) settles it from many ROIs. The opening angle itself is not observable
+// from one ROI either (4 numbers, 5 unknowns): mesh_angle.h estimates it from the whole frame.
 #include <Eigen/Core>
 #include <array>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -20,6 +29,13 @@
 #include "pipeline/camera.h"
 
 namespace pensight {
+
+// The net cell as the closed form models it.
+struct MeshModel {
+  double bar_m = 0.030;  // knot to knot (scene.yaml net_mesh_size_m)
+  // Either angle of the rhombus: a and pi - a describe the same cell.
+  double opening_angle_rad = std::numbers::pi / 2;
+};
 
 struct NetPointParams {
   double min_quality = 0.03;   // share of spectral energy in the lattice peaks
@@ -37,9 +53,12 @@ const char* to_string(RoiStatus status);
 
 struct RoiNetPoint {
   RoiStatus status = RoiStatus::kNoLattice;
-  Eigen::Vector2d centre_px = Eigen::Vector2d::Zero();    // ROI centre + energy centroid offset
-  Eigen::Vector2d lattice1_px = Eigen::Vector2d::Zero();  // image lattice vectors at the centre
+  Eigen::Vector2d centre_px = Eigen::Vector2d::Zero();  // ROI centre + energy centroid offset
+  // Image lattice vectors at the centre: the reduced basis (the bars), lattice2 signed so that the
+  // two make the cell's acute angle on the net (per the normal hint, else in the image).
+  Eigen::Vector2d lattice1_px = Eigen::Vector2d::Zero();
   Eigen::Vector2d lattice2_px = Eigen::Vector2d::Zero();
+  bool reduced = false;  // the spectrum's basis held a diagonal and was reduced to the bars
   Eigen::Vector3d p_C = Eigen::Vector3d::Zero();  // net point on the centre ray, camera frame
   double range_m = 0;                             // |p_C|
   double tilt_rad = 0;                            // between the net normal and the centre ray
@@ -55,10 +74,20 @@ struct SparseDepth {
   float quality = 0;
 };
 
-// Precondition: mesh_m > 0 (throws pensight::Error otherwise). A ROI without a usable lattice
-// comes back with its status set and p_C zero, never an exception.
+// Precondition: mesh.bar_m > 0 and an opening angle within (0, pi) (throws pensight::Error
+// otherwise). A ROI without a usable lattice comes back with its status set and p_C zero, never
+// an exception. `normal_hint_C` (a net normal in C, e.g. the frame's fitted plane) decides which
+// pair of bars makes the acute angle; without it the image's angle does, which can pick the
+// obtuse pair for a near-square cell seen obliquely (a range error of about |cos a|).
 RoiNetPoint roi_net_point(const kernels::RoiLattice& lattice, kernels::RoiOrigin origin,
-                          int roi_size, const PinholeCamera& camera, double mesh_m,
-                          const NetPointParams& params = {});
+                          int roi_size, const PinholeCamera& camera, const MeshModel& mesh,
+                          const NetPointParams& params = {},
+                          const Eigen::Vector3d* normal_hint_C = nullptr);
+
+// The image lattice vectors' displacements on the plane through p_C with normal normal_C:
+// the two bars in 3D (C, metres, up to the plane's scale when p_C is only a direction).
+std::array<Eigen::Vector3d, 2> bars_on_plane(const RoiNetPoint& roi, const PinholeCamera& camera,
+                                             const Eigen::Vector3d& point_C,
+                                             const Eigen::Vector3d& normal_C);
 
 }  // namespace pensight

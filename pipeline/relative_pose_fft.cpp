@@ -172,6 +172,7 @@ std::string implausible(const Eigen::Vector3d& plane, const std::vector<Sample>&
                   lever, params.max_extrapolation_lever);
     return text;
   }
+  if (!params.check_tilts) return {};
   const Eigen::Vector3d normal = plane_normal(plane(1), plane(2));
   std::vector<double> angles;
   for (int i : in) {

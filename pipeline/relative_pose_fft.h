@@ -37,6 +37,9 @@ struct RelativePoseFftParams {
   // for the fundamental in every ROI still fits a plane, but not the ROIs' tilts (19 deg at
   // 79 deg); 360 synthetic frames within the envelope stayed below 5 deg.
   double max_tilt_disagreement_rad = 0.14;  // 8 deg
+  // Off for a plane from the points alone (the tilts then do not count): the net's opening
+  // angle is measured against it before the ROIs' tilts can be trusted (mesh_angle.h).
+  bool check_tilts = true;
   // Fuse the plane's slopes with the mean of the inliers' per-ROI slopes, weighted by inverse
   // variance: the plane's from its residuals, the per-ROI mean's the spread of the per-ROI slopes
   // itself (not divided by their count: their errors share a bias, |slope| low by up to ~5 % at

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <exception>
 #include <mutex>
+#include <numbers>
 #include <optional>
 #include <string>
 #include <thread>
@@ -136,6 +137,9 @@ class RunWriter {
       diag.inlier_rois = pose.inlier_rois;
       diag.plane_rms_m = pose.rms_residual_m;
       diag.fft_reason = pose.reason;
+      diag.mesh_angle_deg = r.detection.mesh_angle_rad * 180 / std::numbers::pi;
+      diag.mesh_type = to_string(r.detection.mesh_type);
+      diag.reduced_rois = r.detection.reduced_rois;
       if (pose.valid()) {
         row.d_net_fft_m = pose.d_net_m;
         row.psi_net_fft_rad = pose.psi_net_rad;
@@ -250,6 +254,8 @@ RunSummary run_dataset(const Dataset& dataset, const std::filesystem::path& out_
   config.camera = dataset.cam0.camera;
   config.detector = options.detector;
   config.detector.mesh_m = dataset.scene.net_mesh_size_m;
+  config.detector.mesh_type = dataset.scene.net_mesh_type;
+  config.detector.mesh_angle_rad = dataset.scene.net_mesh_angle_rad;
   config.global_pose = global_pose_config(dataset);
   if (options.write_published_global_pose) config.published = published_config(dataset);
   config.lossless_results = true;

@@ -68,7 +68,7 @@ TEST(NetGeometry, RecoversRangeTiltAndNormalFromAnExactLattice) {
     const Eigen::Vector2d c(o.x + 149.5, o.y + 149.5);
     Eigen::Vector3d p;
     const auto lattice = exact_lattice(cam, pl, c, rot(rng), 300, &p);
-    const RoiNetPoint q = roi_net_point(lattice, o, 300, cam, kMesh);
+    const RoiNetPoint q = roi_net_point(lattice, o, 300, cam, {kMesh});
     // Far (2.5 m), oblique and near the image edge the drawn lattice can be finer than the
     // resampled ROI carries (PENSIGHT_TEST_SEED=2901591807): that ROI must be refused as such.
     if (finest_period_px(lattice) < NetPointParams{}.min_period_px) {
@@ -105,7 +105,7 @@ TEST(NetGeometry, RangeAgreesWithSolvePnp) {
     const kernels::RoiLattice lattice = exact_lattice(cam, pl, c, 0.2, 300, &p);
     if (finest_period_px(lattice) < NetPointParams{}.min_period_px) continue;  // as above
     ++measurable;
-    const RoiNetPoint q = roi_net_point(lattice, o, 300, cam, kMesh);
+    const RoiNetPoint q = roi_net_point(lattice, o, 300, cam, {kMesh});
     ASSERT_TRUE(q.valid()) << to_string(q.status);
     const Eigen::Vector2d a1 = q.lattice1_px / 2, a2 = q.lattice2_px / 2;
     std::vector<cv::Point2d> image;
@@ -123,15 +123,15 @@ TEST(NetGeometry, RangeAgreesWithSolvePnp) {
 TEST(NetGeometry, RejectsWeakFineAndDegenerateLattices) {
   const PinholeCamera cam;
   const kernels::RoiOrigin o{100, 100};
-  EXPECT_EQ(roi_net_point({0.05f, 0, 0, 0.05f, 0.01f, 2}, o, 300, cam, kMesh).status,
+  EXPECT_EQ(roi_net_point({0.05f, 0, 0, 0.05f, 0.01f, 2}, o, 300, cam, {kMesh}).status,
             RoiStatus::kNoLattice);
-  EXPECT_EQ(roi_net_point({0.45f, 0, 0, 0.45f, 0.3f, 50}, o, 300, cam, kMesh).status,
+  EXPECT_EQ(roi_net_point({0.45f, 0, 0, 0.45f, 0.3f, 50}, o, 300, cam, {kMesh}).status,
             RoiStatus::kTooFine);
-  EXPECT_EQ(roi_net_point({0.05f, 0, 0.1f, 0, 0.3f, 50}, o, 300, cam, kMesh).status,
+  EXPECT_EQ(roi_net_point({0.05f, 0, 0.1f, 0, 0.3f, 50}, o, 300, cam, {kMesh}).status,
             RoiStatus::kBadGeometry);
   const float nan = std::numeric_limits<float>::quiet_NaN();
-  EXPECT_FALSE(roi_net_point({nan, 0, 0, 0.05f, nan, 50}, o, 300, cam, kMesh).valid());
-  EXPECT_THROW(roi_net_point({0.05f, 0, 0, 0.05f, 0.3f, 50}, o, 300, cam, 0.0), Error);
+  EXPECT_FALSE(roi_net_point({nan, 0, 0, 0.05f, nan, 50}, o, 300, cam, {kMesh}).valid());
+  EXPECT_THROW(roi_net_point({0.05f, 0, 0, 0.05f, 0.3f, 50}, o, 300, cam, {0.0}), Error);
 }
 
 }  // namespace

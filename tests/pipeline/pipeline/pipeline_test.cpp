@@ -163,7 +163,7 @@ TEST(Pipeline, RunWritesDiagnosticsAndTiming) {
   options.detector.backend = Backend::kCpu;
   const RunSummary summary = run_dataset(d, out, options, test_device());
   const std::vector<EstimateRow> rows = read_estimates_csv(out / "estimates.csv");
-  const CsvTable diag(out / kDiagnosticsFile, 20, 20);
+  const CsvTable diag(out / kDiagnosticsFile, 22, 22);
   ASSERT_EQ(diag.rows(), d.frames.size());
   int nan_frames = 0;
   for (size_t i = 0; i < diag.rows(); ++i) {

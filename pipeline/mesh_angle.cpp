@@ -1,0 +1,124 @@
+#include "pipeline/mesh_angle.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+namespace pensight {
+namespace {
+
+double median(std::vector<double>& v) {
+  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  return *mid;
+}
+
+double angle_between(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  return std::atan2(a.cross(b).norm(), a.dot(b));
+}
+
+}  // namespace
+
+MeshAngleMeasurement measure_mesh_angle(std::span<const RoiNetPoint> rois,
+                                        std::span<const uint8_t> use,
+                                        const Eigen::Vector3d& normal_C,
+                                        const PinholeCamera& camera, std::optional<MeshType> type,
+                                        const MeshAngleParams& params) {
+  MeshAngleMeasurement out;
+  const Eigen::Vector3d n = normal_C.normalized();
+  // The net's up and right in its plane, from the camera's.
+  const Eigen::Vector3d up = (-Eigen::Vector3d::UnitY() + n.y() * n).normalized();
+  const Eigen::Vector3d right =
+      up.cross(n).dot(Eigen::Vector3d::UnitX()) >= 0 ? up.cross(n) : n.cross(up);
+  struct Cell {
+    Eigen::Vector3d b1, b2;  // unit bars, b2 signed for the acute angle
+  };
+  std::vector<Cell> cells;
+  std::vector<double> bisector_offsets;  // of the acute bisector from the nearest of up / right
+  for (size_t i = 0; i < rois.size() && i < use.size(); ++i) {
+    if (!use[i] || !rois[i].valid()) continue;
+    auto bars = bars_on_plane(rois[i], camera, rois[i].p_C, n);
+    const double l1 = bars[0].norm(), l2 = bars[1].norm();
+    if (!(l1 > 0 && l2 > 0) || std::abs(l1 - l2) > params.max_bar_mismatch * std::max(l1, l2)) {
+      continue;
+    }
+    Cell c{bars[0] / l1, bars[1] / l2};
+    if (c.b1.dot(c.b2) < 0) c.b2 = -c.b2;
+    const Eigen::Vector3d bisector = (c.b1 + c.b2).normalized();
+    const double to_up = std::acos(std::min(1.0, std::abs(bisector.dot(up))));
+    bisector_offsets.push_back(std::min(to_up, std::numbers::pi / 2 - to_up));
+    cells.push_back(c);
+  }
+  if (static_cast<int>(cells.size()) < params.min_rois) return out;
+  out.type = type ? *type
+                  : (median(bisector_offsets) < params.diamond_bisector_rad ? MeshType::kDiamond
+                                                                            : MeshType::kSquare);
+  const Eigen::Vector3d reference = out.type == MeshType::kDiamond ? up : (up + right).normalized();
+  std::vector<double> angles;
+  for (const Cell& c : cells) {
+    // Of the cell's two angles, the one whose bisector is nearer the reference.
+    const Eigen::Vector3d acute_bisector = (c.b1 + c.b2).normalized();
+    const Eigen::Vector3d obtuse_bisector = (c.b1 - c.b2).normalized();
+    const double acute = angle_between(c.b1, c.b2);
+    angles.push_back(std::abs(acute_bisector.dot(reference)) >=
+                             std::abs(obtuse_bisector.dot(reference))
+                         ? acute
+                         : std::numbers::pi - acute);
+  }
+  out.rois = static_cast<int>(angles.size());
+  out.opening_angle_rad = median(angles);
+  std::vector<double> deviation;
+  for (double a : angles) deviation.push_back(std::abs(a - out.opening_angle_rad));
+  // 1.4826 MAD is sigma for Gaussian scatter; the median's is 1.25 sigma / sqrt(n).
+  out.sigma_rad = 1.25 * 1.4826 * median(deviation) / std::sqrt(static_cast<double>(out.rois));
+  return out;
+}
+
+MeshAngleFilter::MeshAngleFilter(std::optional<double> prior_rad)
+    : MeshAngleFilter(prior_rad, Params{}) {}
+
+MeshAngleFilter::MeshAngleFilter(std::optional<double> prior_rad, const Params& params)
+    : params_(params) {
+  if (prior_rad) state_ = {*prior_rad, params.prior_sigma_rad * params.prior_sigma_rad, 0};
+  before_ = state_;
+}
+
+double MeshAngleFilter::angle_rad() const {
+  return state_.var >= 0 ? state_.angle : std::numbers::pi / 2;
+}
+
+double MeshAngleFilter::update(const MeshAngleMeasurement& m) {
+  if (state_.var >= 0) state_.var += params_.process_sigma_rad * params_.process_sigma_rad;
+  before_ = state_;
+  fuse(m);
+  return angle_rad();
+}
+
+double MeshAngleFilter::refine(const MeshAngleMeasurement& m) {
+  state_ = before_;
+  fuse(m);
+  return angle_rad();
+}
+
+void MeshAngleFilter::fuse(const MeshAngleMeasurement& m) {
+  if (!m.valid()) return;
+  const double sigma = std::max(m.sigma_rad, params_.min_sigma_rad);
+  const double r = sigma * sigma;
+  State& s = state_;
+  const double innovation = m.opening_angle_rad - s.angle;
+  const double gate = params_.gate_sigmas * params_.gate_sigmas * (s.var + r);
+  const bool outside = s.var >= 0 && innovation * innovation > gate;
+  if (s.var < 0 || (outside && ++s.outside >= params_.restart_after)) {
+    s = {m.opening_angle_rad, r, 0};
+    return;
+  }
+  if (outside) return;
+  s.outside = 0;
+  const double k = s.var / (s.var + r);
+  s.angle += k * innovation;
+  s.var *= 1 - k;
+}
+
+}  // namespace pensight
