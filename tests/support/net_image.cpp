@@ -12,14 +12,27 @@ ImageU8 render_net(const PinholeCamera& camera, const NetScene& s) {
   const double a = std::tan(s.psi_rad), b = std::tan(s.pitch_rad), c = s.distance_m;
   const Eigen::Vector3d m = Eigen::Vector3d(-a, -b, 1).normalized();
   const Eigen::Vector3d u1 = Eigen::Vector3d(m.z(), 0, -m.x()).normalized();
-  const Eigen::Vector3d u2 = m.cross(u1);
+  const Eigen::Vector3d u2 = m.cross(u1);  // the net's down
   const double cr = std::cos(s.twine_rotation_rad), sr = std::sin(s.twine_rotation_rad);
-  const Eigen::Vector3d e1 = (cr * u1 + sr * u2) / s.mesh_m;
-  const Eigen::Vector3d e2 = (-sr * u1 + cr * u2) / s.mesh_m;
+  const Eigen::Vector3d right = cr * u1 + sr * u2, up = sr * u1 - cr * u2;
+  const double theta = s.opening_angle_rad;
+  const Eigen::Vector3d bar1 = s.mesh_type == MeshType::kDiamond
+                                   ? std::sin(theta / 2) * right + std::cos(theta / 2) * up
+                                   : right;
+  const Eigen::Vector3d bar2 = s.mesh_type == MeshType::kDiamond
+                                   ? -std::sin(theta / 2) * right + std::cos(theta / 2) * up
+                                   : std::cos(theta) * right + std::sin(theta) * up;
+  // Lattice coordinates: p = (p . e1) bar1 + (p . e2) bar2 for p in the plane (dual vectors);
+  // twines lie along integer values of each.
+  Eigen::Matrix<double, 3, 2> bars;
+  bars << bar1 * s.mesh_m, bar2 * s.mesh_m;
+  const Eigen::Matrix<double, 3, 2> dual = bars * (bars.transpose() * bars).inverse();
+  const Eigen::Vector3d e1 = dual.col(0), e2 = dual.col(1);
   std::mt19937_64 rng(s.seed);
   std::uniform_real_distribution<double> phase(0, 1);
   const double ph1 = phase(rng), ph2 = phase(rng);
-  const double duty = s.twine_m / s.mesh_m;
+  // Both families are e.norm() lines per metre apart, the same for a rhombus.
+  const double duty = s.twine_m * e1.norm(), knot_duty = s.knot_m * e1.norm();
   std::normal_distribution<double> noise(0, s.noise_sigma);
 
   // Net point seen through a pixel position; nullopt where the ray misses the net.
@@ -34,12 +47,17 @@ ImageU8 render_net(const PinholeCamera& camera, const NetScene& s) {
   // Twine share of a stripe pattern of period 1 (twine on [0, duty)) at t, seen through a
   // Gaussian of sigma (mesh units): its Fourier series with each harmonic attenuated
   // (cos(k x) by rotation, sin(pi k duty) from a table).
-  std::vector<double> amplitude;
-  for (int k = 1; k <= 256; ++k) amplitude.push_back(2 / (M_PI * k) * std::sin(M_PI * k * duty));
-  auto stripe = [&](double t, double sigma) {
-    const double x = 2 * M_PI * (t - 0.5 * duty), c1 = std::cos(x), s1 = std::sin(x);
+  auto amplitudes = [](double d) {
+    std::vector<double> amp;
+    for (int k = 1; k <= 256; ++k) amp.push_back(2 / (M_PI * k) * std::sin(M_PI * k * d));
+    return amp;
+  };
+  const std::vector<double> twine_amplitude = amplitudes(duty),
+                            knot_amplitude = amplitudes(knot_duty);
+  auto stripe = [&](double t, double sigma, double d, const std::vector<double>& amplitude) {
+    const double x = 2 * M_PI * (t - 0.5 * d), c1 = std::cos(x), s1 = std::sin(x);
     const double decay = -2 * M_PI * M_PI * sigma * sigma;
-    double v = duty, cs = c1, sn = s1;
+    double v = d, cs = c1, sn = s1;
     for (int k = 1; k <= 256; ++k) {
       const double att = std::exp(decay * k * k);
       if (att < 1e-4) break;
@@ -73,8 +91,16 @@ ImageU8 render_net(const PinholeCamera& camera, const NetScene& s) {
         const Eigen::Vector3d dy = (*py1 - *py0) / (y > 0 && y < h - 1 ? 2.0 : 1.0);
         const double s1 = sigma_px * std::hypot(dx.dot(e1), dy.dot(e1));
         const double s2 = sigma_px * std::hypot(dx.dot(e2), dy.dot(e2));
-        const double c1 = stripe(p->dot(e1) + ph1, s1), c2 = stripe(p->dot(e2) + ph2, s2);
-        const double twine = c1 + c2 - c1 * c2;
+        const double q1 = p->dot(e1) + ph1, q2 = p->dot(e2) + ph2;
+        const double c1 = stripe(q1, s1, duty, twine_amplitude);
+        const double c2 = stripe(q2, s2, duty, twine_amplitude);
+        double twine = c1 + c2 - c1 * c2;
+        if (knot_duty > 0) {
+          // Centred on the crossings: shifted by half the difference of the two duties.
+          const double shift = 0.5 * (knot_duty - duty);
+          twine = std::max(twine, stripe(q1 + shift, s1, knot_duty, knot_amplitude) *
+                                      stripe(q2 + shift, s2, knot_duty, knot_amplitude));
+        }
         const double contrast = s.attenuation_m > 0 ? std::exp(-p->norm() / s.attenuation_m) : 1;
         v += twine * contrast * (s.net_level - s.water_level);
       }

@@ -1,12 +1,15 @@
 #pragma once
-// Analytic test frames for the FFT net detector until the renderer lands: a planar square net in
-// front of the camera, ray-traced through pensight::PinholeCamera (distortion included) with
-// the twine pattern filtered analytically by the pixel footprint and the lens PSF before
-// sampling (so thin, far twine is band-limited like in a real camera instead of aliasing), and
-// frames without a net.
+// Analytic test frames for the FFT net detector: a planar net of rhombic cells (square or
+// diamond mesh at any opening angle, optional knots) in front of the camera, ray-traced through
+// pensight::PinholeCamera (distortion included) with the twine pattern filtered analytically by the
+// pixel footprint and the lens PSF before sampling (so thin, far twine is band-limited like in a
+// real camera instead of aliasing), and frames without a net.
 #include <cstdint>
 
+#include <numbers>
+
 #include "pipeline/camera.h"
+#include "pipeline/dataset/dataset_types.h"
 #include "runtime/image.h"
 
 namespace pensight::testing {
@@ -15,9 +18,14 @@ struct NetScene {
   double distance_m = 1.0;  // along the optical axis to the net plane (= d_net)
   double psi_rad = 0;       // net plane z = tan(psi) x + tan(pitch) y + d in C (dataset signs)
   double pitch_rad = 0;
-  double mesh_m = 0.030;                     // twine centre-to-centre spacing
-  double twine_m = 0.003;                    // twine width
-  double twine_rotation_rad = 0;             // twine directions within the net plane
+  double mesh_m = 0.030;   // bar length, knot to knot
+  double twine_m = 0.003;  // twine width, across the twine
+  double knot_m = 0;       // side of the knots at the crossings (0: knotless)
+  // Square: one bar along the net's right, the other at the opening angle from it towards the
+  // net's up (-y_C projected onto the net). Diamond: bars at +-angle/2 from the net's up.
+  MeshType mesh_type = MeshType::kSquare;
+  double opening_angle_rad = std::numbers::pi / 2;
+  double twine_rotation_rad = 0;             // the whole lattice, within the net plane
   double net_level = 190, water_level = 70;  // grey levels
   double attenuation_m = 0;                  // > 0: contrast falls as exp(-range / attenuation_m)
   double blur_sigma_px = 0.6;  // Gaussian PSF of lens and sensor (no real camera has none)

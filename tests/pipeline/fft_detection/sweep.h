@@ -16,6 +16,7 @@ struct SweepErrors {
   std::vector<double> d_rel;    // |d - d_true| / d_true of frames with a valid pose
   std::vector<double> psi_deg;  // |psi - psi_true|
   std::vector<double> pitch_deg;
+  std::vector<double> angle_deg;  // |opening angle - truth| of frames that report one
   int frames = 0;
   int invalid = 0;
 };
@@ -64,13 +65,18 @@ inline SweepErrors run_sweep(const std::vector<ImageU8>& frames,
     e.d_rel.push_back(std::abs(d.pose.d_net_m - s.distance_m) / s.distance_m);
     e.psi_deg.push_back(std::abs(d.pose.psi_net_rad - s.psi_rad) * 180 / M_PI);
     e.pitch_deg.push_back(std::abs(d.pose.pitch_net_rad - s.pitch_rad) * 180 / M_PI);
+    if (!std::isnan(d.mesh_angle_rad)) {
+      e.angle_deg.push_back(std::abs(d.mesh_angle_rad - s.opening_angle_rad) * 180 / M_PI);
+    }
     if (verbose) {
       std::printf(
-          "  d %.2f psi %5.1f pitch %5.1f -> d %.3f (%+.2f%%) psi %+.2f pitch %+.2f, %d/%d\n",
+          "  d %.2f psi %5.1f pitch %5.1f -> d %.3f (%+.2f%%) psi %+.2f pitch %+.2f, %d/%d, "
+          "angle %.2f (frame %.2f)\n",
           s.distance_m, s.psi_rad * 180 / M_PI, s.pitch_rad * 180 / M_PI, d.pose.d_net_m,
           100 * (d.pose.d_net_m - s.distance_m) / s.distance_m,
           (d.pose.psi_net_rad - s.psi_rad) * 180 / M_PI,
-          (d.pose.pitch_net_rad - s.pitch_rad) * 180 / M_PI, d.pose.inlier_rois, d.pose.valid_rois);
+          (d.pose.pitch_net_rad - s.pitch_rad) * 180 / M_PI, d.pose.inlier_rois, d.pose.valid_rois,
+          d.mesh_angle_rad * 180 / M_PI, d.mesh_angle_frame.opening_angle_rad * 180 / M_PI);
     }
   }
   return e;
@@ -79,10 +85,10 @@ inline SweepErrors run_sweep(const std::vector<ImageU8>& frames,
 inline void print_errors(const char* label, const SweepErrors& e) {
   std::printf(
       "%-28s d_rel median %.2f%% p95 %.2f%% | psi median %.2f p95 %.2f deg | pitch median %.2f "
-      "p95 %.2f deg | NaN %d/%d\n",
+      "p95 %.2f deg | angle max %.2f deg | NaN %d/%d\n",
       label, 100 * percentile(e.d_rel, 0.5), 100 * percentile(e.d_rel, 0.95),
       percentile(e.psi_deg, 0.5), percentile(e.psi_deg, 0.95), percentile(e.pitch_deg, 0.5),
-      percentile(e.pitch_deg, 0.95), e.invalid, e.frames);
+      percentile(e.pitch_deg, 0.95), percentile(e.angle_deg, 1.0), e.invalid, e.frames);
 }
 
 }  // namespace pensight::testing

@@ -1,0 +1,64 @@
+// The FFT stage on nets as they hang in the sea: sheared square and diamond meshes of any
+// opening angle, knotted, with thick twines (tests/support/net_image.h), against their truth.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "tests/pipeline/fft_detection/sweep.h"
+#include "tests/support/vulkan_fixture.h"
+
+namespace pensight {
+namespace {
+
+using testing::NetScene;
+
+constexpr double kDeg = M_PI / 180;
+
+struct MeshCase {
+  const char* label;
+  MeshType type;
+  double angle_deg;
+};
+
+testing::SweepErrors run_mesh_sweep(const MeshCase& c, int frames, uint64_t seed,
+                                    std::optional<double> prior_rad = std::nullopt) {
+  const PinholeCamera cam{.k1 = -0.04, .k2 = 0.01};
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> twine(0.12, 0.3), knot(1.2, 2.0);
+  NetScene base{.mesh_type = c.type, .opening_angle_rad = c.angle_deg * kDeg, .noise_sigma = 3};
+  base.twine_m = twine(rng) * base.mesh_m;
+  base.knot_m = knot(rng) * base.twine_m;
+  const auto scenes = testing::sweep_scenes(frames, rng(), base);
+  NetDetectorConfig config{.backend = Backend::kCpu};
+  config.mesh_angle_rad = prior_rad;
+  NetDetector detector(cam, config, testing::test_device());
+  std::vector<ImageU8> images;
+  for (const NetScene& s : scenes) images.push_back(testing::render_net(cam, s));
+  auto e = testing::run_sweep(images, scenes, detector, true);
+  testing::print_errors(c.label, e);
+  return e;
+}
+
+// Sheared square meshes (95-110 deg) and diamond meshes (70-120 deg), knotted, twines 12-30 % of
+// the bar, 0.4-2.5 m, |psi| <= 35 deg: the acceptance bounds of the real-nets issue.
+TEST(RealNets, ShearedAndDiamondMeshesMeetBounds) {
+  std::mt19937_64 rng(testing::fresh_seed());
+  std::uniform_real_distribution<double> square(95, 110), diamond(70, 120);
+  for (const MeshCase& c : {MeshCase{"sheared square", MeshType::kSquare, square(rng)},
+                            MeshCase{"diamond", MeshType::kDiamond, diamond(rng)}}) {
+    SCOPED_TRACE(std::string(c.label) + " at " + std::to_string(c.angle_deg) + " deg");
+    const auto e = run_mesh_sweep(c, 16, rng());
+    EXPECT_LE(e.invalid, 1);
+    EXPECT_LE(testing::percentile(e.d_rel, 0.5), 0.01);
+    EXPECT_LE(testing::percentile(e.d_rel, 0.95), 0.03);
+    EXPECT_LE(testing::percentile(e.psi_deg, 0.5), 0.5);
+    EXPECT_LE(testing::percentile(e.psi_deg, 0.95), 2.0);
+    // The angle after the first frames (the filter starts from the first measurement).
+    std::vector<double> settled(e.angle_deg.begin() + std::min<size_t>(3, e.angle_deg.size()),
+                                e.angle_deg.end());
+    EXPECT_LE(testing::percentile(settled, 1.0), 2.0);
+  }
+}
+
+}  // namespace
+}  // namespace pensight
