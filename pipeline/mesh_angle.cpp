@@ -71,8 +71,10 @@ MeshAngleMeasurement measure_mesh_angle(std::span<const RoiNetPoint> rois,
   out.opening_angle_rad = median(angles);
   std::vector<double> deviation;
   for (double a : angles) deviation.push_back(std::abs(a - out.opening_angle_rad));
-  // 1.4826 MAD is sigma for Gaussian scatter; the median's is 1.25 sigma / sqrt(n).
-  out.sigma_rad = 1.25 * 1.4826 * median(deviation) / std::sqrt(static_cast<double>(out.rois));
+  // 1.4826 MAD is sigma for Gaussian scatter. Not divided by sqrt(n): the ROIs share the plane's
+  // normal, whose error moves all their angles alike, and a frame far and oblique reads its
+  // median 2-3 deg off while claiming a tenth of that from sqrt(n).
+  out.sigma_rad = 1.4826 * median(deviation);
   return out;
 }
 

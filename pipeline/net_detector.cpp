@@ -64,6 +64,9 @@ struct VulkanStage {
   }
 };
 
+constexpr int kMeshAngleRounds = 3;
+constexpr double kMeshAngleSettled_rad = 0.0035;  // 0.2 deg: a range change below 0.2 %
+
 bool is_real_gpu(vk::DeviceKind kind) {
   return kind == vk::DeviceKind::kDiscrete || kind == vk::DeviceKind::kIntegrated;
 }
@@ -201,13 +204,15 @@ NetDetection NetDetector::detect(const ImageU8& image, int64_t timestamp_ns) {
   d.fft_ms = sw.elapsed_ms();
   sw.restart();
   m.model_points(d, m.mesh_filter.angle_rad(), nullptr);
-  // Two rounds of plane from the points alone -> opening angle -> points: the first corrects a
-  // prior 10-30 deg off, the second the plane's small dependence on the angle.
+  // Rounds of plane from the points alone -> opening angle -> points, until the angle settles:
+  // one for an angle already known, two or three from a prior 10-30 deg off (the first plane
+  // is then tilted by the wrong cell's range errors).
   RelativePoseFftParams plane_only = m.config.pose;
   plane_only.check_tilts = false;
   plane_only.fuse_roi_tilt = false;
   std::optional<Eigen::Vector3d> normal;
-  for (int round = 0; round < 2; ++round) {
+  double modelled = m.mesh_filter.angle_rad();
+  for (int round = 0; round < kMeshAngleRounds; ++round) {
     const FftRelativePose plane = relative_pose_fft(d.points, plane_only);
     if (!plane.valid()) break;
     normal = Eigen::Vector3d(std::tan(plane.psi_net_rad), std::tan(plane.pitch_net_rad), -1)
@@ -218,6 +223,8 @@ NetDetection NetDetector::detect(const ImageU8& image, int64_t timestamp_ns) {
     const double angle = round == 0 ? m.mesh_filter.update(d.mesh_angle_frame)
                                     : m.mesh_filter.refine(d.mesh_angle_frame);
     m.model_points(d, angle, &*normal);
+    if (std::abs(angle - modelled) < kMeshAngleSettled_rad) break;
+    modelled = angle;
   }
   d.pose = relative_pose_fft(d.points, m.config.pose);
   if (m.mesh_filter.has_estimate()) d.mesh_angle_rad = m.mesh_filter.angle_rad();

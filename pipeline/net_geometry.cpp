@@ -120,11 +120,12 @@ RoiNetPoint roi_net_point(const kernels::RoiLattice& lattice, kernels::RoiOrigin
   const Eigen::Matrix3d rot =
       Eigen::Quaterniond::FromTwoVectors(r.normalized(), Eigen::Vector3d::UnitZ())
           .toRotationMatrix();
-  // The bars, and their signs for the acute angle, in the net's metric when the plane is known.
-  // Without it, in the frontal image, where a tilt foreshortens the cell: a side of a square
-  // seen at up to ~60 deg stays within 0.9 of the diagonal that could replace it, while a
-  // diagonal the spectrum chose is at least 1.3 bars long for opening angles of 70-110 deg, so
-  // only steps below 0.8 are taken there.
+  // The bars, and their signs for the acute angle, in the net's metric when the plane is known,
+  // else in the frontal image, where a tilt foreshortens the cell. Only steps that shorten a
+  // vector to below 0.8 are taken: a diagonal the spectrum chose is at least 1.3 bars long for
+  // opening angles of 70-110 deg, while a side of a square seen at up to ~60 deg stays within 0.9
+  // of the diagonal that could replace it, and a diamond's short diagonal is 1.06 bars at 117 deg
+  // (hexagonal at 120: there bars and diagonal cannot be told apart).
   std::array<Eigen::Vector3d, 2> metric;
   if (normal_hint_C) {
     metric = bars_on_plane(out, camera, r, *normal_hint_C);
@@ -132,7 +133,7 @@ RoiNetPoint roi_net_point(const kernels::RoiLattice& lattice, kernels::RoiOrigin
     const Eigen::Matrix2d frontal = rot.topLeftCorner<2, 2>() * normalised(a);
     for (int i = 0; i < 2; ++i) metric[static_cast<size_t>(i)] << frontal.col(i), 0;
   }
-  out.reduced = reduce_basis(a, metric, normal_hint_C ? 1.0 : 0.8);
+  out.reduced = reduce_basis(a, metric, 0.8);
   if (metric[0].dot(metric[1]) < 0) a.col(1) = -a.col(1);
   out.lattice1_px = a.col(0);
   out.lattice2_px = a.col(1);

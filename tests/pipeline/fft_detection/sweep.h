@@ -58,8 +58,9 @@ inline SweepErrors run_sweep(const std::vector<ImageU8>& frames,
     if (!d.pose.valid()) {
       ++e.invalid;
       if (verbose)
-        std::printf("  d %.2f psi %5.1f: NaN (%s)\n", s.distance_m, s.psi_rad * 180 / M_PI,
-                    d.pose.reason.c_str());
+        std::printf("  d %.2f psi %5.1f: NaN (%s), angle %.2f (frame %.2f)\n", s.distance_m,
+                    s.psi_rad * 180 / M_PI, d.pose.reason.c_str(), d.mesh_angle_rad * 180 / M_PI,
+                    d.mesh_angle_frame.opening_angle_rad * 180 / M_PI);
       continue;
     }
     e.d_rel.push_back(std::abs(d.pose.d_net_m - s.distance_m) / s.distance_m);
