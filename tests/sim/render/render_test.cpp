@@ -100,7 +100,7 @@ TEST_F(VulkanTest, RenderMatchesCpuWithBulgesFishSnowAndDistortion) {
                                  "{shape: cylinder, radius_m: 12, depth_m: 15}", extra,
                                  ", distortion: [-0.2, 0.05, 0.001, -0.001]");
   s.net.bulges = {{0.2, 4.1, 0.3, 0.6}, {-0.5, 3.5, -0.1, 0.4}};
-  s.net.mesh_angle_rad = 0.7;
+  s.net.mesh_type = MeshType::kDiamond;
   ASSERT_GT(snow_spots(s, frame_state(s, 0)).size(), 3u);
   expect_match(ctx(), s);
 }
