@@ -116,7 +116,9 @@ NetLattice::NetLattice(const NetConfig& net, double u_around, uint64_t seed)
     clump /= static_cast<double>(q.size());
     // Mean reach of the clumps over the holes beside fully fouled twines (a 64 x 64 grid of the
     // offsets from the twines): the share of the cell they fill where the footprint hides them.
-    const double w = std::min(net.twine_width_m * (1 + kFouledThickening), 0.9 * period_) / 2;
+    const double w = std::min(net.twine_width_m * (1 + kFouledThickening),
+                              std::max(net.twine_width_m, kFouledMaxWidth * period_)) /
+                     2;
     double reach = 0;
     constexpr int kGrid = 64;
     for (int a = 0; a < kGrid; ++a) {

@@ -92,12 +92,14 @@ class NetLattice {
 // Patch edge softness in value-noise units, the clumps' threshold band and cell size (in
 // mesh_m), the thickening of fouled twines and the brightening of round knots: the constants of
 // the look, shared with shaders/sim/render.comp.
-inline constexpr double kPatchSoftness = 0.06;
-inline constexpr double kClumpLo = 0.5, kClumpHi = 0.72, kClumpCellMeshes = 0.4;
-inline constexpr double kClumpReach = 0.35;       // of the twine spacing, from the twine's edge
-inline constexpr double kFouledThickening = 1.5;  // width x (1 + 1.5 patch) = 2.5 x in a patch
+inline constexpr double kPatchSoftness = 0.12;
+inline constexpr double kClumpLo = 0.6, kClumpHi = 0.85, kClumpCellMeshes = 0.4;
+inline constexpr double kClumpReach = 0.2;  // of the twine spacing, from the twine's edge
+// Width x (1 + 1.5 patch) = 2.5 x in a patch, at most kFouledMaxWidth of the twine spacing
+// (or the clean width, if wider).
+inline constexpr double kFouledThickening = 1.5, kFouledMaxWidth = 0.45;
 inline constexpr double kFouledAlbedo = 0.85, kFouledBrightening = 0.6;
-inline constexpr double kKnotGain = 0.3;
+inline constexpr double kKnotGain = 0.15;
 inline constexpr double kSeamTwines = 3;  // a lacing line is this many twines wide
 
 // Smooth value noise in [0, 1] on cells scale_u x scale_v; with wrap_u > 0 the cells repeat

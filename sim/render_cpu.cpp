@@ -124,7 +124,7 @@ class Tracer {
                      value_noise(h.u_m, h.v_m, wall ? net_.fouling_cell_u() : n.fouling_scale_m,
                                  n.fouling_scale_m, wall ? net_.fouling_cells_around() : 0,
                                  seed_ ^ kStreamPatches));
-      w = std::min(w * (1 + kFouledThickening * look.patch), 0.9 * T);
+      w = std::min(w * (1 + kFouledThickening * look.patch), std::max(w, kFouledMaxWidth * T));
     }
     const double ca = pulse_coverage(qa, ha, T, w, -w / 2);
     const double cb = pulse_coverage(qb, hb, T, w, -w / 2);

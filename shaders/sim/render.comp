@@ -524,9 +524,9 @@ vec4 net_look(Hit h, vec3 Dw, float s) {
   if (has(kFeaturePatches)) {
     float su = h.wall ? FOULING_WALL_U : FOULING_SCALE;
     int wrap = h.wall ? FOULING_CELLS : 0;
-    fouled = smoothstep_(PATCH_THRESHOLD - 0.06, PATCH_THRESHOLD + 0.06,
+    fouled = smoothstep_(PATCH_THRESHOLD - 0.12, PATCH_THRESHOLD + 0.12,
                          value_noise(h.u, h.v, su, FOULING_SCALE, wrap, SEED ^ kStreamPatches));
-    w = min(w * (1.0 + 1.5 * fouled), 0.9 * PERIOD);
+    w = min(w * (1.0 + 1.5 * fouled), max(w, 0.45 * PERIOD));
   }
   float ca = pulse_coverage(qa, ha, PERIOD, w, -w / 2.0);
   float cb = pulse_coverage(qb, hb, PERIOD, w, -w / 2.0);
@@ -553,8 +553,8 @@ vec4 net_look(Hit h, vec3 Dw, float s) {
     float cu = h.wall ? CLUMP_CELL_U : CLUMP_CELL_V;
     int wrap = h.wall ? CLUMP_CELLS : 0;
     float noise = value_noise(h.u, h.v, cu, CLUMP_CELL_V, wrap, SEED ^ kStreamClumps);
-    float reach = 1.0 - smoothstep_(w / 2.0, w / 2.0 + 0.35 * PERIOD, min(abs(da), abs(db)));
-    float sharp = smoothstep_(0.5, 0.72, noise) * reach;
+    float reach = 1.0 - smoothstep_(w / 2.0, w / 2.0 + 0.2 * PERIOD, min(abs(da), abs(db)));
+    float sharp = smoothstep_(0.6, 0.85, noise) * reach;
     float fade = clamp((max(ha, hb) - 0.15 * PERIOD) / (0.35 * PERIOD), 0.0, 1.0);
     cover = 1.0 - (1.0 - cover) * (1.0 - fouled * (sharp + fade * (CLUMP_MEAN - sharp)));
   }
@@ -634,7 +634,7 @@ float radiance(vec3 Dc, out float depth_m) {
   }
   // sim/net_mesh.h: kFouledBrightening, kFouledAlbedo, kKnotGain.
   albedo += look.w * 0.6 * (0.85 - albedo);
-  if (look.y > 0.0) albedo *= 1.0 + 0.3 * look.y / cover;
+  if (look.y > 0.0) albedo *= 1.0 + 0.15 * look.y / cover;
   float T = exp(-ATTENUATION * h.t);
   // The normal in the camera frame: v * R_wc = transpose(R_wc) * v.
   float E = irradiance(h.point.z, h.t * dc, h.normal * R_wc, true);
