@@ -57,6 +57,7 @@ std::unique_ptr<FrameRenderer> make_renderer(const Scenario& s, const RenderOpti
 void generate_dataset(const Scenario& s, FrameRenderer& renderer, const std::filesystem::path& out,
                       const GenerateOptions& options) {
   const NetGeometry net(s.pen, s.net);
+  const NetLattice lattice(s.net, net.u_around(), s.seed);
   DatasetContents contents;
   contents.scene = s.scene_config();
   contents.cam0 = s.camera.calibration;
@@ -79,6 +80,7 @@ void generate_dataset(const Scenario& s, FrameRenderer& renderer, const std::fil
     const RenderedFrame r = renderer.render(f);
     writer.add_frame(f.timestamp_ns, r.image);
     writer.add_groundtruth(ground_truth_row(s, net, f, r.depth_m), depth_to_mm(r.depth_m));
+    writer.add_mesh_truth(mesh_truth_row(s, net, lattice, f));
     if (options.progress) options.progress(i + 1, frames);
   }
   writer.finish();

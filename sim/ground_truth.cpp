@@ -20,6 +20,21 @@ NetRelative net_relative(const Scenario& s, const NetGeometry& net,
   return r;
 }
 
+MeshTruthRow mesh_truth_row(const Scenario& s, const NetGeometry& net, const NetLattice& lattice,
+                            const FrameState& f) {
+  MeshTruthRow row;
+  row.timestamp_ns = f.timestamp_ns;
+  row.mesh_type = s.net.mesh_type;
+  if (std::isnan(net_relative(s, net, f.T_world_camera).d_net_m)) return row;
+  const auto hit = net.intersect(f.T_world_camera.translation(), f.T_world_camera.linear().col(2));
+  const bool wall = hit->part == NetPart::kWall;
+  const LocalMesh m =
+      lattice.local_mesh(hit->u_m, hit->v_m, wall, wall ? net.lattice_scale() : 1.0);
+  row.opening_angle_rad = m.opening_angle_rad;
+  row.stretch = m.stretch;
+  return row;
+}
+
 GroundTruthRow ground_truth_row(const Scenario& s, const NetGeometry& net, const FrameState& f,
                                 const ImageF32& depth_m) {
   GroundTruthRow g;

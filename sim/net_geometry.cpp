@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "sim/net_mesh.h"
+
 namespace pensight::sim {
 
 namespace {
@@ -22,15 +24,14 @@ NetGeometry::NetGeometry(const PenConfig& pen, const NetConfig& net)
     : pen_(pen), net_(net), fouling_cell_u_(net.fouling_scale_m) {
   const double c = circumference(pen);
   if (c > 0) {
-    // Both twine families of a square mesh at mesh_angle_rad advance along u by
-    // mesh / max(|cos|, |sin|) per mesh; a whole number of those around the pen closes the
-    // lattice exactly for 0 and pi/4 (other angles keep a sub-mesh seam in one family).
-    const double a = net.mesh_angle_rad;
-    const double step = net.mesh_m / std::max(std::abs(std::cos(a)), std::abs(std::sin(a)));
+    // A whole number of the lattice's closing steps around the pen (net_mesh.h): the
+    // undeformed mesh closes exactly for every mesh type and opening angle.
+    const double step = NetLattice::closing_step(net);
     lattice_scale_ = std::max(1.0, std::round(c / step)) * step / c;
     fouling_cells_ =
         static_cast<int>(std::max(1.0, std::round(c * lattice_scale_ / net.fouling_scale_m)));
     fouling_cell_u_ = c * lattice_scale_ / fouling_cells_;
+    u_around_ = c * lattice_scale_;
   }
 }
 

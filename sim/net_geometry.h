@@ -53,6 +53,8 @@ class NetGeometry {
   // 30 mm mesh it is 1 - 1.1e-4.
   double lattice_scale() const { return lattice_scale_; }
   int fouling_cells_around() const { return fouling_cells_; }
+  // The wall's u once around the pen (circumference x lattice_scale()); 0 on the plane.
+  double u_around() const { return u_around_; }
   // Fouling cell size along u on the wall (fouling_scale_m, stretched to close the ring).
   double fouling_cell_u() const { return fouling_cell_u_; }
 
@@ -66,6 +68,7 @@ class NetGeometry {
   NetConfig net_;
   double lattice_scale_ = 1;
   int fouling_cells_ = 0;  // 0: no wrap (plane)
+  double u_around_ = 0;
   double fouling_cell_u_ = 0;
 };
 

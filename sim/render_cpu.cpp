@@ -6,6 +6,7 @@
 #include <thread>
 
 #include "sim/marine_snow.h"
+#include "sim/net_mesh.h"
 #include "sim/sim_hash.h"
 
 namespace pensight::sim {
@@ -28,26 +29,6 @@ double pulse_coverage(double x, double h, double period, double width, double of
   return (integral(x + h / 2) - integral(x - h / 2)) / h;
 }
 
-// Smooth value noise in [0, 1] on a lattice of cells scale_u x scale_v; with wrap_u > 0 the
-// lattice repeats every wrap_u cells along u (around the cylinder).
-double value_noise(double u, double v, double scale_u, double scale_v, int wrap_u, uint32_t seed) {
-  const double x = u / scale_u, y = v / scale_v;
-  const double fx = std::floor(x), fy = std::floor(y);
-  auto column = [&](int32_t i) {
-    if (wrap_u > 0) i = ((i % wrap_u) + wrap_u) % wrap_u;
-    return static_cast<uint32_t>(i);
-  };
-  const auto i0 = static_cast<int32_t>(fx);
-  const uint32_t ix = column(i0), ix1 = column(i0 + 1);
-  const auto iy = static_cast<uint32_t>(static_cast<int32_t>(fy));
-  auto lattice = [&](uint32_t i, uint32_t j) { return unit_float(hash2(i, j, seed)); };
-  const double tx = x - fx, ty = y - fy;
-  const double sx = tx * tx * (3 - 2 * tx), sy = ty * ty * (3 - 2 * ty);
-  const double a = lattice(ix, iy) + sx * (lattice(ix1, iy) - lattice(ix, iy));
-  const double b = lattice(ix, iy + 1) + sx * (lattice(ix1, iy + 1) - lattice(ix, iy + 1));
-  return a + sy * (b - a);
-}
-
 std::optional<double> intersect_fish(const FishPose& f, const Eigen::Vector3d& o,
                                      const Eigen::Vector3d& d) {
   const Eigen::Vector3d q = o - f.centre_m;
@@ -66,9 +47,10 @@ std::optional<double> intersect_fish(const FishPose& f, const Eigen::Vector3d& o
 
 class Tracer {
  public:
-  Tracer(const Scenario& s, const NetGeometry& net, const FrameState& f)
+  Tracer(const Scenario& s, const NetGeometry& net, const NetLattice& lattice, const FrameState& f)
       : s_(s),
         net_(net),
+        lattice_(lattice),
         f_(f),
         o_(f.T_world_camera.translation()),
         R_wc_(f.T_world_camera.linear()),
@@ -81,8 +63,6 @@ class Tracer {
     dDx_ = R_wc_ * Eigen::Vector3d(1 / cam.fx_px, 0, 0);
     dDy_ = R_wc_ * Eigen::Vector3d(0, 1 / cam.fy_px, 0);
     n_ = s.camera.samples_per_axis;
-    ca_ = std::cos(s.net.mesh_angle_rad);
-    sa_ = std::sin(s.net.mesh_angle_rad);
   }
 
   double ambient(double z) const {
@@ -106,21 +86,92 @@ class Tracer {
     return e;
   }
 
-  double net_coverage(const NetHit& h, const Eigen::Vector3d& D_w, double s) const {
+  // What a sample sees of the net: twine (and clump) coverage, the round knots' share of it,
+  // the rope coverage over it, and the fouled-patch weight.
+  struct NetLook {
+    double cover = 0, knot = 0, rope = 0, patch = 0;
+  };
+
+  NetLook net_look(const NetHit& h, const Eigen::Vector3d& D_w, double s) const {
     const double denom = D_w.dot(h.normal);
     const Eigen::Vector3d px = s * (dDx_ - dDx_.dot(h.normal) / denom * D_w);
     const Eigen::Vector3d py = s * (dDy_ - dDy_.dot(h.normal) / denom * D_w);
-    const double hu0 = (std::abs(px.dot(h.tangent_u)) + std::abs(py.dot(h.tangent_u))) / n_;
-    const double hv0 = (std::abs(px.dot(h.tangent_v)) + std::abs(py.dot(h.tangent_v))) / n_;
-    const double u = ca_ * h.u_m + sa_ * h.v_m, v = -sa_ * h.u_m + ca_ * h.v_m;
-    const double hu = std::abs(ca_) * hu0 + std::abs(sa_) * hv0;
-    const double hv = std::abs(sa_) * hu0 + std::abs(ca_) * hv0;
     const NetConfig& n = s_.net;
-    const double w = n.twine_width_m, k = n.knot_size_m, P = n.mesh_m;
-    const double cu = pulse_coverage(u, hu, P, w, -w / 2);
-    const double cv = pulse_coverage(v, hv, P, w, -w / 2);
-    const double knot = pulse_coverage(u, hu, P, k, -k / 2) * pulse_coverage(v, hv, P, k, -k / 2);
-    return std::max(1 - (1 - cu) * (1 - cv), knot);
+    const bool wall = h.part == NetPart::kWall;
+    // Footprint of the sample along u and v per pixel axis, then in the lattice's coordinates.
+    Eigen::Vector2d fx(px.dot(h.tangent_u), px.dot(h.tangent_v));
+    Eigen::Vector2d fy(py.dot(h.tangent_u), py.dot(h.tangent_v));
+    const double hu = (std::abs(fx.x()) + std::abs(fy.x())) / n_;
+    const double hv = (std::abs(fx.y()) + std::abs(fy.y())) / n_;
+    Eigen::Vector2d x(h.u_m, h.v_m);
+    if (lattice_.deformed()) {
+      Eigen::Matrix2d J;
+      lattice_.deform(h.u_m, h.v_m, wall, x, J);
+      fx = J * fx;
+      fy = J * fy;
+    }
+    const Eigen::Vector2d &na = lattice_.normal_a(), &nb = lattice_.normal_b();
+    const double qa = na.dot(x), qb = nb.dot(x);
+    const double ha = (std::abs(na.dot(fx)) + std::abs(na.dot(fy))) / n_;
+    const double hb = (std::abs(nb.dot(fx)) + std::abs(nb.dot(fy))) / n_;
+    const double T = lattice_.period();
+    NetLook look;
+    double w = n.twine_width_m;
+    if (n.fouling_coverage > 0) {
+      const double t = lattice_.patch_threshold();
+      look.patch =
+          smoothstep(t - kPatchSoftness, t + kPatchSoftness,
+                     value_noise(h.u_m, h.v_m, wall ? net_.fouling_cell_u() : n.fouling_scale_m,
+                                 n.fouling_scale_m, wall ? net_.fouling_cells_around() : 0,
+                                 seed_ ^ kStreamPatches));
+      w = std::min(w * (1 + kFouledThickening * look.patch), std::max(w, kFouledMaxWidth * T));
+    }
+    const double ca = pulse_coverage(qa, ha, T, w, -w / 2);
+    const double cb = pulse_coverage(qb, hb, T, w, -w / 2);
+    double cover = 1 - (1 - cb) * (1 - ca);
+    if (n.seam_spacing_m > 0) {
+      const double ws = kSeamTwines * n.twine_width_m;
+      const double period = wall ? lattice_.seam_u().period : n.seam_spacing_m;
+      cover = 1 - (1 - cover) * (1 - pulse_coverage(h.u_m, hu, period, ws, -ws / 2));
+    }
+    const double k = n.knot_size_m;
+    // Offsets from the nearest twine of each family.
+    const double da = qa - T * std::round(qa / T), db = qb - T * std::round(qb / T);
+    if (n.knot_shape == KnotShape::kSquare) {
+      cover = std::max(cover,
+                       pulse_coverage(qb, hb, T, k, -k / 2) * pulse_coverage(qa, ha, T, k, -k / 2));
+    } else if (k > 0) {
+      // A disc at the crossing, edge ramped over the footprint, fading to its mean area once
+      // the footprint spans a good part of the cell.
+      const double g = lattice_.normals_dot();
+      const double d =
+          std::sqrt(std::max(0.0, (da * da + db * db - 2 * g * da * db) / (1 - g * g)));
+      const double f = 0.5 * (ha + hb);
+      const double sharp = std::clamp((k / 2 - d) / std::max(f, 1e-12) + 0.5, 0.0, 1.0);
+      const double fade = std::clamp((f - 0.25 * T) / (0.5 * T), 0.0, 1.0);
+      look.knot = sharp + fade * (lattice_.round_knot_mean() - sharp);
+      cover = std::max(cover, look.knot);
+    }
+    if (look.patch > 0) {
+      // Fuzzy clumps beside the twines: high-frequency value noise, soft-thresholded.
+      const Closure& cu = lattice_.clump_cells_u();
+      const double cv = lattice_.clump_cell_v();
+      const double noise = value_noise(h.u_m, h.v_m, wall ? cu.period : cv, cv, wall ? cu.count : 0,
+                                       seed_ ^ kStreamClumps);
+      const double reach =
+          1 - smoothstep(w / 2, w / 2 + kClumpReach * T, std::min(std::abs(da), std::abs(db)));
+      const double sharp = smoothstep(kClumpLo, kClumpHi, noise) * reach;
+      const double fade = std::clamp((std::max(ha, hb) - 0.15 * T) / (0.35 * T), 0.0, 1.0);
+      cover = 1 - (1 - cover) * (1 - look.patch * (sharp + fade * (lattice_.clump_mean() - sharp)));
+    }
+    look.cover = cover;
+    if (n.ropes.spacing_m > 0) {
+      const double rw = n.ropes.width_m;
+      const double period_u = wall ? lattice_.rope_u().period : n.ropes.spacing_m;
+      look.rope = 1 - (1 - pulse_coverage(h.u_m, hu, period_u, rw, -rw / 2)) *
+                          (1 - pulse_coverage(h.v_m, hv, n.ropes.spacing_m, rw, -rw / 2));
+    }
+    return look;
   }
 
   struct Opaque {
@@ -193,21 +244,29 @@ class Tracer {
     depth = 0;
     if (!hit || hit->t >= opaque.t) return opaque.radiance + lamp_backscatter(d, opaque.T);
     if (hit->t <= range_) depth = hit->t / len * D_c.z();
-    const double cover = net_coverage(*hit, D_w, hit->t / len);
-    double albedo = s_.net.albedo;
-    if (s_.net.fouling > 0) {
+    const NetLook look = net_look(*hit, D_w, hit->t / len);
+    const double cover = look.cover;
+    const NetConfig& n = s_.net;
+    double albedo = n.albedo;
+    if (n.fouling > 0) {
       // Around the wall the cells are stretched to a whole number (net_geometry.h).
       const bool wall = hit->part == NetPart::kWall;
       const int wrap = wall ? net_.fouling_cells_around() : 0;
-      const double scale_u = wall ? net_.fouling_cell_u() : s_.net.fouling_scale_m;
-      albedo *=
-          1 - s_.net.fouling * value_noise(hit->u_m, hit->v_m, scale_u, s_.net.fouling_scale_m,
-                                           wrap, seed_ ^ kStreamFouling);
+      const double scale_u = wall ? net_.fouling_cell_u() : n.fouling_scale_m;
+      albedo *= 1 - n.fouling * value_noise(hit->u_m, hit->v_m, scale_u, n.fouling_scale_m, wrap,
+                                            seed_ ^ kStreamFouling);
     }
+    // Fouled twines are brighter (hydroids, silt); round knots catch more light.
+    albedo += look.patch * kFouledBrightening * (kFouledAlbedo - albedo);
+    if (look.knot > 0) albedo *= 1 + kKnotGain * look.knot / cover;
     const double T = std::exp(-c_ * hit->t);
-    const double twine =
-        albedo * irradiance(hit->point, hit->normal, true) * T + background_ * (1 - T);
-    return cover * twine + (1 - cover) * opaque.radiance + lamp_backscatter(d, T);
+    const double E = irradiance(hit->point, hit->normal, true);
+    const double twine = albedo * E * T + background_ * (1 - T);
+    double L = cover * twine + (1 - cover) * opaque.radiance;
+    if (look.rope > 0) {
+      L = look.rope * (n.ropes.albedo * E * T + background_ * (1 - T)) + (1 - look.rope) * L;
+    }
+    return L + lamp_backscatter(d, T);
   }
 
   uint32_t seed() const { return seed_; }
@@ -216,12 +275,13 @@ class Tracer {
  private:
   const Scenario& s_;
   const NetGeometry& net_;
+  const NetLattice& lattice_;
   const FrameState& f_;
   Eigen::Vector3d o_;
   Eigen::Matrix3d R_wc_;
   uint32_t seed_;
   double range_;
-  double c_ = 0, E0_ = 0, background_ = 0, ca_ = 1, sa_ = 0;
+  double c_ = 0, E0_ = 0, background_ = 0;
   Eigen::Vector3d dDx_, dDy_;
   int n_ = 1;
 };
@@ -240,7 +300,8 @@ double net_visible_range_m(const WaterConfig& water) {
 RenderedFrame render_cpu(const Scenario& s, const NetGeometry& net, const FrameState& f,
                          const RenderOptions& options) {
   const PinholeCamera& cam = s.camera.calibration.camera;
-  const Tracer tracer(s, net, f);
+  const NetLattice lattice(s.net, net.u_around(), s.seed);
+  const Tracer tracer(s, net, lattice, f);
   RenderedFrame out{ImageU8(cam.width_px, cam.height_px), ImageF32(cam.width_px, cam.height_px)};
   const int n = tracer.samples_per_axis();
   const double gain = 255.0 * s.camera.exposure;

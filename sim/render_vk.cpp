@@ -7,6 +7,7 @@
 #include "runtime/error.h"
 #include "sim/marine_snow.h"
 #include "sim/net_geometry.h"
+#include "sim/net_mesh.h"
 #include "sim/sim_hash.h"
 
 namespace pensight::sim {
@@ -27,7 +28,9 @@ static_assert(sizeof(FrameHeader) == 20 * 16);
 constexpr uint32_t kGroupX = 8, kGroupY = 4, kRowsPerInvocation = 8, kTilePx = 8;
 // FEATURES bits of render.comp.
 constexpr uint32_t kFeatureNoise = 1, kFeatureSnow = 2, kFeaturePlane = 4, kFeatureBottom = 8,
-                   kFeatureWall = 16, kFeatureFouling = 32, kFeatureDistortion = 64;
+                   kFeatureWall = 16, kFeatureFouling = 32, kFeatureDistortion = 64,
+                   kFeatureDeform = 256, kFeaturePatches = 512, kFeatureRopes = 1024,
+                   kFeatureSeams = 2048, kFeatureRoundKnots = 4096;
 
 uint32_t features(const Scenario& s, const RenderOptions& o) {
   const bool plane = s.pen.shape == NetShape::kPlane;
@@ -39,6 +42,11 @@ uint32_t features(const Scenario& s, const RenderOptions& o) {
   if (plane && s.pen.wall_gap_m > 0) f |= kFeatureWall;
   if (s.net.fouling > 0) f |= kFeatureFouling;
   if (s.camera.calibration.camera.has_distortion()) f |= kFeatureDistortion;
+  if (s.net.opening_angle_variation_deg > 0 || s.net.stretch_variation > 0) f |= kFeatureDeform;
+  if (s.net.fouling_coverage > 0) f |= kFeaturePatches;
+  if (s.net.ropes.spacing_m > 0) f |= kFeatureRopes;
+  if (s.net.seam_spacing_m > 0) f |= kFeatureSeams;
+  if (s.net.knot_shape == KnotShape::kRound) f |= kFeatureRoundKnots;
   return f;
 }
 
@@ -70,6 +78,7 @@ std::vector<LampPose> lamps_in_camera(const Scenario& s) {
 std::vector<uint32_t> specialization(const Scenario& s, const RenderOptions& o) {
   const PinholeCamera& k = s.camera.calibration.camera;
   const NetGeometry geometry(s.pen, s.net);
+  const NetLattice lattice(s.net, geometry.u_around(), s.seed);
   const PenConfig& pen = s.pen;
   const NetConfig& net = s.net;
   const WaterConfig& w = s.water;
@@ -103,8 +112,8 @@ std::vector<uint32_t> specialization(const Scenario& s, const RenderOptions& o) 
                              bits(net.fouling),
                              bits(geometry.fouling_cell_u()),
                              bits(net.fouling_scale_m),
-                             bits(std::cos(net.mesh_angle_rad)),
-                             bits(std::sin(net.mesh_angle_rad)),
+                             bits(lattice.normal_a().x()),
+                             bits(lattice.normal_a().y()),
                              bits(geometry.lattice_scale()),
                              static_cast<uint32_t>(cells),
                              bits(w.attenuation_per_m),
@@ -138,6 +147,38 @@ std::vector<uint32_t> specialization(const Scenario& s, const RenderOptions& o) 
     const Fish f = i < s.fish.size() ? s.fish[i] : Fish{};
     for (double x : {f.length_m / 2, f.thickness_m / 2, f.albedo}) v.push_back(bits(x));
   }
+  const auto& ph = lattice.phases();
+  for (double x : {lattice.normal_b().x(),
+                   lattice.normal_b().y(),
+                   lattice.period(),
+                   lattice.normals_dot(),
+                   lattice.round_knot_mean(),
+                   lattice.bisector().x(),
+                   lattice.bisector().y(),
+                   lattice.k_stretch(),
+                   lattice.k_angle(),
+                   lattice.amp_stretch(),
+                   lattice.amp_angle(),
+                   ph[0],
+                   ph[1],
+                   ph[2],
+                   ph[3],
+                   lattice.fade_m(),
+                   lattice.u_around(),
+                   lattice.patch_threshold(),
+                   lattice.clump_cells_u().period,
+                   lattice.clump_cell_v()}) {
+    v.push_back(bits(x));
+  }
+  v.push_back(static_cast<uint32_t>(lattice.clump_cells_u().count));
+  for (double x : {lattice.clump_mean(), lattice.rope_u().period, net.ropes.spacing_m,
+                   net.ropes.width_m, net.ropes.albedo, lattice.seam_u().period, net.seam_spacing_m,
+                   kSeamTwines * net.twine_width_m}) {
+    v.push_back(bits(x));
+  }
+  // The last constant_id of render.comp is 160.
+  if (v.size() != 161)
+    throw Error("render_vk: specialization constants out of step with render.comp");
   return v;
 }
 

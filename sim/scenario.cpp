@@ -114,16 +114,51 @@ PenConfig parse_pen(const YamlMap& y) {
 NetConfig parse_net(const YamlMap& y) {
   NetConfig n;
   n.mesh_m = positive(y, "mesh_m", n.mesh_m);
+  const std::string type = y.string("mesh_type", to_string(n.mesh_type));
+  if (type == to_string(MeshType::kSquare)) {
+    n.mesh_type = MeshType::kSquare;
+  } else if (type == to_string(MeshType::kDiamond)) {
+    n.mesh_type = MeshType::kDiamond;
+  } else {
+    y.fail("mesh_type", "must be 'square' or 'diamond', got '" + type + "'");
+  }
+  n.opening_angle_deg = ranged(y, "opening_angle_deg", n.opening_angle_deg, 45, 135);
+  n.opening_angle_variation_deg =
+      ranged(y, "opening_angle_variation_deg", n.opening_angle_variation_deg, 0, 10);
+  n.stretch_variation = ranged(y, "stretch_variation", n.stretch_variation, 0, 0.05);
+  n.deform_scale_m = ranged(y, "deform_scale_m", n.deform_scale_m, 0.2, 100);
   n.twine_width_m = positive(y, "twine_width_m", n.twine_width_m);
   n.knot_size_m = ranged(y, "knot_size_m", n.knot_size_m, 0, 1);
-  if (n.twine_width_m >= 0.5 * n.mesh_m) {
-    y.fail("twine_width_m", "must be less than half of mesh_m");
+  // Up to 30 % of the bar (heavy twine on a small mesh); the holes stay open at 45 degrees.
+  if (n.twine_width_m >= 0.35 * n.mesh_m) {
+    y.fail("twine_width_m", "must be less than 0.35 * mesh_m");
   }
-  if (n.knot_size_m >= 0.9 * n.mesh_m) y.fail("knot_size_m", "must be less than 0.9 * mesh_m");
-  n.mesh_angle_rad = ranged(y, "mesh_angle_rad", 0, -M_PI, M_PI);
+  if (n.knot_size_m >= 0.6 * n.mesh_m) y.fail("knot_size_m", "must be less than 0.6 * mesh_m");
+  const std::string knot = y.string("knot_shape", "square");
+  if (knot == "square") {
+    n.knot_shape = KnotShape::kSquare;
+  } else if (knot == "round") {
+    n.knot_shape = KnotShape::kRound;
+  } else {
+    y.fail("knot_shape", "must be 'square' or 'round', got '" + knot + "'");
+  }
   n.albedo = ranged(y, "albedo", n.albedo, 0, 1);
   n.fouling = ranged(y, "fouling", n.fouling, 0, 1);
   n.fouling_scale_m = positive(y, "fouling_scale_m", n.fouling_scale_m);
+  n.fouling_coverage = ranged(y, "fouling_coverage", n.fouling_coverage, 0, 0.7);
+  if (const auto r = y.optional_map("ropes")) {
+    n.ropes.spacing_m = ranged(*r, "spacing_m", n.ropes.spacing_m, 0, 1000);
+    n.ropes.width_m = ranged(*r, "width_m", n.ropes.width_m, 0.001, 0.2);
+    n.ropes.albedo = ranged(*r, "albedo", n.ropes.albedo, 0, 1);
+    if (n.ropes.spacing_m > 0 && n.ropes.spacing_m < 4 * n.ropes.width_m) {
+      r->fail("spacing_m", "must be 0 (no ropes) or at least 4 * width_m");
+    }
+    r->check_unknown_keys();
+  }
+  n.seam_spacing_m = ranged(y, "seam_spacing_m", n.seam_spacing_m, 0, 1000);
+  if (n.seam_spacing_m > 0 && n.seam_spacing_m < 2 * n.mesh_m) {
+    y.fail("seam_spacing_m", "must be 0 (no seams) or at least 2 * mesh_m");
+  }
   if (const auto list = y.optional_map_list("bulges")) {
     if (list->size() > kMaxBulges) y.fail("bulges", "at most 8 bulges");
     for (const YamlMap& b : *list) {
@@ -355,7 +390,8 @@ int64_t Scenario::frame_time_ns(int frame) const {
 }
 
 SceneConfig Scenario::scene_config() const {
-  return {net.mesh_m, pen.radius_m, std::nullopt, std::nullopt, std::nullopt};
+  return {net.mesh_m, pen.radius_m, std::nullopt, net.mesh_type,
+          net.opening_angle_deg * M_PI / 180};
 }
 
 Scenario parse_scenario(const std::string& text, const std::string& file_name) {

@@ -33,14 +33,35 @@ struct PenConfig {
   double wall_albedo = 0.3;
 };
 
+// Ropes across the wall (horizontal and vertical, every spacing_m), drawn over the twines.
+struct RopeConfig {
+  double spacing_m = 0;  // 0: no ropes
+  double width_m = 0.02;
+  double albedo = 0.6;
+};
+
+enum class KnotShape { kSquare, kRound };
+
 struct NetConfig {
-  double mesh_m = 0.030;  // centre-to-centre twine spacing
-  double twine_width_m = 0.0035;
-  double knot_size_m = 0.006;
-  double mesh_angle_rad = 0;  // 0: twines horizontal and vertical; pi/4: diamond mesh
+  // The mesh (sim/net_mesh.h): knots at i b1 + j b2 in the net surface coordinates, |b1| =
+  // |b2| = mesh_m (the bar, knot to knot), angle(b1, b2) = opening_angle_deg. Square: b1 along
+  // the wall's horizontal; diamond: bars at +-opening/2 from the vertical.
+  double mesh_m = 0.030;
+  MeshType mesh_type = MeshType::kSquare;
+  double opening_angle_deg = 90;
+  // Slow deformation of the lattice (currents, weights) over deform_scale_m.
+  double opening_angle_variation_deg = 0;
+  double stretch_variation = 0;
+  double deform_scale_m = 3;
+  double twine_width_m = 0.0035;  // perpendicular to the twine
+  double knot_size_m = 0.006;     // knots at the crossings (0: knotless)
+  KnotShape knot_shape = KnotShape::kSquare;
   double albedo = 0.7;
   double fouling = 0.0;  // 0..1: depth of the slowly varying albedo loss
   double fouling_scale_m = 0.6;
+  double fouling_coverage = 0;  // 0..0.7: share of the net in fouled patches
+  RopeConfig ropes;
+  double seam_spacing_m = 0;  // lacing lines along the vertical (0: none)
   std::vector<Bulge> bulges;  // at most kMaxBulges
 };
 

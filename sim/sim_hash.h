@@ -37,6 +37,7 @@ constexpr uint32_t fold_seed(uint64_t seed) {
 
 // Independent streams of the renderer.
 inline constexpr uint32_t kStreamNoise = 0x1b873593u, kStreamSnow = 0x5a5a5a5au,
-                          kStreamFouling = 0x27d4eb2fu;
+                          kStreamFouling = 0x27d4eb2fu, kStreamDeform = 0x165667b1u,
+                          kStreamPatches = 0xd3a2646cu, kStreamClumps = 0xfd7046c5u;
 
 }  // namespace pensight::sim

@@ -116,6 +116,21 @@ void DatasetWriter::add_groundtruth(const GroundTruthRow& r, const ImageU16& dep
   gt_csv_ << "\n";
 }
 
+void DatasetWriter::add_mesh_truth(const MeshTruthRow& r) {
+  if (!contents_.groundtruth0) throw Error("DatasetWriter: groundtruth0 was not requested");
+  if (r.timestamp_ns <= last_mesh_ns_) {
+    throw Error("DatasetWriter::add_mesh_truth: timestamps must increase");
+  }
+  last_mesh_ns_ = r.timestamp_ns;
+  if (!mesh_csv_.is_open()) {
+    mesh_csv_ =
+        open_csv("groundtruth0/mesh.csv", "#timestamp [ns],mesh_type,opening_angle [deg],stretch");
+  }
+  mesh_csv_ << r.timestamp_ns << "," << to_string(r.mesh_type) << ","
+            << format_number(r.opening_angle_rad * 180 / M_PI) << "," << format_number(r.stretch)
+            << "\n";
+}
+
 void DatasetWriter::add_dvl(const DvlSample& s) {
   if (!contents_.dvl0) throw Error("DatasetWriter: dvl0 was not requested");
   if (s.timestamp_ns <= last_dvl_ns_)
@@ -151,7 +166,7 @@ void DatasetWriter::add_attitude(const AttitudeSample& s) {
 
 void DatasetWriter::finish() {
   if (finished_) throw Error("DatasetWriter::finish called twice");
-  for (std::ofstream* f : {&cam_csv_, &dvl_csv_, &pressure_csv_, &imu_csv_, &gt_csv_}) {
+  for (std::ofstream* f : {&cam_csv_, &dvl_csv_, &pressure_csv_, &imu_csv_, &gt_csv_, &mesh_csv_}) {
     if (!f->is_open()) continue;
     f->flush();
     if (!*f) throw Error("writing dataset '" + temp_.string() + "' failed (disk full?)");

@@ -22,6 +22,15 @@ struct DatasetContents {
   bool groundtruth0 = true;  // data.csv and depth/
 };
 
+// One row of groundtruth0/mesh.csv, a pensight extra outside the shared contract (readers
+// ignore it): the mesh at the optical axis's net hit (angle and stretch NaN where it misses).
+struct MeshTruthRow {
+  int64_t timestamp_ns = 0;
+  MeshType mesh_type = MeshType::kSquare;
+  double opening_angle_rad = kNaN;
+  double stretch = kNaN;  // local bar length / nominal - 1
+};
+
 class DatasetWriter {
  public:
   // `root` may be absent, an empty folder or an earlier dataset (it is replaced on finish());
@@ -38,6 +47,8 @@ class DatasetWriter {
   // Ground truth for the frame with the same timestamp: one data.csv row and its z-depth image
   // in millimetres (0 = no net).
   void add_groundtruth(const GroundTruthRow& row, const ImageU16& depth_mm);
+  // Optional, after the frame's add_groundtruth; the first call creates groundtruth0/mesh.csv.
+  void add_mesh_truth(const MeshTruthRow& row);
   void add_dvl(const DvlSample& sample);
   void add_pressure(const PressureSample& sample);
   void add_attitude(const AttitudeSample& sample);
@@ -54,9 +65,9 @@ class DatasetWriter {
   std::filesystem::path root_;
   std::filesystem::path temp_;
   DatasetContents contents_;
-  std::ofstream cam_csv_, dvl_csv_, pressure_csv_, imu_csv_, gt_csv_;
+  std::ofstream cam_csv_, dvl_csv_, pressure_csv_, imu_csv_, gt_csv_, mesh_csv_;
   int64_t last_frame_ns_ = INT64_MIN, last_gt_ns_ = INT64_MIN, last_dvl_ns_ = INT64_MIN,
-          last_pressure_ns_ = INT64_MIN, last_imu_ns_ = INT64_MIN;
+          last_pressure_ns_ = INT64_MIN, last_imu_ns_ = INT64_MIN, last_mesh_ns_ = INT64_MIN;
   bool finished_ = false;
 };
 

@@ -23,3 +23,5 @@ float unit_float(uint h) {
 const uint kStreamNoise = 0x1b873593u;
 const uint kStreamSnow = 0x5a5a5a5au;
 const uint kStreamFouling = 0x27d4eb2fu;
+const uint kStreamPatches = 0xd3a2646cu;
+const uint kStreamClumps = 0xfd7046c5u;

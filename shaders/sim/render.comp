@@ -34,15 +34,15 @@ layout(constant_id = 18) const float PLANE_TOP = 0.5;
 layout(constant_id = 19) const float PLANE_HEIGHT = 1.5;
 layout(constant_id = 20) const float WALL_GAP = 1.0;
 // Net.
-layout(constant_id = 21) const float MESH = 0.03;
+layout(constant_id = 21) const float MESH = 0.03;  // bar length (sim/net_mesh.h)
 layout(constant_id = 22) const float TWINE = 0.0035;
 layout(constant_id = 23) const float KNOT = 0.006;
 layout(constant_id = 24) const float ALBEDO = 0.7;
 layout(constant_id = 25) const float FOULING = 0.0;
 layout(constant_id = 26) const float FOULING_WALL_U = 0.6;  // fouling cell along u on the wall
 layout(constant_id = 27) const float FOULING_SCALE = 0.6;
-layout(constant_id = 28) const float MESH_COS = 1.0;
-layout(constant_id = 29) const float MESH_SIN = 0.0;
+layout(constant_id = 28) const float NA_X = 0.0;  // twine normals, NetLattice::normal_a/b()
+layout(constant_id = 29) const float NA_Y = 1.0;
 layout(constant_id = 30) const float LATTICE_SCALE = 1.0;  // NetGeometry::lattice_scale()
 layout(constant_id = 31) const int FOULING_CELLS = 0;      // NetGeometry::fouling_cells_around()
 // Water, light, sensor.
@@ -150,33 +150,78 @@ layout(constant_id = 128) const float F6A = 0.0;
 layout(constant_id = 129) const float F7L = 1.0;
 layout(constant_id = 130) const float F7T = 1.0;
 layout(constant_id = 131) const float F7A = 0.0;
+// The mesh lattice and its deformation (sim/net_mesh.h, NetLattice).
+layout(constant_id = 132) const float NB_X = 1.0;
+layout(constant_id = 133) const float NB_Y = 0.0;
+layout(constant_id = 134) const float PERIOD = 0.03;  // twine spacing mesh sin(theta)
+layout(constant_id = 135) const float NORMALS_DOT = 0.0;
+layout(constant_id = 136) const float KNOT_MEAN = 0.0;  // round knot: disc / cell area
+layout(constant_id = 137) const float EB_X = 0.7071;    // bisector of the bars
+layout(constant_id = 138) const float EB_Y = 0.7071;
+layout(constant_id = 139) const float K_STRETCH = 1.0;
+layout(constant_id = 140) const float K_ANGLE = 1.0;
+layout(constant_id = 141) const float AMP_STRETCH = 0.0;
+layout(constant_id = 142) const float AMP_ANGLE = 0.0;
+layout(constant_id = 143) const float PH0 = 0.0;
+layout(constant_id = 144) const float PH1 = 0.0;
+layout(constant_id = 145) const float PH2 = 0.0;
+layout(constant_id = 146) const float PH3 = 0.0;
+layout(constant_id = 147) const float DEFORM_FADE = 3.0;
+layout(constant_id = 148) const float U_AROUND = 0.0;  // the wall's u around the pen
+// Fouled patches and clumps, ropes and seams.
+layout(constant_id = 149) const float PATCH_THRESHOLD = 2.0;
+layout(constant_id = 150) const float CLUMP_CELL_U = 0.012;  // on the wall (closed)
+layout(constant_id = 151) const float CLUMP_CELL_V = 0.012;
+layout(constant_id = 152) const int CLUMP_CELLS = 0;
+layout(constant_id = 153) const float CLUMP_MEAN = 0.0;
+layout(constant_id = 154) const float ROPE_U = 1.0;  // on the wall (closed)
+layout(constant_id = 155) const float ROPE_V = 1.0;  // spacing_m
+layout(constant_id = 156) const float ROPE_WIDTH = 0.02;
+layout(constant_id = 157) const float ROPE_ALBEDO = 0.6;
+layout(constant_id = 158) const float SEAM_U = 1.0;  // on the wall (closed)
+layout(constant_id = 159) const float SEAM_SPACING = 1.0;
+layout(constant_id = 160) const float SEAM_WIDTH = 0.01;
 
 const uint ROWS = 8;  // pixels per invocation (render_vk.cpp: kRowsPerInvocation)
 
 // Indexed by unrolled loop counters, so these fold to the constants.
 vec4 BULGE(uint i) {
-  return i == 0u ? vec4(B0A, B0D, B0M, B0R) : i == 1u ? vec4(B1A, B1D, B1M, B1R)
-       : i == 2u ? vec4(B2A, B2D, B2M, B2R) : i == 3u ? vec4(B3A, B3D, B3M, B3R)
-       : i == 4u ? vec4(B4A, B4D, B4M, B4R) : i == 5u ? vec4(B5A, B5D, B5M, B5R)
-       : i == 6u ? vec4(B6A, B6D, B6M, B6R) : vec4(B7A, B7D, B7M, B7R);
+  return i == 0u   ? vec4(B0A, B0D, B0M, B0R)
+         : i == 1u ? vec4(B1A, B1D, B1M, B1R)
+         : i == 2u ? vec4(B2A, B2D, B2M, B2R)
+         : i == 3u ? vec4(B3A, B3D, B3M, B3R)
+         : i == 4u ? vec4(B4A, B4D, B4M, B4R)
+         : i == 5u ? vec4(B5A, B5D, B5M, B5R)
+         : i == 6u ? vec4(B6A, B6D, B6M, B6R)
+                   : vec4(B7A, B7D, B7M, B7R);
 }
 vec3 LAMP_POS(uint i) {
-  return i == 0u ? vec3(L0PX, L0PY, L0PZ) : i == 1u ? vec3(L1PX, L1PY, L1PZ)
-       : i == 2u ? vec3(L2PX, L2PY, L2PZ) : vec3(L3PX, L3PY, L3PZ);
+  return i == 0u   ? vec3(L0PX, L0PY, L0PZ)
+         : i == 1u ? vec3(L1PX, L1PY, L1PZ)
+         : i == 2u ? vec3(L2PX, L2PY, L2PZ)
+                   : vec3(L3PX, L3PY, L3PZ);
 }
 vec3 LAMP_DIR(uint i) {
-  return i == 0u ? vec3(L0DX, L0DY, L0DZ) : i == 1u ? vec3(L1DX, L1DY, L1DZ)
-       : i == 2u ? vec3(L2DX, L2DY, L2DZ) : vec3(L3DX, L3DY, L3DZ);
+  return i == 0u   ? vec3(L0DX, L0DY, L0DZ)
+         : i == 1u ? vec3(L1DX, L1DY, L1DZ)
+         : i == 2u ? vec3(L2DX, L2DY, L2DZ)
+                   : vec3(L3DX, L3DY, L3DZ);
 }
 vec2 LAMP_IE(uint i) {  // intensity, cos exponent
-  return i == 0u ? vec2(L0I, L0E) : i == 1u ? vec2(L1I, L1E) : i == 2u ? vec2(L2I, L2E)
-                                                                       : vec2(L3I, L3E);
+  return i == 0u   ? vec2(L0I, L0E)
+         : i == 1u ? vec2(L1I, L1E)
+         : i == 2u ? vec2(L2I, L2E)
+                   : vec2(L3I, L3E);
 }
 vec3 FISH(uint i) {  // half length, half thickness, albedo
-  return i == 0u ? vec3(F0L, F0T, F0A) : i == 1u ? vec3(F1L, F1T, F1A)
-       : i == 2u ? vec3(F2L, F2T, F2A) : i == 3u ? vec3(F3L, F3T, F3A)
-       : i == 4u ? vec3(F4L, F4T, F4A) : i == 5u ? vec3(F5L, F5T, F5A)
-       : i == 6u ? vec3(F6L, F6T, F6A) : vec3(F7L, F7T, F7A);
+  return i == 0u   ? vec3(F0L, F0T, F0A)
+         : i == 1u ? vec3(F1L, F1T, F1A)
+         : i == 2u ? vec3(F2L, F2T, F2A)
+         : i == 3u ? vec3(F3L, F3T, F3A)
+         : i == 4u ? vec3(F4L, F4T, F4A)
+         : i == 5u ? vec3(F5L, F5T, F5A)
+         : i == 6u ? vec3(F6L, F6T, F6A)
+                   : vec3(F7L, F7T, F7A);
 }
 
 // What changes per frame (render_vk.cpp: FrameHeader), then the marine snow spots.
@@ -188,19 +233,31 @@ layout(std430, binding = 0) readonly buffer FrameBuf {
   vec4 spots[];    // x, y, 1 / sigma^2, peak radiance
 };
 // Per 8 x ROWS tile: begin and end into the spot index list that follows the offsets.
-layout(std430, binding = 1) readonly buffer TileBuf { uint tiles[]; };
-layout(std430, binding = 2) writeonly buffer ImageBuf { float image[]; };
-layout(std430, binding = 3) writeonly buffer DepthBuf { float depth[]; };
+layout(std430, binding = 1) readonly buffer TileBuf {
+  uint tiles[];
+};
+layout(std430, binding = 2) writeonly buffer ImageBuf {
+  float image[];
+};
+layout(std430, binding = 3) writeonly buffer DepthBuf {
+  float depth[];
+};
 
 #include "hash.glsl"
 
 const float kInf = 1e30;
 const uint kFeatureNoise = 1u, kFeatureSnow = 2u, kFeaturePlane = 4u, kFeatureBottom = 8u,
-           kFeatureWall = 16u, kFeatureFouling = 32u, kFeatureDistortion = 64u;
-bool has(uint feature) { return (FEATURES & feature) != 0u; }
+           kFeatureWall = 16u, kFeatureFouling = 32u, kFeatureDistortion = 64u,
+           kFeatureDeform = 256u, kFeaturePatches = 512u, kFeatureRopes = 1024u,
+           kFeatureSeams = 2048u, kFeatureRoundKnots = 4096u;
+bool has(uint feature) {
+  return (FEATURES & feature) != 0u;
+}
 const int kBulgeIterations = 6;  // sim/net_geometry.h
 const float kBulgeTolerance = 1e-5;
-float circumference() { return 6.283185307179586 * PEN_R; }
+float circumference() {
+  return 6.283185307179586 * PEN_R;
+}
 const float kSnowCutoff2 = 16.0;  // sim/marine_snow.h: kSnowCutoffSigmas^2
 
 // The frame's block, read once per invocation.
@@ -370,8 +427,8 @@ uint wrap_cell(int i, int n) {
   return uint(n > 0 ? ((i % n) + n) % n : i);
 }
 
-float value_noise(float u, float v, float scale_u, int wrap_u, uint seed) {
-  float x = u / scale_u, y = v / FOULING_SCALE;
+float value_noise(float u, float v, float scale_u, float scale_v, int wrap_u, uint seed) {
+  float x = u / scale_u, y = v / scale_v;
   float fx = floor(x), fy = floor(y);
   uint ix = wrap_cell(int(fx), wrap_u), ix1 = wrap_cell(int(fx) + 1, wrap_u), iy = uint(int(fy));
   float tx = x - fx, ty = y - fy;
@@ -404,22 +461,109 @@ float irradiance(float z_w, vec3 q_c, vec3 n_in, bool twine) {
   return e;
 }
 
-float net_coverage(Hit h, vec3 Dw, float s) {
+float smoothstep_(float lo, float hi, float x) {
+  float t = clamp((x - lo) / (hi - lo), 0.0, 1.0);
+  return t * t * (3.0 - 2.0 * t);
+}
+
+// The deformed lattice coordinates x' and dx'/dx (NetLattice::deform).
+vec2 deform(vec2 p, bool wall, out mat2 J) {
+  vec2 eb = vec2(EB_X, EB_Y), ep = vec2(-EB_Y, EB_X);
+  float xi = dot(eb, p), eta = dot(ep, p);
+  float a1 = K_STRETCH * xi + PH0, a2 = K_STRETCH * eta + PH1;
+  float a3 = K_ANGLE * xi + PH2, a4 = K_ANGLE * eta + PH3;
+  float c1 = cos(a1), s1 = sin(a1), c2 = cos(a2), s2 = sin(a2);
+  float c3 = cos(a3), s3 = sin(a3), c4 = cos(a4), s4 = sin(a4);
+  vec2 Dl = vec2(AMP_STRETCH / K_STRETCH * s1 * c2 - AMP_ANGLE / K_ANGLE * s3 * c4,
+                 AMP_STRETCH / K_STRETCH * c1 * s2 + AMP_ANGLE / K_ANGLE * c3 * s4);
+  // Columns: d/dxi, d/deta of the local displacement.
+  mat2 G = mat2(
+      AMP_STRETCH * c1 * c2 - AMP_ANGLE * c3 * c4, -AMP_STRETCH * s1 * s2 - AMP_ANGLE * s3 * s4,
+      -AMP_STRETCH * s1 * s2 + AMP_ANGLE * s3 * s4, AMP_STRETCH * c1 * c2 + AMP_ANGLE * c3 * c4);
+  mat2 R = mat2(eb, ep);
+  vec2 D = R * Dl;
+  mat2 grad = R * G * transpose(R);
+  if (wall && U_AROUND > 0.0) {
+    float uw = p.x - U_AROUND * round(p.x / U_AROUND);
+    float dist = U_AROUND / 2.0 - abs(uw);
+    float t = clamp(dist / DEFORM_FADE, 0.0, 1.0);
+    float w = t * t * (3.0 - 2.0 * t);
+    float dw = (dist > 0.0 && dist < DEFORM_FADE)
+                   ? -6.0 * t * (1.0 - t) / DEFORM_FADE * (uw < 0.0 ? -1.0 : 1.0)
+                   : 0.0;
+    grad = w * grad;
+    grad[0] += D * dw;
+    D *= w;
+  }
+  J = mat2(1.0) + grad;
+  return p + D;
+}
+
+// Twine (and clump) coverage, the round knots' share of it, the rope coverage over it and the
+// fouled-patch weight (sim/render_cpu.cpp, Tracer::net_look).
+vec4 net_look(Hit h, vec3 Dw, float s) {
   vec3 dDx = R_wc[0] / FX, dDy = R_wc[1] / FY;
   float denom = dot(Dw, h.normal);
   vec3 px = s * (dDx - dot(dDx, h.normal) / denom * Dw);
   vec3 py = s * (dDy - dot(dDy, h.normal) / denom * Dw);
   float n = float(SAMPLES);
-  float hu0 = (abs(dot(px, h.tu)) + abs(dot(py, h.tu))) / n;
-  float hv0 = (abs(dot(px, h.tv)) + abs(dot(py, h.tv))) / n;
-  float u = MESH_COS * h.u + MESH_SIN * h.v, v = -MESH_SIN * h.u + MESH_COS * h.v;
-  float hu = abs(MESH_COS) * hu0 + abs(MESH_SIN) * hv0;
-  float hv = abs(MESH_SIN) * hu0 + abs(MESH_COS) * hv0;
-  float cu = pulse_coverage(u, hu, MESH, TWINE, -TWINE / 2.0);
-  float cv = pulse_coverage(v, hv, MESH, TWINE, -TWINE / 2.0);
-  float knot =
-      pulse_coverage(u, hu, MESH, KNOT, -KNOT / 2.0) * pulse_coverage(v, hv, MESH, KNOT, -KNOT / 2.0);
-  return max(1.0 - (1.0 - cu) * (1.0 - cv), knot);
+  vec2 fx = vec2(dot(px, h.tu), dot(px, h.tv)), fy = vec2(dot(py, h.tu), dot(py, h.tv));
+  float hu = (abs(fx.x) + abs(fy.x)) / n, hv = (abs(fx.y) + abs(fy.y)) / n;
+  vec2 x = vec2(h.u, h.v);
+  if (has(kFeatureDeform)) {
+    mat2 J;
+    x = deform(x, h.wall, J);
+    fx = J * fx;
+    fy = J * fy;
+  }
+  vec2 na = vec2(NA_X, NA_Y), nb = vec2(NB_X, NB_Y);
+  float qa = dot(na, x), qb = dot(nb, x);
+  float ha = (abs(dot(na, fx)) + abs(dot(na, fy))) / n;
+  float hb = (abs(dot(nb, fx)) + abs(dot(nb, fy))) / n;
+  float w = TWINE, fouled = 0.0, knot = 0.0, rope = 0.0;
+  if (has(kFeaturePatches)) {
+    float su = h.wall ? FOULING_WALL_U : FOULING_SCALE;
+    int wrap = h.wall ? FOULING_CELLS : 0;
+    fouled = smoothstep_(PATCH_THRESHOLD - 0.12, PATCH_THRESHOLD + 0.12,
+                         value_noise(h.u, h.v, su, FOULING_SCALE, wrap, SEED ^ kStreamPatches));
+    w = min(w * (1.0 + 1.5 * fouled), max(w, 0.45 * PERIOD));
+  }
+  float ca = pulse_coverage(qa, ha, PERIOD, w, -w / 2.0);
+  float cb = pulse_coverage(qb, hb, PERIOD, w, -w / 2.0);
+  float cover = 1.0 - (1.0 - cb) * (1.0 - ca);
+  if (has(kFeatureSeams)) {
+    float period = h.wall ? SEAM_U : SEAM_SPACING;
+    cover = 1.0 -
+            (1.0 - cover) * (1.0 - pulse_coverage(h.u, hu, period, SEAM_WIDTH, -SEAM_WIDTH / 2.0));
+  }
+  float da = qa - PERIOD * round(qa / PERIOD), db = qb - PERIOD * round(qb / PERIOD);
+  if (!has(kFeatureRoundKnots)) {
+    cover = max(cover, pulse_coverage(qb, hb, PERIOD, KNOT, -KNOT / 2.0) *
+                           pulse_coverage(qa, ha, PERIOD, KNOT, -KNOT / 2.0));
+  } else {
+    float g = NORMALS_DOT;
+    float d = sqrt(max(0.0, (da * da + db * db - 2.0 * g * da * db) / (1.0 - g * g)));
+    float f = 0.5 * (ha + hb);
+    float sharp = clamp((KNOT / 2.0 - d) / max(f, 1e-12) + 0.5, 0.0, 1.0);
+    float fade = clamp((f - 0.25 * PERIOD) / (0.5 * PERIOD), 0.0, 1.0);
+    knot = sharp + fade * (KNOT_MEAN - sharp);
+    cover = max(cover, knot);
+  }
+  if (has(kFeaturePatches) && fouled > 0.0) {
+    float cu = h.wall ? CLUMP_CELL_U : CLUMP_CELL_V;
+    int wrap = h.wall ? CLUMP_CELLS : 0;
+    float noise = value_noise(h.u, h.v, cu, CLUMP_CELL_V, wrap, SEED ^ kStreamClumps);
+    float reach = 1.0 - smoothstep_(w / 2.0, w / 2.0 + 0.2 * PERIOD, min(abs(da), abs(db)));
+    float sharp = smoothstep_(0.6, 0.85, noise) * reach;
+    float fade = clamp((max(ha, hb) - 0.15 * PERIOD) / (0.35 * PERIOD), 0.0, 1.0);
+    cover = 1.0 - (1.0 - cover) * (1.0 - fouled * (sharp + fade * (CLUMP_MEAN - sharp)));
+  }
+  if (has(kFeatureRopes)) {
+    float period_u = h.wall ? ROPE_U : ROPE_V;
+    rope = 1.0 - (1.0 - pulse_coverage(h.u, hu, period_u, ROPE_WIDTH, -ROPE_WIDTH / 2.0)) *
+                     (1.0 - pulse_coverage(h.v, hv, ROPE_V, ROPE_WIDTH, -ROPE_WIDTH / 2.0));
+  }
+  return vec4(cover, knot, rope, fouled);
 }
 
 // First opaque surface (water surface, fish, basin wall): distance, radiance, transmittance.
@@ -480,18 +624,25 @@ float radiance(vec3 Dc, out float depth_m) {
     return opaque.y + lamp_backscatter(dc, opaque.z);
   }
   if (h.t <= VISIBLE_RANGE) depth_m = h.t / len * Dc.z;
-  float cover = net_coverage(h, Dw, h.t / len);
+  vec4 look = net_look(h, Dw, h.t / len);
+  float cover = look.x;
   float albedo = ALBEDO;
   if (has(kFeatureFouling)) {
     float su = h.wall ? FOULING_WALL_U : FOULING_SCALE;
     int wrap = h.wall ? FOULING_CELLS : 0;
-    albedo *= 1.0 - FOULING * value_noise(h.u, h.v, su, wrap, SEED ^ kStreamFouling);
+    albedo *= 1.0 - FOULING * value_noise(h.u, h.v, su, FOULING_SCALE, wrap, SEED ^ kStreamFouling);
   }
+  // sim/net_mesh.h: kFouledBrightening, kFouledAlbedo, kKnotGain.
+  albedo += look.w * 0.6 * (0.85 - albedo);
+  if (look.y > 0.0) albedo *= 1.0 + 0.15 * look.y / cover;
   float T = exp(-ATTENUATION * h.t);
   // The normal in the camera frame: v * R_wc = transpose(R_wc) * v.
-  float twine = albedo * irradiance(h.point.z, h.t * dc, h.normal * R_wc, true) * T +
-                background * (1.0 - T);
-  return cover * twine + (1.0 - cover) * opaque.y + lamp_backscatter(dc, T);
+  float E = irradiance(h.point.z, h.t * dc, h.normal * R_wc, true);
+  float twine = albedo * E * T + background * (1.0 - T);
+  float L = cover * twine + (1.0 - cover) * opaque.y;
+  if (look.z > 0.0)
+    L = look.z * (ROPE_ALBEDO * E * T + background * (1.0 - T)) + (1.0 - look.z) * L;
+  return L + lamp_backscatter(dc, T);
 }
 
 float gaussian(uint h1, uint h2) {

@@ -2,7 +2,9 @@
 // image at the principal point, deterministic per seed, sensors consistent with the trajectory,
 // and nothing left behind when a run fails.
 #include <gtest/gtest.h>
+
 #include <unistd.h>
+#include <algorithm>
 
 #include <cmath>
 #include <cstdlib>
@@ -102,7 +104,11 @@ TEST_F(GenerateTest, SameSeedGivesIdenticalFiles) {
     const fs::path rel = fs::relative(e.path(), dir_ / "a");
     EXPECT_EQ(read_all(e.path()), read_all(dir_ / "b" / rel)) << rel;
   }
-  EXPECT_EQ(files, 20u);  // 3 yaml, 5 csv, 6 frames, 6 depth images
+  EXPECT_EQ(files, 21u);  // 3 yaml, 6 csv (groundtruth0/mesh.csv too), 6 frames, 6 depth images
+  // groundtruth0/mesh.csv: the header and one row per frame.
+  const std::string mesh = read_all(dir_ / "a" / "groundtruth0" / "mesh.csv");
+  EXPECT_EQ(std::count(mesh.begin(), mesh.end(), '\n'), 7);
+  EXPECT_EQ(mesh.rfind("#timestamp [ns],mesh_type,opening_angle [deg],stretch\n", 0), 0u);
 }
 
 class FailingRenderer : public FrameRenderer {

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "sim/net_geometry.h"
+#include "sim/net_mesh.h"
 #include "sim/render_cpu.h"
 #include "tests/sim/sim_test_scenes.h"
 
@@ -22,21 +23,25 @@ NetHit hit_at(const NetGeometry& net, double theta) {
 }
 
 TEST(NetLattice, TwinePhaseContinuesAcrossAzimuthPi) {
-  for (const double mesh_angle : {0.0, M_PI / 4}) {
+  for (const auto& [type, angle_deg] :
+       {std::pair{MeshType::kSquare, 90.0}, std::pair{MeshType::kSquare, 103.0},
+        std::pair{MeshType::kDiamond, 90.0}, std::pair{MeshType::kDiamond, 75.0}}) {
     PenConfig pen;
     NetConfig cfg;
-    cfg.mesh_angle_rad = mesh_angle;
+    cfg.mesh_type = type;
+    cfg.opening_angle_deg = angle_deg;
     const NetGeometry net(pen, cfg);
-    EXPECT_NEAR(net.lattice_scale(), 1.0, 2e-4);
+    const NetLattice lattice(cfg, net.u_around(), 1);
+    EXPECT_NEAR(net.lattice_scale(), 1.0, 1e-3);
     // Two points 2 * delta * R apart on the wall, one each side of the seam.
     const double delta = 0.001;
     const NetHit a = hit_at(net, M_PI - delta), b = hit_at(net, -M_PI + delta);
-    const double arc_u = 2 * delta * pen.radius_m * net.lattice_scale();
-    // Both twine families: (u, v) rotated by the mesh angle, measured in meshes.
-    const double ca = std::cos(mesh_angle), sa = std::sin(mesh_angle);
-    for (const auto& [du, dv] : {std::pair{ca, -sa}, std::pair{sa, ca}}) {
-      const double jump = (du * (b.u_m - a.u_m - arc_u) + dv * (b.v_m - a.v_m)) / cfg.mesh_m;
-      EXPECT_NEAR(jump, std::round(jump), 1e-6) << "mesh angle " << mesh_angle;
+    const Eigen::Vector2d step(b.u_m - a.u_m - 2 * delta * pen.radius_m * net.lattice_scale(),
+                               b.v_m - a.v_m);
+    // Both twine families, in twine spacings: the jump is a whole number of them.
+    for (const Eigen::Vector2d& n : {lattice.normal_a(), lattice.normal_b()}) {
+      const double jump = n.dot(step) / lattice.period();
+      EXPECT_NEAR(jump, std::round(jump), 1e-6) << to_string(type) << " " << angle_deg;
     }
   }
 }

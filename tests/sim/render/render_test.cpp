@@ -100,7 +100,7 @@ TEST_F(VulkanTest, RenderMatchesCpuWithBulgesFishSnowAndDistortion) {
                                  "{shape: cylinder, radius_m: 12, depth_m: 15}", extra,
                                  ", distortion: [-0.2, 0.05, 0.001, -0.001]");
   s.net.bulges = {{0.2, 4.1, 0.3, 0.6}, {-0.5, 3.5, -0.1, 0.4}};
-  s.net.mesh_angle_rad = 0.7;
+  s.net.mesh_type = MeshType::kDiamond;
   ASSERT_GT(snow_spots(s, frame_state(s, 0)).size(), 3u);
   expect_match(ctx(), s);
 }
@@ -110,6 +110,63 @@ TEST_F(VulkanTest, RenderMatchesCpuAcrossAzimuthPi) {
   Scenario s = testing::one_pose({.net_distance_m = 0.8, .along_m = M_PI * 12});
   s.net.bulges = {{M_PI * 12 - 0.1, 4.0, 0.1, 0.4}};
   expect_match(ctx(), s);
+}
+
+TEST_F(VulkanTest, RenderMatchesCpuShearedSquareMeshWithRoundKnots) {
+  // A 27.5 mm square mesh sheared to 100 deg, heavy twine, round knots: near, where the knots
+  // are sharp discs, and far, where they fade to their mean.
+  for (const double distance : {0.9, 2.8}) {
+    Scenario s = testing::one_pose({.net_distance_m = distance, .heading_rad = 0.2});
+    s.net.mesh_m = 0.0275;
+    s.net.opening_angle_deg = 100;
+    s.net.twine_width_m = 0.007;
+    s.net.knot_size_m = 0.0095;
+    s.net.knot_shape = KnotShape::kRound;
+    expect_match(ctx(), s);
+  }
+}
+
+TEST_F(VulkanTest, RenderMatchesCpuDeformedDiamondMesh) {
+  // Opening angle 75 deg +-3 deg, stretch +-3 %; also across azimuth pi, where the
+  // deformation fades out.
+  for (const double along : {0.0, M_PI * 12 - 1.0}) {
+    Scenario s = testing::one_pose({.net_distance_m = 1.0, .along_m = along});
+    s.net.mesh_type = MeshType::kDiamond;
+    s.net.opening_angle_deg = 75;
+    s.net.opening_angle_variation_deg = 3;
+    s.net.stretch_variation = 0.03;
+    s.net.deform_scale_m = 1.5;
+    s.net.knot_size_m = 0;
+    expect_match(ctx(), s);
+  }
+}
+
+TEST_F(VulkanTest, RenderMatchesCpuWithFouledPatchesRopesAndSeams) {
+  // Half the net in fouled patches with clumps, ropes every 0.3 m and seams every 0.25 m (so
+  // both cross the small view): on the wall near and far, and on the bottom.
+  for (const testing::Pose& pose :
+       {testing::Pose{.net_distance_m = 0.8}, testing::Pose{.net_distance_m = 2.5},
+        testing::Pose{.net_distance_m = 1.0, .pitch_rad = -0.9, .depth_m = 13.5}}) {
+    Scenario s = testing::one_pose(pose);
+    s.net.fouling_coverage = 0.5;
+    s.net.fouling_scale_m = 0.2;
+    s.net.ropes = {.spacing_m = 0.3, .width_m = 0.02, .albedo = 0.6};
+    s.net.seam_spacing_m = 0.25;
+    s.net.knot_shape = KnotShape::kRound;
+    expect_match(ctx(), s);
+    // The features show: the frame differs from the plain net's by more than a grey level.
+    const NetGeometry net(s.pen, s.net);
+    const RenderOptions o{.noise = false, .marine_snow = false};
+    const RenderedFrame with = render_cpu(s, net, frame_state(s, 0), o);
+    Scenario plain = testing::one_pose(pose);
+    const RenderedFrame without =
+        render_cpu(plain, NetGeometry(plain.pen, plain.net), frame_state(plain, 0), o);
+    double diff = 0;
+    for (size_t i = 0; i < with.image.pixels.size(); ++i) {
+      diff += std::abs(with.image.pixels[i] - without.image.pixels[i]);
+    }
+    EXPECT_GT(diff / static_cast<double>(with.image.pixels.size()), 1.0);
+  }
 }
 
 TEST_F(VulkanTest, RenderMatchesCpuInTank) {

@@ -34,12 +34,83 @@ const char* kMinimal =
 
 TEST(Scenario, ShippedScenariosLoad) {
   for (const char* name :
-       {"sweep", "follow", "lawnmower", "lowlight", "turbid", "tank", "follow_drift"}) {
+       {"sweep", "follow", "lawnmower", "lowlight", "turbid", "tank", "follow_drift", "diamond"}) {
     SCOPED_TRACE(name);
     const Scenario s = load_scenario(source_dir() + "/scenarios/" + name + ".yaml");
     EXPECT_EQ(s.name, name);
     EXPECT_GE(s.num_frames(), 10);
     EXPECT_EQ(s.camera.calibration.camera.width_px, 720);
+  }
+  // The real SOLAQUA camera's size.
+  const Scenario s = load_scenario(source_dir() + "/scenarios/solaqua.yaml");
+  EXPECT_EQ(s.camera.calibration.camera.width_px, 1280);
+  EXPECT_EQ(s.num_frames(), 101);
+  EXPECT_EQ(s.net.mesh_type, MeshType::kSquare);
+  EXPECT_DOUBLE_EQ(s.net.opening_angle_deg, 100);
+}
+
+TEST(Scenario, NetMeshKeysParse) {
+  const Scenario d = parse_scenario(kMinimal, "min.yaml");
+  EXPECT_EQ(d.net.mesh_type, MeshType::kSquare);
+  EXPECT_EQ(d.net.opening_angle_deg, 90);
+  EXPECT_EQ(d.net.opening_angle_variation_deg, 0);
+  EXPECT_EQ(d.net.stretch_variation, 0);
+  EXPECT_EQ(d.net.deform_scale_m, 3);
+  EXPECT_EQ(d.net.knot_shape, KnotShape::kSquare);
+  EXPECT_EQ(d.net.fouling_coverage, 0);
+  EXPECT_EQ(d.net.ropes.spacing_m, 0);
+  EXPECT_EQ(d.net.ropes.width_m, 0.02);
+  EXPECT_EQ(d.net.ropes.albedo, 0.6);
+  EXPECT_EQ(d.net.seam_spacing_m, 0);
+  const Scenario s = parse_scenario(
+      std::string(kMinimal) +
+          "net: {mesh_m: 0.03, mesh_type: diamond, opening_angle_deg: 75, "
+          "opening_angle_variation_deg: 3, stretch_variation: 0.03, deform_scale_m: 2.5, "
+          "twine_width_m: 0.009, knot_size_m: 0.012, knot_shape: round, fouling_coverage: 0.5, "
+          "ropes: {spacing_m: 1.5, width_m: 0.025, albedo: 0.5}, seam_spacing_m: 4}\n",
+      "ok.yaml");
+  EXPECT_EQ(s.net.mesh_type, MeshType::kDiamond);
+  EXPECT_EQ(s.net.opening_angle_deg, 75);
+  EXPECT_EQ(s.net.opening_angle_variation_deg, 3);
+  EXPECT_EQ(s.net.stretch_variation, 0.03);
+  EXPECT_EQ(s.net.deform_scale_m, 2.5);
+  EXPECT_EQ(s.net.twine_width_m, 0.009);  // 30 % of the bar
+  EXPECT_EQ(s.net.knot_size_m, 0.012);
+  EXPECT_EQ(s.net.knot_shape, KnotShape::kRound);
+  EXPECT_EQ(s.net.fouling_coverage, 0.5);
+  EXPECT_EQ(s.net.ropes.spacing_m, 1.5);
+  EXPECT_EQ(s.net.ropes.width_m, 0.025);
+  EXPECT_EQ(s.net.ropes.albedo, 0.5);
+  EXPECT_EQ(s.net.seam_spacing_m, 4);
+  // scene.yaml gets the mesh type and the nominal opening angle.
+  const SceneConfig scene = s.scene_config();
+  EXPECT_EQ(scene.net_mesh_type, MeshType::kDiamond);
+  ASSERT_TRUE(scene.net_mesh_angle_rad);
+  EXPECT_NEAR(*scene.net_mesh_angle_rad, 75 * M_PI / 180, 1e-15);
+}
+
+TEST(Scenario, BadNetMeshValuesAreRefused) {
+  const std::pair<const char*, const char*> cases[] = {
+      {"mesh_type: hexagonal", "'net.mesh_type': must be 'square' or 'diamond', got 'hexagonal'"},
+      {"opening_angle_deg: 30", "'net.opening_angle_deg': must be between 45"},
+      {"opening_angle_deg: 140", "'net.opening_angle_deg': must be between 45"},
+      {"opening_angle_variation_deg: 12", "'net.opening_angle_variation_deg': must be between"},
+      {"stretch_variation: 0.1", "'net.stretch_variation': must be between 0"},
+      {"deform_scale_m: 0.1", "'net.deform_scale_m': must be between"},
+      {"twine_width_m: 0.011", "'net.twine_width_m': must be less than 0.35 * mesh_m"},
+      {"knot_size_m: 0.019", "'net.knot_size_m': must be less than 0.6 * mesh_m"},
+      {"knot_shape: star", "'net.knot_shape': must be 'square' or 'round', got 'star'"},
+      {"fouling_coverage: 0.8", "'net.fouling_coverage': must be between 0"},
+      {"ropes: {spacing_m: 0.05}", "'net.ropes.spacing_m': must be 0 (no ropes) or at least"},
+      {"ropes: {width_m: 0.5}", "'net.ropes.width_m': must be between"},
+      {"ropes: {albedo: 2}", "'net.ropes.albedo': must be between 0"},
+      {"ropes: {spacing: 1}", "'net.ropes.spacing': unknown key"},
+      {"seam_spacing_m: 0.04", "'net.seam_spacing_m': must be 0 (no seams) or at least"},
+      {"mesh_angle_rad: 0.7", "'net.mesh_angle_rad': unknown key"},
+  };
+  for (const auto& [yaml, message] : cases) {
+    const std::string e = error_of(std::string(kMinimal) + "net: {mesh_m: 0.03, " + yaml + "}\n");
+    EXPECT_NE(e.find(message), std::string::npos) << yaml << ": " << e;
   }
 }
 
