@@ -75,8 +75,10 @@ NetLattice::NetLattice(const NetConfig& net, double u_around, uint64_t seed)
     : net_(net), u_around_(u_around) {
   const double P = net.mesh_m;
   if (net.mesh_type == MeshType::kSquare) {
+    // b2 turns from b1 towards the surface (-v): the detector's convention (mesh_angle.h).
+    const Eigen::Vector2d cs = cos_sin_deg(net.opening_angle_deg);
     b1_ = {P, 0};
-    b2_ = P * cos_sin_deg(net.opening_angle_deg);
+    b2_ = {P * cs.x(), -P * cs.y()};
   } else {
     const Eigen::Vector2d h = cos_sin_deg(net.opening_angle_deg / 2);
     b1_ = {P * h.y(), P * h.x()};
