@@ -21,17 +21,18 @@ struct MeshCase {
 };
 
 testing::SweepErrors run_mesh_sweep(const MeshCase& c, int frames, uint64_t seed,
-                                    std::optional<double> prior_rad = std::nullopt) {
+                                    double blur_sigma_px = 0.6) {
   const PinholeCamera cam{.k1 = -0.04, .k2 = 0.01};
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> twine(0.12, 0.3), knot(1.2, 2.0);
-  NetScene base{.mesh_type = c.type, .opening_angle_rad = c.angle_deg * kDeg, .noise_sigma = 3};
+  NetScene base{.mesh_type = c.type,
+                .opening_angle_rad = c.angle_deg * kDeg,
+                .blur_sigma_px = blur_sigma_px,
+                .noise_sigma = 3};
   base.twine_m = twine(rng) * base.mesh_m;
   base.knot_m = knot(rng) * base.twine_m;
   const auto scenes = testing::sweep_scenes(frames, rng(), base);
-  NetDetectorConfig config{.backend = Backend::kCpu};
-  config.mesh_angle_rad = prior_rad;
-  NetDetector detector(cam, config, testing::test_device());
+  NetDetector detector(cam, {.backend = Backend::kCpu}, testing::test_device());
   std::vector<ImageU8> images;
   for (const NetScene& s : scenes) images.push_back(testing::render_net(cam, s));
   auto e = testing::run_sweep(images, scenes, detector, true);
@@ -57,6 +58,48 @@ TEST(RealNets, ShearedAndDiamondMeshesMeetBounds) {
     std::vector<double> settled(e.angle_deg.begin() + std::min<size_t>(3, e.angle_deg.size()),
                                 e.angle_deg.end());
     EXPECT_LE(testing::percentile(settled, 1.0), 2.0);
+  }
+}
+
+// Soft images (the real frame's look): a Gaussian PSF of 1.5-2.5 px.
+TEST(RealNets, SoftImagesKeepTheBounds) {
+  std::mt19937_64 rng(testing::fresh_seed());
+  std::uniform_real_distribution<double> square(95, 110), blur(1.5, 2.5);
+  const auto e =
+      run_mesh_sweep({"soft sheared square", MeshType::kSquare, square(rng)}, 12, rng(), blur(rng));
+  EXPECT_LE(e.invalid, 1);
+  EXPECT_LE(testing::percentile(e.d_rel, 0.5), 0.01);
+  EXPECT_LE(testing::percentile(e.psi_deg, 0.5), 0.5);
+}
+
+// Beyond the envelope (3-8 m, or 55-80 deg oblique) on sheared and diamond meshes: NaN with a
+// reason, or a distance within 20 %.
+TEST(RealNets, OutsideTheEnvelopeNoWrongDistances) {
+  const PinholeCamera cam;
+  std::mt19937_64 rng(testing::fresh_seed());
+  std::uniform_real_distribution<double> far(3.0, 8.0), oblique(55, 80), sign(-1, 1),
+      square(95, 110), diamond(70, 120);
+  NetDetector detector(cam, {.backend = Backend::kCpu}, testing::test_device());
+  for (int i = 0; i < 12; ++i) {
+    const bool is_diamond = i % 4 >= 2;
+    NetScene s{.mesh_type = is_diamond ? MeshType::kDiamond : MeshType::kSquare,
+               .opening_angle_rad = (is_diamond ? diamond(rng) : square(rng)) * kDeg,
+               .noise_sigma = 3,
+               .seed = rng()};
+    s.twine_m = 0.2 * s.mesh_m;
+    if (i % 2) {
+      s.distance_m = far(rng);
+    } else {
+      s.psi_rad = (sign(rng) < 0 ? -1 : 1) * oblique(rng) * kDeg;
+    }
+    const NetDetection d = detector.detect(testing::render_net(cam, s));
+    if (!d.pose.valid()) {
+      EXPECT_FALSE(d.pose.reason.empty());
+      continue;
+    }
+    EXPECT_LE(std::abs(d.pose.d_net_m - s.distance_m), 0.2 * s.distance_m)
+        << "d " << s.distance_m << " psi " << s.psi_rad / kDeg << " angle "
+        << s.opening_angle_rad / kDeg << ": estimate " << d.pose.d_net_m;
   }
 }
 
