@@ -8,6 +8,7 @@
 #include <cmath>
 #include <random>
 
+#include "tests/support/exact_lattice.h"
 #include "tests/support/vulkan_fixture.h"
 
 namespace pensight {
@@ -54,14 +55,8 @@ kernels::RoiLattice exact_lattice(const PinholeCamera& cam, const Net& n, Eigen:
     const Eigen::Vector3d e = k.x() * b[0] + k.y() * b[1];
     a.col(i) = (*cam.project(p + eps * e) - *cam.project(p - eps * e)) / (2 * eps);
   }
-  const Eigen::Matrix2d f = a.inverse().transpose();
   *p_out = p;
-  return {static_cast<float>(f(0, 0)),
-          static_cast<float>(f(1, 0)),
-          static_cast<float>(f(0, 1)),
-          static_cast<float>(f(1, 1)),
-          0.3f,
-          50.0f};
+  return testing::lattice_of(a);
 }
 
 // The per-ROI closed form with the right opening angle recovers the range of sheared and diamond

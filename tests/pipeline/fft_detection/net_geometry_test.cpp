@@ -9,6 +9,7 @@
 #include <random>
 
 #include "runtime/error.h"
+#include "tests/support/exact_lattice.h"
 #include "tests/support/vulkan_fixture.h"
 
 namespace pensight {
@@ -37,15 +38,9 @@ kernels::RoiLattice exact_lattice(const PinholeCamera& cam, const Plane& pl, Eig
     const Eigen::Vector3d e = (i == 0 ? e1 : e2) * kMesh;
     a.col(i) = (*cam.project(p + eps * e) - *cam.project(p - eps * e)) / (2 * eps);
   }
-  const Eigen::Matrix2d f = a.inverse().transpose();
   *p_out = p;
   (void)roi_size;
-  return {static_cast<float>(f(0, 0)),
-          static_cast<float>(f(1, 0)),
-          static_cast<float>(f(0, 1)),
-          static_cast<float>(f(1, 1)),
-          0.3f,
-          50.0f};
+  return testing::lattice_of(a);
 }
 
 // The shorter image lattice vector (pixels per mesh) of a lattice given by its frequencies.

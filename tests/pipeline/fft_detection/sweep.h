@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "pipeline/net_detector.h"
@@ -16,7 +17,8 @@ struct SweepErrors {
   std::vector<double> d_rel;    // |d - d_true| / d_true of frames with a valid pose
   std::vector<double> psi_deg;  // |psi - psi_true|
   std::vector<double> pitch_deg;
-  std::vector<double> angle_deg;  // |opening angle - truth| of frames that report one
+  std::vector<double> angle_deg;     // |opening angle - truth| of frames that report one
+  std::vector<std::string> reasons;  // of the NaN frames
   int frames = 0;
   int invalid = 0;
 };
@@ -57,6 +59,7 @@ inline SweepErrors run_sweep(const std::vector<ImageU8>& frames,
     ++e.frames;
     if (!d.pose.valid()) {
       ++e.invalid;
+      e.reasons.push_back(d.pose.reason);
       if (verbose)
         std::printf("  d %.2f psi %5.1f: NaN (%s), angle %.2f (frame %.2f)\n", s.distance_m,
                     s.psi_rad * 180 / M_PI, d.pose.reason.c_str(), d.mesh_angle_rad * 180 / M_PI,
