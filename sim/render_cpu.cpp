@@ -6,6 +6,7 @@
 #include <thread>
 
 #include "sim/marine_snow.h"
+#include "sim/optics.h"
 #include "sim/sim_hash.h"
 
 namespace pensight::sim {
@@ -210,7 +211,6 @@ class Tracer {
     return cover * twine + (1 - cover) * opaque.radiance + lamp_backscatter(d, T);
   }
 
-  uint32_t seed() const { return seed_; }
   int samples_per_axis() const { return n_; }
 
  private:
@@ -226,11 +226,6 @@ class Tracer {
   int n_ = 1;
 };
 
-double gaussian(uint32_t h1, uint32_t h2) {
-  const double u1 = (static_cast<double>(h1 >> 8) + 0.5) * (1.0 / 16777216.0);
-  return std::sqrt(-2 * std::log(u1)) * std::cos(2 * M_PI * unit_float(h2));
-}
-
 }  // namespace
 
 double net_visible_range_m(const WaterConfig& water) {
@@ -241,7 +236,16 @@ RenderedFrame render_cpu(const Scenario& s, const NetGeometry& net, const FrameS
                          const RenderOptions& options) {
   const PinholeCamera& cam = s.camera.calibration.camera;
   const Tracer tracer(s, net, f);
-  RenderedFrame out{ImageU8(cam.width_px, cam.height_px), ImageF32(cam.width_px, cam.height_px)};
+  // With optics the sensor comes after the blur (optics.h): keep the radiance, unrounded.
+  const bool optics = optics_enabled(s.camera);
+  const bool keep_radiance = options.radiance_only || optics;
+  RenderedFrame out;
+  out.depth_m = ImageF32(cam.width_px, cam.height_px);
+  if (keep_radiance) {
+    out.radiance = ImageF32(cam.width_px, cam.height_px);
+  } else {
+    out.image = ImageU8(cam.width_px, cam.height_px);
+  }
   const int n = tracer.samples_per_axis();
   const double gain = 255.0 * s.camera.exposure;
   ImageF32 snow(cam.width_px, cam.height_px);  // radiance of the marine snow, splatted spot by spot
@@ -259,7 +263,7 @@ RenderedFrame render_cpu(const Scenario& s, const NetGeometry& net, const FrameS
       }
     }
   }
-  const uint32_t frame_key = hash3(static_cast<uint32_t>(f.frame), tracer.seed(), kStreamNoise);
+  const uint32_t frame_key = noise_frame_key(s, f.frame);
   auto render_row = [&](int y) {
     for (int x = 0; x < cam.width_px; ++x) {
       double L = 0, depth = 0, sample_depth = 0;
@@ -277,16 +281,13 @@ RenderedFrame render_cpu(const Scenario& s, const NetGeometry& net, const FrameS
       out.depth_m.at(x, y) = static_cast<float>(depth);
       L += snow.at(x, y);
       L *= std::pow(1 / D0.norm(), 4 * s.camera.vignetting);
-      double grey = gain * L;
-      if (options.noise) {
-        const auto pixel = static_cast<uint32_t>(y * cam.width_px + x);
-        const double sigma =
-            std::sqrt(s.camera.read_noise * s.camera.read_noise +
-                      s.camera.shot_noise * s.camera.shot_noise * std::max(grey, 0.0));
-        const uint32_t h = hash2(pixel, frame_key, 0);
-        grey += sigma * gaussian(h, hash32(h));
+      const double grey = gain * L;
+      if (keep_radiance) {
+        out.radiance.at(x, y) = static_cast<float>(grey);
+      } else {
+        out.image.at(x, y) = sensor_value(grey, static_cast<uint32_t>(y * cam.width_px + x),
+                                          frame_key, 0, s.camera, options.noise);
       }
-      out.image.at(x, y) = static_cast<uint8_t>(std::clamp(std::floor(grey + 0.5), 0.0, 255.0));
     }
   };
   const int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
@@ -298,6 +299,7 @@ RenderedFrame render_cpu(const Scenario& s, const NetGeometry& net, const FrameS
       });
     }
   }
+  if (optics && !options.radiance_only) apply_optics(s, f, options, out);
   return out;
 }
 

@@ -196,7 +196,8 @@ layout(std430, binding = 3) writeonly buffer DepthBuf { float depth[]; };
 
 const float kInf = 1e30;
 const uint kFeatureNoise = 1u, kFeatureSnow = 2u, kFeaturePlane = 4u, kFeatureBottom = 8u,
-           kFeatureWall = 16u, kFeatureFouling = 32u, kFeatureDistortion = 64u;
+           kFeatureWall = 16u, kFeatureFouling = 32u, kFeatureDistortion = 64u,
+           kFeatureRadiance = 128u;  // unrounded, noise-free grey for sim/optics.h
 bool has(uint feature) { return (FEATURES & feature) != 0u; }
 const int kBulgeIterations = 6;  // sim/net_geometry.h
 const float kBulgeTolerance = 1e-5;
@@ -552,6 +553,6 @@ void main() {
       uint h = hash2(i, frame_key, 0u);
       grey += sigma * gaussian(h, hash32(h));
     }
-    image[i] = clamp(floor(grey + 0.5), 0.0, 255.0);
+    image[i] = has(kFeatureRadiance) ? grey : clamp(floor(grey + 0.5), 0.0, 255.0);
   }
 }
