@@ -5,6 +5,7 @@
 #include <limits>
 #include <thread>
 
+#include "sim/lamp_veil.h"
 #include "sim/marine_snow.h"
 #include "sim/optics.h"
 #include "sim/sim_hash.h"
@@ -126,7 +127,6 @@ class Tracer {
 
   struct Opaque {
     double t = kInf;
-    double T = 0;  // transmittance exp(-c t)
     double radiance = 0;
   };
 
@@ -173,16 +173,16 @@ class Tracer {
         J = s_.pen.wall_albedo * irradiance(p, Eigen::Vector3d::UnitX(), false);
         break;
     }
-    best.T = std::exp(-c_ * best.t);
-    best.radiance = J * best.T + background_ * (1 - best.T);
+    const double T = std::exp(-c_ * best.t);
+    best.radiance = J * T + background_ * (1 - T);
     return best;
   }
 
-  // Veiling light of the lamps along a ray whose transmittance to its end is T_end.
-  double lamp_backscatter(const Eigen::Vector3d& d, double T_end) const {
-    double sum = 0;
-    for (const LampPose& l : f_.lamps) sum += l.intensity * 0.5 * (1 + d.dot(l.direction));
-    return s_.water.lamp_backscatter * sum * (1 - T_end);
+  // Veiling light of the lamps' beams along the ray up to t_end (cut at the visible range,
+  // beyond which the light that comes back is below 1/2500 of its start).
+  double lamp_backscatter(const Eigen::Vector3d& d, double t_end) const {
+    if (!(s_.water.lamp_backscatter > 0)) return 0;
+    return s_.water.lamp_backscatter * lamp_veil(o_, d, std::min(t_end, range_), f_.lamps, c_);
   }
 
   // Radiance along the camera ray D_c (camera frame, z = 1); also its net z-depth (0: none).
@@ -192,7 +192,7 @@ class Tracer {
     const Opaque opaque = first_opaque(d);
     const auto hit = net_.intersect(o_, d);
     depth = 0;
-    if (!hit || hit->t >= opaque.t) return opaque.radiance + lamp_backscatter(d, opaque.T);
+    if (!hit || hit->t >= opaque.t) return opaque.radiance + lamp_backscatter(d, opaque.t);
     if (hit->t <= range_) depth = hit->t / len * D_c.z();
     const double cover = net_coverage(*hit, D_w, hit->t / len);
     double albedo = s_.net.albedo;
@@ -208,7 +208,7 @@ class Tracer {
     const double T = std::exp(-c_ * hit->t);
     const double twine =
         albedo * irradiance(hit->point, hit->normal, true) * T + background_ * (1 - T);
-    return cover * twine + (1 - cover) * opaque.radiance + lamp_backscatter(d, T);
+    return cover * twine + (1 - cover) * opaque.radiance + lamp_backscatter(d, hit->t);
   }
 
   int samples_per_axis() const { return n_; }

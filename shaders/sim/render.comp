@@ -423,9 +423,9 @@ float net_coverage(Hit h, vec3 Dw, float s) {
   return max(1.0 - (1.0 - cu) * (1.0 - cv), knot);
 }
 
-// First opaque surface (water surface, fish, basin wall): distance, radiance, transmittance.
+// First opaque surface (water surface, fish, basin wall): distance and radiance.
 // d: unit ray in P, dc: the same in the camera frame.
-vec3 first_opaque(vec3 d, vec3 dc) {
+vec2 first_opaque(vec3 d, vec3 dc) {
   float best = kInf;
   int kind = 0;  // 0 none, 1 surface, 2 fish, 3 wall
   uint fish = 0u;
@@ -446,7 +446,7 @@ vec3 first_opaque(vec3 d, vec3 dc) {
     best = tw;
     kind = 3;
   }
-  if (kind == 0) return vec3(kInf, background, 0.0);
+  if (kind == 0) return vec2(kInf, background);
   vec3 q = origin + best * d;
   float J;
   if (kind == 1) {
@@ -462,23 +462,41 @@ vec3 first_opaque(vec3 d, vec3 dc) {
     J = WALL_ALBEDO * irradiance(q.z, best * dc, vec3(1.0, 0.0, 0.0) * R_wc, false);
   }
   float T = exp(-ATTENUATION * best);
-  return vec3(best, J * T + background * (1.0 - T), T);
+  return vec2(best, J * T + background * (1.0 - T));
 }
 
-float lamp_backscatter(vec3 dc, float T_end) {
-  float s = 0.0;
-  for (uint i = 0u; i < NUM_LAMPS; ++i) s += LAMP_IE(i).x * 0.5 * (1.0 + dot(dc, LAMP_DIR(i)));
-  return LAMP_BACKSCATTER * s * (1.0 - T_end);
+// The lamps' beams scattered once towards the camera along the ray up to t_end (cut at the
+// visible range), sim/lamp_veil.cpp's quadrature; in the camera frame, where the lamps are
+// constants and the ray starts at 0.
+const int kLampVeilSamples = 12;    // sim/lamp_veil.h
+const float kLampVeilScale = 0.1;
+float lamp_backscatter(vec3 dc, float t_end) {
+  if (!(LAMP_BACKSCATTER > 0.0)) return 0.0;
+  float dw = log(1.0 + min(t_end, VISIBLE_RANGE) / kLampVeilScale) / float(kLampVeilSamples);
+  float sum = 0.0;
+  for (int k = 0; k < kLampVeilSamples; ++k) {
+    float s = kLampVeilScale * (exp((float(k) + 0.5) * dw) - 1.0);
+    float lit = 0.0;
+    for (uint i = 0u; i < NUM_LAMPS; ++i) {
+      vec3 v = s * dc - LAMP_POS(i);
+      float r2 = dot(v, v), r = sqrt(r2);
+      float ca = dot(v, LAMP_DIR(i)) / r;
+      if (ca <= 0.0) continue;
+      lit += LAMP_IE(i).x * exp(LAMP_IE(i).y * log(ca) - ATTENUATION * r) / max(r2, 0.01);
+    }
+    sum += lit * exp(-ATTENUATION * s) * (s + kLampVeilScale);
+  }
+  return LAMP_BACKSCATTER * sum * dw;
 }
 
 float radiance(vec3 Dc, out float depth_m) {
   float len = length(Dc);
   vec3 Dw = R_wc * Dc, d = Dw / len, dc = Dc / len;
-  vec3 opaque = first_opaque(d, dc);
+  vec2 opaque = first_opaque(d, dc);
   Hit h;
   depth_m = 0.0;
   if (!intersect_net(origin, d, h) || h.t >= opaque.x) {
-    return opaque.y + lamp_backscatter(dc, opaque.z);
+    return opaque.y + lamp_backscatter(dc, opaque.x);
   }
   if (h.t <= VISIBLE_RANGE) depth_m = h.t / len * Dc.z;
   float cover = net_coverage(h, Dw, h.t / len);
@@ -492,7 +510,7 @@ float radiance(vec3 Dc, out float depth_m) {
   // The normal in the camera frame: v * R_wc = transpose(R_wc) * v.
   float twine = albedo * irradiance(h.point.z, h.t * dc, h.normal * R_wc, true) * T +
                 background * (1.0 - T);
-  return cover * twine + (1.0 - cover) * opaque.y + lamp_backscatter(dc, T);
+  return cover * twine + (1.0 - cover) * opaque.y + lamp_backscatter(dc, h.t);
 }
 
 float gaussian(uint h1, uint h2) {
