@@ -473,18 +473,17 @@ const float kLampVeilScale = 0.1;
 float lamp_backscatter(vec3 dc, float t_end) {
   if (!(LAMP_BACKSCATTER > 0.0)) return 0.0;
   float dw = log(1.0 + min(t_end, VISIBLE_RANGE) / kLampVeilScale) / float(kLampVeilSamples);
-  float sum = 0.0;
-  for (int k = 0; k < kLampVeilSamples; ++k) {
-    float s = kLampVeilScale * (exp((float(k) + 0.5) * dw) - 1.0);
-    float lit = 0.0;
+  float ratio = exp(dw), growth = exp(0.5 * dw), sum = 0.0;
+  for (int k = 0; k < kLampVeilSamples; ++k, growth *= ratio) {
+    float s = kLampVeilScale * (growth - 1.0);
     for (uint i = 0u; i < NUM_LAMPS; ++i) {
       vec3 v = s * dc - LAMP_POS(i);
       float r2 = dot(v, v), r = sqrt(r2);
       float ca = dot(v, LAMP_DIR(i)) / r;
       if (ca <= 0.0) continue;
-      lit += LAMP_IE(i).x * exp(LAMP_IE(i).y * log(ca) - ATTENUATION * r) / max(r2, 0.01);
+      sum += LAMP_IE(i).x * (s + kLampVeilScale) *
+             exp(LAMP_IE(i).y * log(ca) - ATTENUATION * (r + s)) / max(r2, 0.01);
     }
-    sum += lit * exp(-ATTENUATION * s) * (s + kLampVeilScale);
   }
   return LAMP_BACKSCATTER * sum * dw;
 }
