@@ -1,6 +1,7 @@
 #pragma once
 // Host-side image value type shared by kernels, the simulator and the pipeline. Owns its pixels;
 // rows are tightly packed (stride == width).
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -28,5 +29,6 @@ struct Image {
 using ImageU8 = Image<uint8_t>;
 using ImageU16 = Image<uint16_t>;
 using ImageF32 = Image<float>;
+using ImageRgb8 = Image<std::array<uint8_t, 3>>;  // red, green, blue
 
 }  // namespace pensight

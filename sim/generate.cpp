@@ -78,7 +78,11 @@ void generate_dataset(const Scenario& s, FrameRenderer& renderer, const std::fil
   for (int i = 0; i < frames; ++i) {
     const FrameState f = frame_state(s, i);
     const RenderedFrame r = renderer.render(f);
-    writer.add_frame(f.timestamp_ns, r.image);
+    if (s.camera.colour) {
+      writer.add_frame(f.timestamp_ns, r.image_rgb);
+    } else {
+      writer.add_frame(f.timestamp_ns, r.image);
+    }
     writer.add_groundtruth(ground_truth_row(s, net, f, r.depth_m), depth_to_mm(r.depth_m));
     writer.add_mesh_truth(mesh_truth_row(s, net, lattice, f));
     if (options.progress) options.progress(i + 1, frames);

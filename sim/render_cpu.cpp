@@ -5,8 +5,10 @@
 #include <limits>
 #include <thread>
 
+#include "sim/lamp_veil.h"
 #include "sim/marine_snow.h"
 #include "sim/net_mesh.h"
+#include "sim/optics.h"
 #include "sim/sim_hash.h"
 
 namespace pensight::sim {
@@ -176,7 +178,6 @@ class Tracer {
 
   struct Opaque {
     double t = kInf;
-    double T = 0;  // transmittance exp(-c t)
     double radiance = 0;
   };
 
@@ -223,16 +224,16 @@ class Tracer {
         J = s_.pen.wall_albedo * irradiance(p, Eigen::Vector3d::UnitX(), false);
         break;
     }
-    best.T = std::exp(-c_ * best.t);
-    best.radiance = J * best.T + background_ * (1 - best.T);
+    const double T = std::exp(-c_ * best.t);
+    best.radiance = J * T + background_ * (1 - T);
     return best;
   }
 
-  // Veiling light of the lamps along a ray whose transmittance to its end is T_end.
-  double lamp_backscatter(const Eigen::Vector3d& d, double T_end) const {
-    double sum = 0;
-    for (const LampPose& l : f_.lamps) sum += l.intensity * 0.5 * (1 + d.dot(l.direction));
-    return s_.water.lamp_backscatter * sum * (1 - T_end);
+  // Veiling light of the lamps' beams along the ray up to t_end (cut at the visible range,
+  // beyond which the light that comes back is below 1/2500 of its start).
+  double lamp_backscatter(const Eigen::Vector3d& d, double t_end) const {
+    if (!(s_.water.lamp_backscatter > 0)) return 0;
+    return s_.water.lamp_backscatter * lamp_veil(o_, d, std::min(t_end, range_), f_.lamps, c_);
   }
 
   // Radiance along the camera ray D_c (camera frame, z = 1); also its net z-depth (0: none).
@@ -242,7 +243,7 @@ class Tracer {
     const Opaque opaque = first_opaque(d);
     const auto hit = net_.intersect(o_, d);
     depth = 0;
-    if (!hit || hit->t >= opaque.t) return opaque.radiance + lamp_backscatter(d, opaque.T);
+    if (!hit || hit->t >= opaque.t) return opaque.radiance + lamp_backscatter(d, opaque.t);
     if (hit->t <= range_) depth = hit->t / len * D_c.z();
     const NetLook look = net_look(*hit, D_w, hit->t / len);
     const double cover = look.cover;
@@ -266,10 +267,9 @@ class Tracer {
     if (look.rope > 0) {
       L = look.rope * (n.ropes.albedo * E * T + background_ * (1 - T)) + (1 - look.rope) * L;
     }
-    return L + lamp_backscatter(d, T);
+    return L + lamp_backscatter(d, hit->t);
   }
 
-  uint32_t seed() const { return seed_; }
   int samples_per_axis() const { return n_; }
 
  private:
@@ -286,11 +286,6 @@ class Tracer {
   int n_ = 1;
 };
 
-double gaussian(uint32_t h1, uint32_t h2) {
-  const double u1 = (static_cast<double>(h1 >> 8) + 0.5) * (1.0 / 16777216.0);
-  return std::sqrt(-2 * std::log(u1)) * std::cos(2 * M_PI * unit_float(h2));
-}
-
 }  // namespace
 
 double net_visible_range_m(const WaterConfig& water) {
@@ -302,7 +297,16 @@ RenderedFrame render_cpu(const Scenario& s, const NetGeometry& net, const FrameS
   const PinholeCamera& cam = s.camera.calibration.camera;
   const NetLattice lattice(s.net, net.u_around(), s.seed);
   const Tracer tracer(s, net, lattice, f);
-  RenderedFrame out{ImageU8(cam.width_px, cam.height_px), ImageF32(cam.width_px, cam.height_px)};
+  // With optics the sensor comes after the blur (optics.h): keep the radiance, unrounded.
+  const bool optics = optics_enabled(s.camera);
+  const bool keep_radiance = options.radiance_only || optics;
+  RenderedFrame out;
+  out.depth_m = ImageF32(cam.width_px, cam.height_px);
+  if (keep_radiance) {
+    out.radiance = ImageF32(cam.width_px, cam.height_px);
+  } else {
+    out.image = ImageU8(cam.width_px, cam.height_px);
+  }
   const int n = tracer.samples_per_axis();
   const double gain = 255.0 * s.camera.exposure;
   ImageF32 snow(cam.width_px, cam.height_px);  // radiance of the marine snow, splatted spot by spot
@@ -320,7 +324,7 @@ RenderedFrame render_cpu(const Scenario& s, const NetGeometry& net, const FrameS
       }
     }
   }
-  const uint32_t frame_key = hash3(static_cast<uint32_t>(f.frame), tracer.seed(), kStreamNoise);
+  const uint32_t frame_key = noise_frame_key(s, f.frame);
   auto render_row = [&](int y) {
     for (int x = 0; x < cam.width_px; ++x) {
       double L = 0, depth = 0, sample_depth = 0;
@@ -338,16 +342,13 @@ RenderedFrame render_cpu(const Scenario& s, const NetGeometry& net, const FrameS
       out.depth_m.at(x, y) = static_cast<float>(depth);
       L += snow.at(x, y);
       L *= std::pow(1 / D0.norm(), 4 * s.camera.vignetting);
-      double grey = gain * L;
-      if (options.noise) {
-        const auto pixel = static_cast<uint32_t>(y * cam.width_px + x);
-        const double sigma =
-            std::sqrt(s.camera.read_noise * s.camera.read_noise +
-                      s.camera.shot_noise * s.camera.shot_noise * std::max(grey, 0.0));
-        const uint32_t h = hash2(pixel, frame_key, 0);
-        grey += sigma * gaussian(h, hash32(h));
+      const double grey = gain * L;
+      if (keep_radiance) {
+        out.radiance.at(x, y) = static_cast<float>(grey);
+      } else {
+        out.image.at(x, y) = sensor_value(grey, static_cast<uint32_t>(y * cam.width_px + x),
+                                          frame_key, 0, s.camera, options.noise);
       }
-      out.image.at(x, y) = static_cast<uint8_t>(std::clamp(std::floor(grey + 0.5), 0.0, 255.0));
     }
   };
   const int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
@@ -359,6 +360,7 @@ RenderedFrame render_cpu(const Scenario& s, const NetGeometry& net, const FrameS
       });
     }
   }
+  if (optics && !options.radiance_only) apply_optics(s, f, options, out);
   return out;
 }
 

@@ -10,10 +10,17 @@ namespace pensight::sim {
 struct RenderOptions {
   bool noise = true;        // sensor noise (off for comparisons and geometry tests)
   bool marine_snow = true;  // suspended particles
+  // Only the grey radiance before the camera's optics and sensor (RenderedFrame::radiance): no
+  // defocus, motion blur, colour, noise, rounding or JPEG.
+  bool radiance_only = false;
 };
 
 struct RenderedFrame {
-  ImageU8 image;
+  ImageU8 image;        // the grey frame; empty with camera.colour or radiance_only
+  ImageRgb8 image_rgb;  // camera.colour: the colour frame
+  // radiance_only, or on the way through the optics (sim/optics.h): exposure x 255 x radiance
+  // (vignetting and marine snow included), unrounded grey levels.
+  ImageF32 radiance;
   // z-depth in the camera frame of the net seen by each pixel's centre ray, 0 where the pixel
   // sees no net (water, surface, fish, or net beyond net_visible_range_m).
   ImageF32 depth_m;

@@ -8,6 +8,7 @@
 #include "sim/marine_snow.h"
 #include "sim/net_geometry.h"
 #include "sim/net_mesh.h"
+#include "sim/optics.h"
 #include "sim/sim_hash.h"
 
 namespace pensight::sim {
@@ -29,13 +30,22 @@ constexpr uint32_t kGroupX = 8, kGroupY = 4, kRowsPerInvocation = 8, kTilePx = 8
 // FEATURES bits of render.comp.
 constexpr uint32_t kFeatureNoise = 1, kFeatureSnow = 2, kFeaturePlane = 4, kFeatureBottom = 8,
                    kFeatureWall = 16, kFeatureFouling = 32, kFeatureDistortion = 64,
-                   kFeatureDeform = 256, kFeaturePatches = 512, kFeatureRopes = 1024,
-                   kFeatureSeams = 2048, kFeatureRoundKnots = 4096;
+                   kFeatureRadiance = 128, kFeatureDeform = 256, kFeaturePatches = 512,
+                   kFeatureRopes = 1024, kFeatureSeams = 2048, kFeatureRoundKnots = 4096;
+
+// The shader writes the unrounded, noise-free radiance for the optics (optics.h) to work on.
+bool keep_radiance(const Scenario& s, const RenderOptions& o) {
+  return o.radiance_only || optics_enabled(s.camera);
+}
 
 uint32_t features(const Scenario& s, const RenderOptions& o) {
   const bool plane = s.pen.shape == NetShape::kPlane;
   uint32_t f = 0;
-  if (o.noise && (s.camera.read_noise > 0 || s.camera.shot_noise > 0)) f |= kFeatureNoise;
+  if (keep_radiance(s, o)) {
+    f |= kFeatureRadiance;
+  } else if (o.noise && (s.camera.read_noise > 0 || s.camera.shot_noise > 0)) {
+    f |= kFeatureNoise;
+  }
   if (o.marine_snow && s.water.marine_snow > 0) f |= kFeatureSnow;
   if (plane) f |= kFeaturePlane;
   if (!plane && s.pen.bottom) f |= kFeatureBottom;
@@ -328,10 +338,18 @@ RenderedFrame RenderVk::render(const FrameState& f) {
   res_->frame.upload(d.frame.data(), d.frame.size());
   res_->tiles.upload(d.tiles.data(), tile_bytes);
   res_->stream.submit_and_wait();
-  RenderedFrame out{ImageU8(width(), height()), ImageF32(width(), height())};
+  RenderedFrame out;
+  out.depth_m = ImageF32(width(), height());
+  res_->depth.download(out.depth_m.pixels);
+  if (keep_radiance(s_, options_)) {
+    out.radiance = ImageF32(width(), height());
+    res_->image.download(out.radiance.pixels);
+    if (!options_.radiance_only) apply_optics(s_, f, options_, out);
+    return out;
+  }
+  out.image = ImageU8(width(), height());
   const std::vector<float> grey = res_->image.to_vector();
   for (size_t i = 0; i < pixels; ++i) out.image.pixels[i] = static_cast<uint8_t>(grey[i]);
-  res_->depth.download(out.depth_m.pixels);
   return out;
 }
 

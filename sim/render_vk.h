@@ -27,13 +27,15 @@ class RenderVk {
   FrameData frame_data(const FrameState& f) const;
 
   // frame, tiles: at least as large as a FrameData's upload (uploaded before each submission);
-  // image: float[w*h] grey levels 0..255 (quantised, noise included); depth: float[w*h] net
+  // image: float[w*h] grey levels 0..255 (quantised, noise included; with radiance_only or any
+  // optics key the unrounded noise-free radiance, RenderedFrame::radiance); depth: float[w*h] net
   // z-depth in metres, 0 = no net.
   void record(vk::CommandStream& stream, const vk::Buffer& frame, const vk::Buffer& tiles,
               const vk::Buffer& image, const vk::Buffer& depth) const;
 
   // Convenience with buffers and a recorded stream kept between calls (grown and re-recorded
-  // when a frame has more snow than any before): upload, run, download.
+  // when a frame has more snow than any before): upload, run, download, and the optics
+  // (optics.h) on the CPU where the scenario asks for them.
   RenderedFrame render(const FrameState& f);
 
   int width() const;

@@ -85,6 +85,27 @@ CameraConfig parse_camera(const YamlMap& y) {
   c.vignetting = ranged(y, "vignetting", c.vignetting, 0, 1);
   c.read_noise = ranged(y, "read_noise", c.read_noise, 0, 100);
   c.shot_noise = ranged(y, "shot_noise", c.shot_noise, 0, 10);
+  c.f_number = ranged(y, "f_number", c.f_number, 0.5, 64);
+  c.pixel_pitch_m = ranged(y, "pixel_pitch_m", c.pixel_pitch_m, 0.5e-6, 50e-6);
+  c.focus_distance_m = ranged(y, "focus_distance_m", c.focus_distance_m, 0, 1000);
+  // The thin-lens blur circle needs the focus beyond the focal length (and a real lens focuses
+  // no closer than a few focal lengths).
+  const double focal_m = k.fx_px * c.pixel_pitch_m;
+  if (c.focus_distance_m > 0 && !(c.focus_distance_m > 2 * focal_m)) {
+    y.fail("focus_distance_m",
+           "must be 0 (pinhole) or more than twice the focal length fx * "
+           "pixel_pitch_m = " +
+               std::to_string(focal_m) + " m");
+  }
+  c.exposure_time_s = ranged(y, "exposure_time_s", c.exposure_time_s, 0, 1);
+  if (!(c.exposure_time_s * c.calibration.rate_hz <= 1)) {
+    y.fail("exposure_time_s", "must not be longer than the frame interval 1 / rate_hz");
+  }
+  c.colour = y.boolean("colour", c.colour);
+  c.jpeg_quality = y.integer("jpeg_quality", c.jpeg_quality);
+  if (c.jpeg_quality < 0 || c.jpeg_quality > 100) {
+    y.fail("jpeg_quality", "must be 0 (off) or 1 to 100");
+  }
   y.check_unknown_keys();
   return c;
 }

@@ -106,6 +106,13 @@ struct CameraConfig {
   double vignetting = 0.3;  // 0: none, 1: cos^4 fall-off
   double read_noise = 1.5;  // grey levels
   double shot_noise = 0.3;  // grey levels per sqrt(grey level)
+  // Optics and sensor output (sim/optics.h); the defaults leave the pinhole frame unchanged.
+  double focus_distance_m = 0;     // thin-lens focus (z-depth); 0: pinhole, no defocus
+  double f_number = 2.8;           // aperture diameter f / N
+  double pixel_pitch_m = 3.45e-6;  // focal length f = fx * pixel_pitch_m
+  double exposure_time_s = 0;      // motion blur over the exposure; 0: none
+  bool colour = false;             // RGB frames with per-channel water attenuation
+  int jpeg_quality = 0;            // 1-100: JPEG round trip before the PNG; 0: none
 };
 
 // A velocity error added to every DVL sample taken in [t_s, t_s + duration_s): a deterministic

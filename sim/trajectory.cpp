@@ -83,6 +83,9 @@ BodyState body_state(const Scenario& s, double t_s) {
   pose_at(t + kDt, after);
   state.velocity_world_mps =
       (after.T_world_body.translation() - before.T_world_body.translation()) / (t + kDt - t0);
+  const Eigen::AngleAxisd turn(before.T_world_body.linear().transpose() *
+                               after.T_world_body.linear());
+  state.angular_velocity_body_radps = turn.axis() * turn.angle() / (t + kDt - t0);
   return state;
 }
 

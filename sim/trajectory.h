@@ -11,6 +11,8 @@ struct BodyState {
   Eigen::Isometry3d T_world_body = Eigen::Isometry3d::Identity();
   double roll_rad = 0, pitch_rad = 0, yaw_rad = 0;
   Eigen::Vector3d velocity_world_mps = Eigen::Vector3d::Zero();
+  // In the body frame: d/dt R_world_body = R_world_body [w]x (motion blur, sim/optics.h).
+  Eigen::Vector3d angular_velocity_body_radps = Eigen::Vector3d::Zero();
 };
 
 // Position in P of a point `net_distance_m` in front of the undeformed net at (along, depth),

@@ -95,11 +95,20 @@ void DatasetWriter::check_frame(const char* what, int64_t t, int64_t& last, int 
   last = t;
 }
 
-void DatasetWriter::add_frame(int64_t timestamp_ns, const ImageU8& image) {
+template <class Pixel>
+void DatasetWriter::write_frame(int64_t timestamp_ns, const Image<Pixel>& image) {
   check_frame("DatasetWriter::add_frame", timestamp_ns, last_frame_ns_, image.width, image.height);
   const std::string name = frame_filename(timestamp_ns);
   write_png(temp_ / "cam0" / "data" / name, image);
   cam_csv_ << timestamp_ns << "," << name << "\n";
+}
+
+void DatasetWriter::add_frame(int64_t timestamp_ns, const ImageU8& image) {
+  write_frame(timestamp_ns, image);
+}
+
+void DatasetWriter::add_frame(int64_t timestamp_ns, const ImageRgb8& image) {
+  write_frame(timestamp_ns, image);
 }
 
 void DatasetWriter::add_groundtruth(const GroundTruthRow& r, const ImageU16& depth_mm) {

@@ -44,6 +44,8 @@ class DatasetWriter {
   // cam0 frame, stored as data/<timestamp_ns>.png; must match the calibration's size and come
   // after the previous frame.
   void add_frame(int64_t timestamp_ns, const ImageU8& image);
+  // The same in colour (an RGB PNG; readers convert it to grey, png_io.h).
+  void add_frame(int64_t timestamp_ns, const ImageRgb8& image);
   // Ground truth for the frame with the same timestamp: one data.csv row and its z-depth image
   // in millimetres (0 = no net).
   void add_groundtruth(const GroundTruthRow& row, const ImageU16& depth_mm);
@@ -61,6 +63,8 @@ class DatasetWriter {
  private:
   std::ofstream open_csv(const std::filesystem::path& rel, const char* header);
   void check_frame(const char* what, int64_t t, int64_t& last, int w, int h) const;
+  template <class Pixel>
+  void write_frame(int64_t timestamp_ns, const Image<Pixel>& image);
 
   std::filesystem::path root_;
   std::filesystem::path temp_;

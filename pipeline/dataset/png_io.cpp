@@ -83,4 +83,12 @@ void write_png(const std::filesystem::path& file, const ImageU16& image) {
                           const_cast<uint16_t*>(image.pixels.data())));
 }
 
+void write_png(const std::filesystem::path& file, const ImageRgb8& image) {
+  const cv::Mat rgb(image.height, image.width, CV_8UC3,
+                    const_cast<std::array<uint8_t, 3>*>(image.pixels.data()));
+  cv::Mat bgr;
+  cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);  // OpenCV writes its BGR order as RGB
+  write_mat(file, bgr);
+}
+
 }  // namespace pensight

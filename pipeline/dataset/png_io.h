@@ -18,5 +18,7 @@ ImageU16 read_png_u16(const std::filesystem::path& file, int expect_width = 0,
 // Lossless PNG, written whole (temporary name, then rename).
 void write_png(const std::filesystem::path& file, const ImageU8& image);
 void write_png(const std::filesystem::path& file, const ImageU16& image);
+// 8-bit colour (stored in the PNG's own RGB order).
+void write_png(const std::filesystem::path& file, const ImageRgb8& image);
 
 }  // namespace pensight

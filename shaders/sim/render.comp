@@ -249,7 +249,8 @@ const float kInf = 1e30;
 const uint kFeatureNoise = 1u, kFeatureSnow = 2u, kFeaturePlane = 4u, kFeatureBottom = 8u,
            kFeatureWall = 16u, kFeatureFouling = 32u, kFeatureDistortion = 64u,
            kFeatureDeform = 256u, kFeaturePatches = 512u, kFeatureRopes = 1024u,
-           kFeatureSeams = 2048u, kFeatureRoundKnots = 4096u;
+           kFeatureSeams = 2048u, kFeatureRoundKnots = 4096u,
+           kFeatureRadiance = 128u;  // unrounded, noise-free grey for sim/optics.h
 bool has(uint feature) {
   return (FEATURES & feature) != 0u;
 }
@@ -566,9 +567,9 @@ vec4 net_look(Hit h, vec3 Dw, float s) {
   return vec4(cover, knot, rope, fouled);
 }
 
-// First opaque surface (water surface, fish, basin wall): distance, radiance, transmittance.
+// First opaque surface (water surface, fish, basin wall): distance and radiance.
 // d: unit ray in P, dc: the same in the camera frame.
-vec3 first_opaque(vec3 d, vec3 dc) {
+vec2 first_opaque(vec3 d, vec3 dc) {
   float best = kInf;
   int kind = 0;  // 0 none, 1 surface, 2 fish, 3 wall
   uint fish = 0u;
@@ -589,7 +590,7 @@ vec3 first_opaque(vec3 d, vec3 dc) {
     best = tw;
     kind = 3;
   }
-  if (kind == 0) return vec3(kInf, background, 0.0);
+  if (kind == 0) return vec2(kInf, background);
   vec3 q = origin + best * d;
   float J;
   if (kind == 1) {
@@ -605,23 +606,40 @@ vec3 first_opaque(vec3 d, vec3 dc) {
     J = WALL_ALBEDO * irradiance(q.z, best * dc, vec3(1.0, 0.0, 0.0) * R_wc, false);
   }
   float T = exp(-ATTENUATION * best);
-  return vec3(best, J * T + background * (1.0 - T), T);
+  return vec2(best, J * T + background * (1.0 - T));
 }
 
-float lamp_backscatter(vec3 dc, float T_end) {
-  float s = 0.0;
-  for (uint i = 0u; i < NUM_LAMPS; ++i) s += LAMP_IE(i).x * 0.5 * (1.0 + dot(dc, LAMP_DIR(i)));
-  return LAMP_BACKSCATTER * s * (1.0 - T_end);
+// The lamps' beams scattered once towards the camera along the ray up to t_end (cut at the
+// visible range), sim/lamp_veil.cpp's quadrature; in the camera frame, where the lamps are
+// constants and the ray starts at 0.
+const int kLampVeilSamples = 12;    // sim/lamp_veil.h
+const float kLampVeilScale = 0.1;
+float lamp_backscatter(vec3 dc, float t_end) {
+  if (!(LAMP_BACKSCATTER > 0.0)) return 0.0;
+  float dw = log(1.0 + min(t_end, VISIBLE_RANGE) / kLampVeilScale) / float(kLampVeilSamples);
+  float ratio = exp(dw), growth = exp(0.5 * dw), sum = 0.0;
+  for (int k = 0; k < kLampVeilSamples; ++k, growth *= ratio) {
+    float s = kLampVeilScale * (growth - 1.0);
+    for (uint i = 0u; i < NUM_LAMPS; ++i) {
+      vec3 v = s * dc - LAMP_POS(i);
+      float r2 = dot(v, v), r = sqrt(r2);
+      float ca = dot(v, LAMP_DIR(i)) / r;
+      if (ca <= 0.0) continue;
+      sum += LAMP_IE(i).x * (s + kLampVeilScale) *
+             exp(LAMP_IE(i).y * log(ca) - ATTENUATION * (r + s)) / max(r2, 0.01);
+    }
+  }
+  return LAMP_BACKSCATTER * sum * dw;
 }
 
 float radiance(vec3 Dc, out float depth_m) {
   float len = length(Dc);
   vec3 Dw = R_wc * Dc, d = Dw / len, dc = Dc / len;
-  vec3 opaque = first_opaque(d, dc);
+  vec2 opaque = first_opaque(d, dc);
   Hit h;
   depth_m = 0.0;
   if (!intersect_net(origin, d, h) || h.t >= opaque.x) {
-    return opaque.y + lamp_backscatter(dc, opaque.z);
+    return opaque.y + lamp_backscatter(dc, opaque.x);
   }
   if (h.t <= VISIBLE_RANGE) depth_m = h.t / len * Dc.z;
   vec4 look = net_look(h, Dw, h.t / len);
@@ -642,7 +660,7 @@ float radiance(vec3 Dc, out float depth_m) {
   float L = cover * twine + (1.0 - cover) * opaque.y;
   if (look.z > 0.0)
     L = look.z * (ROPE_ALBEDO * E * T + background * (1.0 - T)) + (1.0 - look.z) * L;
-  return L + lamp_backscatter(dc, T);
+  return L + lamp_backscatter(dc, h.t);
 }
 
 float gaussian(uint h1, uint h2) {
@@ -703,6 +721,6 @@ void main() {
       uint h = hash2(i, frame_key, 0u);
       grey += sigma * gaussian(h, hash32(h));
     }
-    image[i] = clamp(floor(grey + 0.5), 0.0, 255.0);
+    image[i] = has(kFeatureRadiance) ? grey : clamp(floor(grey + 0.5), 0.0, 255.0);
   }
 }
