@@ -33,7 +33,8 @@ MeshAngleMeasurement measure_mesh_angle(std::span<const RoiNetPoint> rois,
   const Eigen::Vector3d right =
       up.cross(n).dot(Eigen::Vector3d::UnitX()) >= 0 ? up.cross(n) : n.cross(up);
   struct Cell {
-    Eigen::Vector3d b1, b2;  // unit bars, b2 signed for the acute angle
+    Eigen::Vector3d b1, b2;    // unit bars, b2 signed for the acute angle
+    Eigen::Vector3d bisector;  // of the acute angle
   };
   std::vector<Cell> cells;
   std::vector<double> bisector_offsets;  // of the acute bisector from the nearest of up / right
@@ -44,10 +45,10 @@ MeshAngleMeasurement measure_mesh_angle(std::span<const RoiNetPoint> rois,
     if (!(l1 > 0 && l2 > 0) || std::abs(l1 - l2) > params.max_bar_mismatch * std::max(l1, l2)) {
       continue;
     }
-    Cell c{bars[0] / l1, bars[1] / l2};
+    Cell c{bars[0] / l1, bars[1] / l2, Eigen::Vector3d::Zero()};
     if (c.b1.dot(c.b2) < 0) c.b2 = -c.b2;
-    const Eigen::Vector3d bisector = (c.b1 + c.b2).normalized();
-    const double to_up = std::acos(std::min(1.0, std::abs(bisector.dot(up))));
+    c.bisector = (c.b1 + c.b2).normalized();
+    const double to_up = std::acos(std::min(1.0, std::abs(c.bisector.dot(up))));
     bisector_offsets.push_back(std::min(to_up, std::numbers::pi / 2 - to_up));
     cells.push_back(c);
   }
@@ -59,11 +60,9 @@ MeshAngleMeasurement measure_mesh_angle(std::span<const RoiNetPoint> rois,
   std::vector<double> angles;
   for (const Cell& c : cells) {
     // Of the cell's two angles, the one whose bisector is nearer the reference.
-    const Eigen::Vector3d acute_bisector = (c.b1 + c.b2).normalized();
     const Eigen::Vector3d obtuse_bisector = (c.b1 - c.b2).normalized();
     const double acute = angle_between(c.b1, c.b2);
-    angles.push_back(std::abs(acute_bisector.dot(reference)) >=
-                             std::abs(obtuse_bisector.dot(reference))
+    angles.push_back(std::abs(c.bisector.dot(reference)) >= std::abs(obtuse_bisector.dot(reference))
                          ? acute
                          : std::numbers::pi - acute);
   }

@@ -1,6 +1,6 @@
 #include "pipeline/net_detector.h"
 
-#include <Eigen/Geometry>
+#include <Eigen/Core>
 #include <optional>
 #include <thread>
 
@@ -210,19 +210,18 @@ NetDetection NetDetector::detect(const ImageU8& image, int64_t timestamp_ns) {
   RelativePoseFftParams plane_only = m.config.pose;
   plane_only.check_tilts = false;
   plane_only.fuse_roi_tilt = false;
-  std::optional<Eigen::Vector3d> normal;
   double modelled = m.mesh_filter.angle_rad();
   for (int round = 0; round < kMeshAngleRounds; ++round) {
     const FftRelativePose plane = relative_pose_fft(d.points, plane_only);
     if (!plane.valid()) break;
-    normal = Eigen::Vector3d(std::tan(plane.psi_net_rad), std::tan(plane.pitch_net_rad), -1)
-                 .normalized();
-    d.mesh_angle_frame = measure_mesh_angle(d.points, plane.inlier, *normal, m.camera,
+    const Eigen::Vector3d normal =
+        net_plane_normal(std::tan(plane.psi_net_rad), std::tan(plane.pitch_net_rad));
+    d.mesh_angle_frame = measure_mesh_angle(d.points, plane.inlier, normal, m.camera,
                                             m.config.mesh_type, m.config.mesh_angle);
     if (!d.mesh_angle_frame.valid()) break;
     const double angle = round == 0 ? m.mesh_filter.update(d.mesh_angle_frame)
                                     : m.mesh_filter.refine(d.mesh_angle_frame);
-    m.model_points(d, angle, &*normal);
+    m.model_points(d, angle, &normal);
     if (std::abs(angle - modelled) < kMeshAngleSettled_rad) break;
     modelled = angle;
   }

@@ -106,10 +106,6 @@ std::optional<Eigen::Vector3d> nearer_normal(const RoiNetPoint& roi,
   return m;
 }
 
-Eigen::Vector3d plane_normal(double slope_x, double slope_y) {
-  return Eigen::Vector3d(slope_x, slope_y, -1).normalized();
-}
-
 // Plane slopes (a, b) fused with the inliers' per-ROI slopes; see RelativePoseFftParams.
 void fuse_roi_tilt(Eigen::Vector3d& plane, const std::vector<Sample>& s, const std::vector<int>& in,
                    std::span<const RoiNetPoint> rois) {
@@ -125,7 +121,7 @@ void fuse_roi_tilt(Eigen::Vector3d& plane, const std::vector<Sample>& s, const s
   if (dof < 1) return;
   const Eigen::Matrix3d cov = (wr2 / dof) * ata.inverse();
   // Each inlier's slopes from its normal candidate nearer the plane's normal.
-  const Eigen::Vector3d normal = plane_normal(plane(1), plane(2));
+  const Eigen::Vector3d normal = net_plane_normal(plane(1), plane(2));
   Eigen::Vector2d sum = Eigen::Vector2d::Zero(), sq = Eigen::Vector2d::Zero();
   double weight = 0;
   for (int i : in) {
@@ -173,7 +169,7 @@ std::string implausible(const Eigen::Vector3d& plane, const std::vector<Sample>&
     return text;
   }
   if (!params.check_tilts) return {};
-  const Eigen::Vector3d normal = plane_normal(plane(1), plane(2));
+  const Eigen::Vector3d normal = net_plane_normal(plane(1), plane(2));
   std::vector<double> angles;
   for (int i : in) {
     if (const auto m = nearer_normal(rois[s[i].roi], normal)) {
@@ -195,6 +191,10 @@ std::string implausible(const Eigen::Vector3d& plane, const std::vector<Sample>&
 }
 
 }  // namespace
+
+Eigen::Vector3d net_plane_normal(double slope_x, double slope_y) {
+  return Eigen::Vector3d(slope_x, slope_y, -1).normalized();
+}
 
 FftRelativePose relative_pose_fft(std::span<const RoiNetPoint> rois,
                                   const RelativePoseFftParams& params) {

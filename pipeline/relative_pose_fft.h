@@ -9,6 +9,7 @@
 // inliers' own tilts (RoiNetPoint::normals_C), which need no baseline: where the net covers only
 // part of the image the points span a short baseline and the plane's slope is poorly determined.
 // Fewer valid ROIs than the minimum, or no consistent plane: NaN and a reason.
+#include <Eigen/Core>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -58,6 +59,10 @@ struct FftRelativePose {
   std::string reason;           // why the pose is NaN; empty when valid
   bool valid() const { return reason.empty(); }
 };
+
+// Unit normal, pointing at the camera, of the plane z = slope_x x + slope_y y + c in C
+// (slopes tan(psi_net), tan(pitch_net)).
+Eigen::Vector3d net_plane_normal(double slope_x, double slope_y);
 
 FftRelativePose relative_pose_fft(std::span<const RoiNetPoint> rois,
                                   const RelativePoseFftParams& params = {});
