@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <fstream>
+#include <optional>
 #include <sstream>
 
 #include "pipeline/dataset/strict_yaml.h"
@@ -136,13 +137,9 @@ NetConfig parse_net(const YamlMap& y) {
   NetConfig n;
   n.mesh_m = positive(y, "mesh_m", n.mesh_m);
   const std::string type = y.string("mesh_type", to_string(n.mesh_type));
-  if (type == to_string(MeshType::kSquare)) {
-    n.mesh_type = MeshType::kSquare;
-  } else if (type == to_string(MeshType::kDiamond)) {
-    n.mesh_type = MeshType::kDiamond;
-  } else {
-    y.fail("mesh_type", "must be 'square' or 'diamond', got '" + type + "'");
-  }
+  const std::optional<MeshType> mesh_type = parse_mesh_type(type);
+  if (!mesh_type) y.fail("mesh_type", "must be 'square' or 'diamond', got '" + type + "'");
+  n.mesh_type = *mesh_type;
   n.opening_angle_deg = ranged(y, "opening_angle_deg", n.opening_angle_deg, 45, 135);
   n.opening_angle_variation_deg =
       ranged(y, "opening_angle_variation_deg", n.opening_angle_variation_deg, 0, 10);

@@ -165,6 +165,13 @@ const char* to_string(MeshType type) {
   return type == MeshType::kDiamond ? "diamond" : "square";
 }
 
+std::optional<MeshType> parse_mesh_type(const std::string& name) {
+  for (MeshType t : {MeshType::kSquare, MeshType::kDiamond}) {
+    if (name == to_string(t)) return t;
+  }
+  return std::nullopt;
+}
+
 SceneConfig read_scene_yaml(const std::filesystem::path& file) {
   const YamlMap y = YamlMap::load_file(file, UnknownKeys::kNote);
   SceneConfig s;
@@ -173,11 +180,8 @@ SceneConfig read_scene_yaml(const std::filesystem::path& file) {
   s.initial_rho_rad = y.optional_number("initial_rho_rad");
   if (y.has("net_mesh_type")) {
     const std::string type = y.string("net_mesh_type");
-    if (type == to_string(MeshType::kSquare)) {
-      s.net_mesh_type = MeshType::kSquare;
-    } else if (type == to_string(MeshType::kDiamond)) {
-      s.net_mesh_type = MeshType::kDiamond;
-    } else {
+    s.net_mesh_type = parse_mesh_type(type);
+    if (!s.net_mesh_type) {
       y.fail("net_mesh_type", "'" + type + "' is not a mesh type: use square or diamond");
     }
   }

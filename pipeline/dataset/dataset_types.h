@@ -26,6 +26,8 @@ struct CameraCalibration {
 // horizontal and vertical, diamond = bars at +-angle/2 from the vertical.
 enum class MeshType { kSquare, kDiamond };
 const char* to_string(MeshType type);  // "square" | "diamond", as in scene.yaml
+// The type that to_string() names `name`; nullopt for any other text.
+std::optional<MeshType> parse_mesh_type(const std::string& name);
 
 // scene.yaml.
 struct SceneConfig {
