@@ -5,6 +5,7 @@
 #include "apps/progress_bar.h"
 #include "pipeline/dataset/diagnostics_csv.h"
 #include "pipeline/dataset/global_pose_csv.h"
+#include "pipeline/dataset/trajectory_tum.h"
 #include "pipeline/runner.h"
 
 namespace pensight::app {
@@ -62,8 +63,8 @@ int cmd_run(const Args& args) {
               options.realtime ? "paced by the timestamps" : "as fast as possible",
               format_timing_table(s.timing).c_str());
   std::printf("global pose sensors:\n%s", s.global_pose_counters.c_str());
-  std::printf("wrote %s/estimates.csv, %s, %s, overlays/, report.html\n", out_dir.c_str(),
-              kDiagnosticsFile, kTimingFile);
+  std::printf("wrote %s/estimates.csv, %s, %s, %s, overlays/, report.html\n", out_dir.c_str(),
+              kDiagnosticsFile, kTrajectoryTumFile, kTimingFile);
   if (options.write_published_global_pose)
     std::printf("wrote %s/%s (published global-pose node, the baseline)\n", out_dir.c_str(),
                 kPublishedGlobalPoseFile);

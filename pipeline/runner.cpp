@@ -13,6 +13,7 @@
 #include "pipeline/dataset/diagnostics_csv.h"
 #include "pipeline/dataset/estimates_csv.h"
 #include "pipeline/dataset/global_pose_csv.h"
+#include "pipeline/dataset/trajectory_tum.h"
 #include "pipeline/pipeline.h"
 #include "pipeline/report/overlay.h"
 #include "pipeline/report/report_html.h"
@@ -90,14 +91,15 @@ class SensorReplay {
 };
 
 // The per-frame outputs, written in frame order as results arrive; frames the replay could not
-// load get NaN rows in their place.
+// load get NaN rows in their place (and no trajectory line).
 class RunWriter {
  public:
   RunWriter(const Dataset& d, const std::filesystem::path& out, bool published, RunSummary& s)
       : d_(d),
         summary_(s),
         estimates_(out / "estimates.csv"),
-        diagnostics_(out / kDiagnosticsFile) {
+        diagnostics_(out / kDiagnosticsFile),
+        trajectory_(out / kTrajectoryTumFile) {
     if (published) published_.emplace(out / kPublishedGlobalPoseFile);
     skipped_.assign(d.frames.size(), "");
   }
@@ -148,6 +150,7 @@ class RunWriter {
         ++summary_.frames_without_pose;
       }
       fill_global_pose(row, r.global_pose);
+      trajectory_.write(r.timestamp_ns, r.global_pose.T_pen_body);
       if (r.published) fill_global_pose(published_row, *r.published);
       diag.dvl_plane_d_m = r.dvl_plane.d_net_m;
       diag.dvl_plane_psi_rad = r.dvl_plane.psi_net_rad;
@@ -167,6 +170,7 @@ class RunWriter {
     write_skipped();
     estimates_.finish();
     diagnostics_.finish();
+    trajectory_.finish();
     if (published_) published_->finish();
   }
 
@@ -217,6 +221,7 @@ class RunWriter {
   mutable std::mutex mutex_;
   EstimatesCsvWriter estimates_;
   DiagnosticsCsvWriter diagnostics_;
+  TrajectoryTumWriter trajectory_;  // frames with a body pose only
   std::optional<GlobalPoseCsvWriter> published_;
   std::vector<std::string> skipped_;   // per frame: why it could not be loaded, or empty
   std::filesystem::path overlay_dir_;  // empty: no overlays

@@ -212,6 +212,11 @@ GlobalPose GlobalPoseEstimator::estimate(int64_t t_ns) {
   out.psi_g_rad = rho_known ? wrap_angle(x(kPsi)) : kNaN;
   out.psi_r_rad = wrap_angle(x(kPsi) - rho);
   out.z_g_m = std::sqrt(out.covariance(2, 2)) <= cfg_.max_z_sigma_m ? x(kZ) : kNaN;
+  if (std::isfinite(out.rho_g_rad) && std::isfinite(out.z_g_m)) {
+    const auto [roll, pitch] = level_at(t_ns);
+    out.T_pen_body = T_pen_body(x, roll, pitch);
+    out.T_pen_camera = out.T_pen_body * cfg_.T_body_camera;
+  }
   return out;
 }
 

@@ -118,7 +118,8 @@ class GlobalPoseEstimator {
   void add(const NetObservation& obs);
 
   // Applies every buffered sample up to t_ns and returns the estimate at t_ns (one
-  // estimates.csv row's r_g, rho_g, z_g, psi_g, with psi_r and the covariance).
+  // estimates.csv row's r_g, rho_g, z_g, psi_g, with psi_r, the covariance and the body and
+  // camera poses in P, measurements.h).
   GlobalPose estimate(int64_t t_ns);
 
   GlobalPoseCounters counters() const;

@@ -3,6 +3,7 @@
 // PressureSample, AttitudeSample of pipeline/dataset/dataset_types.h, fed as read), and what they
 // give. Timestamps are integer nanoseconds on the clock shared by all sensors.
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <cstdint>
 #include <vector>
 
@@ -23,7 +24,13 @@ struct NetObservation {
 };
 
 // The estimates.csv columns this stage fills (NaN where not available), the yaw relative to the
-// radial direction, and the covariance of (r_g, rho_g, z_g, psi_g).
+// radial direction, the covariance of (r_g, rho_g, z_g, psi_g), and the full 6-DoF pose in P:
+// T_pen_body takes body coordinates to P (translation (r_g cos rho_g, r_g sin rho_g, z_g); rotation
+// R_P_B = Rz(psi_g) Ry(pitch) Rx(roll), roll and pitch from the attitude sensor: interpolated at
+// t_ns by the fused estimator, the latest sample in the published baseline, 0 without one), and
+// T_pen_camera = T_pen_body * T_body_camera (cam0's T_BS). Both are all-NaN
+// matrices (nan_isometry()) whenever any of r_g, rho_g, z_g or psi_g is NaN: before the lock,
+// while rho_g is not observable, without a pressure sensor.
 struct GlobalPose {
   int64_t t_ns = 0;
   double r_g_m = kNaN;
@@ -32,6 +39,8 @@ struct GlobalPose {
   double psi_g_rad = kNaN;
   double psi_r_rad = kNaN;
   Eigen::Matrix4d covariance = Eigen::Matrix4d::Constant(kNaN);
+  Eigen::Isometry3d T_pen_body = nan_isometry();
+  Eigen::Isometry3d T_pen_camera = nan_isometry();
 };
 
 }  // namespace pensight::global_pose

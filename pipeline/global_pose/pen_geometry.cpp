@@ -25,6 +25,16 @@ Eigen::Matrix3d rotation_level_body(double roll_rad, double pitch_rad) {
       .toRotationMatrix();
 }
 
+Eigen::Isometry3d T_pen_body_cylindrical(double r_m, double rho_rad, double z_m, double psi_rad,
+                                         double roll_rad, double pitch_rad) {
+  for (const double v : {r_m, rho_rad, z_m, psi_rad, roll_rad, pitch_rad})
+    if (!std::isfinite(v)) return nan_isometry();
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = rotation_pen_body(roll_rad, pitch_rad, psi_rad);
+  T.translation() = Eigen::Vector3d(r_m * std::cos(rho_rad), r_m * std::sin(rho_rad), z_m);
+  return T;
+}
+
 std::optional<double> ray_to_cylinder(const Eigen::Vector3d& origin_P, const Eigen::Vector3d& dir_P,
                                       double radius_m) {
   const Eigen::Vector2d o = origin_P.head<2>();

@@ -19,6 +19,18 @@ Eigen::Matrix3d rotation_pen_body(double roll_rad, double pitch_rad, double yaw_
 // R_L_B: takes body-frame vectors to the levelled frame.
 Eigen::Matrix3d rotation_level_body(double roll_rad, double pitch_rad);
 
+// An isometry whose 4x4 matrix is all NaN: a pose that is not known.
+inline Eigen::Isometry3d nan_isometry() {
+  Eigen::Isometry3d T;
+  T.matrix().setConstant(kNaN);
+  return T;
+}
+
+// The body pose in P from the global pose's cylindrical coordinates (r, rho, z), its yaw psi and
+// the attitude's roll and pitch; nan_isometry() when any of them is not finite.
+Eigen::Isometry3d T_pen_body_cylindrical(double r_m, double rho_rad, double z_m, double psi_rad,
+                                         double roll_rad, double pitch_rad);
+
 // Distance along the unit direction `dir_P` from `origin_P` (inside the pen) to the vertical
 // cylinder x^2 + y^2 = radius^2; nullopt when the ray is vertical or starts outside.
 std::optional<double> ray_to_cylinder(const Eigen::Vector3d& origin_P, const Eigen::Vector3d& dir_P,

@@ -75,6 +75,11 @@ GlobalPose PublishedGlobalPose::add(const NetObservation& obs) {
     out.rho_g_rad = wrap_angle(rho_rad_);
     out.psi_g_rad = wrap_angle(rho_rad_ + fix_.psi_r_rad);
   }
+  // The latest attitude sample's roll and pitch (0 before one) even when the fix assumes them 0:
+  // the pose reports the measured attitude.
+  out.T_pen_body = T_pen_body_cylindrical(out.r_g_m, out.rho_g_rad, out.z_g_m, out.psi_g_rad,
+                                          roll_rad_, pitch_rad_);
+  if (out.T_pen_body.matrix().allFinite()) out.T_pen_camera = out.T_pen_body * cfg_.T_body_camera;
   return out;
 }
 

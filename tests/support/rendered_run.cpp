@@ -58,12 +58,13 @@ RenderedDataset::~RenderedDataset() {
 
 RenderedRun RenderedDataset::run(const Dataset& d, const std::string& name,
                                  std::vector<EstimateRow>* published_rows) const {
-  RenderedRun run{d, {}, {}};
+  RenderedRun run{d, {}, {}, {}};
   RunOptions options;
   options.detector.backend = Backend::kCpu;
   options.write_published_global_pose = published_rows != nullptr;
   run.summary = run_dataset(d, dir_ / name, options, test_device());
   run.rows = read_estimates_csv(dir_ / name / "estimates.csv");
+  run.trajectory = read_trajectory_tum(dir_ / name / kTrajectoryTumFile);
   if (published_rows)
     *published_rows = read_global_pose_csv(dir_ / name / kPublishedGlobalPoseFile);
   return run;

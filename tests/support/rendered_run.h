@@ -1,13 +1,14 @@
 #pragma once
 // The whole chain on a rendered sequence, for estimator tests against the synthetic world:
 // scenario -> CPU reference renderer (1 sample per pixel) -> dataset in a temporary folder ->
-// `pensight run`'s pipeline on the CPU backend -> estimates. The folder is removed afterwards;
-// the returned dataset keeps its ground truth (read up front) but no longer its images.
+// `pensight run`'s pipeline on the CPU backend -> estimates and trajectory. The folder is removed
+// afterwards; the returned dataset keeps its ground truth (read up front) but no longer its images.
 #include <string>
 #include <vector>
 
 #include "pipeline/dataset/dataset_reader.h"
 #include "pipeline/dataset/estimates_csv.h"
+#include "pipeline/dataset/trajectory_tum.h"
 #include "pipeline/runner.h"
 #include "sim/scenario.h"
 
@@ -20,6 +21,7 @@ sim::Scenario shipped_scenario(const std::string& file, double duration_s = 0);
 struct RenderedRun {
   Dataset dataset;
   std::vector<EstimateRow> rows;
+  std::vector<TumPose> trajectory;  // OUT/trajectory_tum.txt
   RunSummary summary;
 };
 

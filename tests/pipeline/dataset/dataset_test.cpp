@@ -1,10 +1,11 @@
-// Dataset contract I/O: round trips through DatasetWriter/read_dataset and EstimatesCsvWriter,
-// and the refusals for malformed input.
+// Dataset contract I/O: round trips through DatasetWriter/read_dataset, EstimatesCsvWriter and
+// TrajectoryTumWriter, and the refusals for malformed input.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <cmath>
 #include <fstream>
+#include <numbers>
 #include <opencv2/imgcodecs.hpp>
 #include <random>
 
@@ -14,6 +15,7 @@
 #include "pipeline/dataset/dataset_writer.h"
 #include "pipeline/dataset/estimates_csv.h"
 #include "pipeline/dataset/global_pose_csv.h"
+#include "pipeline/dataset/trajectory_tum.h"
 #include "runtime/error.h"
 #include "runtime/log.h"
 #include "tests/support/vulkan_fixture.h"
@@ -465,6 +467,62 @@ TEST_F(DatasetTest, PublishedGlobalPoseCsvRoundTrip) {
     FAIL() << "a 4-column row was accepted";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("short.csv"), std::string::npos) << e.what();
+  }
+}
+
+// OUT/trajectory_tum.txt: the exact text of known poses (nanoseconds kept, qw >= 0 where Eigen's
+// conversion gives qw < 0 for a 200 deg yaw), poses with a NaN left out, written whole, read back,
+// and a malformed line named in the error.
+TEST_F(DatasetTest, TrajectoryTumText) {
+  const fs::path file = dir_ / kTrajectoryTumFile;
+  Eigen::Isometry3d yawed = Eigen::Isometry3d::Identity();
+  yawed.linear() = rotation_from_rpy(0, 0, 200 * std::numbers::pi / 180);
+  yawed.translation() = Eigen::Vector3d(1.5, -2.25, 3);
+  Eigen::Isometry3d rolled = Eigen::Isometry3d::Identity();
+  rolled.linear() = rotation_from_rpy(std::numbers::pi / 2, 0, 0);
+  Eigen::Isometry3d unknown = Eigen::Isometry3d::Identity();
+  unknown.matrix().setConstant(kNaN);
+  Eigen::Isometry3d half_known = yawed;
+  half_known.translation().x() = kNaN;
+  {
+    TrajectoryTumWriter w(file);
+    EXPECT_TRUE(w.write(1'700'000'000'123'456'789, yawed));
+    EXPECT_FALSE(w.write(1'700'000'000'223'456'789, unknown));
+    EXPECT_FALSE(w.write(1'700'000'000'323'456'789, half_known));
+    EXPECT_TRUE(w.write(-1'500'000'000, rolled));
+    EXPECT_TRUE(w.write(5, rolled));
+    EXPECT_FALSE(fs::exists(file));
+    w.finish();
+  }
+  std::ifstream in(file);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(text,
+            "1700000000.123456789 1.5 -2.25 3 0 0 -0.984807753 0.173648178\n"
+            "-1.500000000 0 0 0 0.707106781 0 0 0.707106781\n"
+            "0.000000005 0 0 0 0.707106781 0 0 0.707106781\n");
+  const std::vector<TumPose> poses = read_trajectory_tum(file);
+  ASSERT_EQ(poses.size(), 3u);
+  EXPECT_EQ(poses[0].timestamp_ns, 1'700'000'000'123'456'789);
+  EXPECT_EQ(poses[1].timestamp_ns, -1'500'000'000);
+  EXPECT_EQ(poses[2].timestamp_ns, 5);
+  EXPECT_EQ(poses[0].p_m, yawed.translation());
+  // 9 significant digits: the rotation comes back within 1e-8 rad.
+  EXPECT_LT(poses[0].q.angularDistance(Eigen::Quaterniond(yawed.linear())), 1e-8);
+  EXPECT_LT(poses[2].q.angularDistance(Eigen::Quaterniond(rolled.linear())), 1e-8);
+  { TrajectoryTumWriter unfinished(dir_ / "other.txt"); }
+  EXPECT_FALSE(fs::exists(dir_ / "other.txt"));
+  // What other tools write: comments, blank lines, tabs, an exponent.
+  std::ofstream(dir_ / "foreign.txt") << "# t x y z qx qy qz qw\n\n1.5e0\t1 2 3  0 0 0 1\n";
+  const std::vector<TumPose> foreign = read_trajectory_tum(dir_ / "foreign.txt");
+  ASSERT_EQ(foreign.size(), 1u);
+  EXPECT_EQ(foreign[0].timestamp_ns, 1'500'000'000);
+  EXPECT_EQ(foreign[0].p_m, Eigen::Vector3d(1, 2, 3));
+  std::ofstream(dir_ / "short.txt") << "1.0 2 3 4 0 0 0\n";
+  try {
+    read_trajectory_tum(dir_ / "short.txt");
+    FAIL() << "a 7-field line was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("short.txt:1"), std::string::npos) << e.what();
   }
 }
 

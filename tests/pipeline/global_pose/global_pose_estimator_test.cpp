@@ -9,6 +9,7 @@
 #include <string>
 
 #include "pipeline/evaluation/evaluation.h"
+#include "pipeline/global_pose/attitude_series.h"
 #include "pipeline/global_pose/published_global_pose.h"
 #include "runtime/error.h"
 #include "runtime/log.h"
@@ -341,6 +342,141 @@ TEST(GlobalPoseEstimator, WithoutPressureDepthIsNaN) {
   EXPECT_TRUE(e.z_m.empty());  // every z_g was NaN
   expect_locked_quickly(e);    // the other values were all produced
   EXPECT_LE(sim::median(e.r_m), 0.03);
+}
+
+bool all_nan(const Eigen::Isometry3d& T) {
+  return T.matrix().array().isNaN().all();
+}
+
+// The rotation's yaw, pitch and roll (R = Rz(yaw) Ry(pitch) Rx(roll), |pitch| < 90 deg).
+Eigen::Vector3d yaw_pitch_roll(const Eigen::Matrix3d& R) {
+  return {std::atan2(R(1, 0), R(0, 0)), -std::asin(R(2, 0)), std::atan2(R(2, 1), R(2, 2))};
+}
+
+// The 6-DoF pose is the estimate itself: translation (r_g cos rho_g, r_g sin rho_g, z_g), yaw
+// psi_g, roll and pitch the attitude sensor's at the frame time (interpolated as the estimator
+// levels its sensors, AttitudeSeries), and T_pen_camera adds cam0's T_BS. Both are rounding away
+// from these (1e-9). The first frames see no net: before the lock both poses are all NaN. Without
+// a pressure sensor z_g is NaN and so are the poses.
+TEST(GlobalPoseEstimator, BodyAndCameraPoseInThePen) {
+  sim::Trajectory traj;
+  traj.duration_s = 6;
+  traj.roll_pitch_amp_rad = 6 * kDeg;
+  std::mt19937_64 rng(testing::fresh_seed());
+  sim::Sequence seq = sim::make_sequence(traj, {}, rng());
+  const size_t blind = 3;
+  for (size_t i = 0; i < blind; ++i) {
+    seq.camera[i].points_C.clear();
+    seq.camera[i].quality.clear();
+  }
+  GlobalPoseEstimator est(estimator_config(12.0));
+  AttitudeSeries attitude;
+  int before_lock = 0, with_pose = 0;
+  double max_abs_roll = 0, max_abs_pitch = 0;
+  sim::Visitor v;
+  v.dvl = [&](const DvlSample& s) { est.add(s); };
+  v.depth = [&](const PressureSample& s) { est.add(s); };
+  v.attitude = [&](const AttitudeSample& s) {
+    est.add(s);
+    attitude.insert(s);
+  };
+  v.camera = [&](const NetObservation& obs, const sim::Pose&) {
+    est.add(obs);
+    const GlobalPose g = est.estimate(obs.t_ns);
+    if (!est.initialised()) {
+      ++before_lock;
+      EXPECT_TRUE(all_nan(g.T_pen_body) && all_nan(g.T_pen_camera)) << obs.t_ns;
+      return;
+    }
+    ASSERT_TRUE(std::isfinite(g.r_g_m) && std::isfinite(g.rho_g_rad) && std::isfinite(g.z_g_m) &&
+                std::isfinite(g.psi_g_rad));
+    ++with_pose;
+    const Eigen::Vector3d p = g.T_pen_body.translation();
+    EXPECT_NEAR(p.x(), g.r_g_m * std::cos(g.rho_g_rad), 1e-9);
+    EXPECT_NEAR(p.y(), g.r_g_m * std::sin(g.rho_g_rad), 1e-9);
+    EXPECT_NEAR(p.z(), g.z_g_m, 1e-9);
+    const Eigen::Matrix3d R = g.T_pen_body.linear();
+    EXPECT_TRUE((R.transpose() * R).isIdentity(1e-12));
+    const Eigen::Vector3d ypr = yaw_pitch_roll(R);
+    const auto a = attitude.at(obs.t_ns, est.config().max_attitude_gap_s);
+    ASSERT_TRUE(a.has_value());
+    EXPECT_NEAR(wrap_angle(ypr[0] - g.psi_g_rad), 0, 1e-9);
+    EXPECT_NEAR(ypr[1], a->pitch_rad, 1e-9);
+    EXPECT_NEAR(ypr[2], a->roll_rad, 1e-9);
+    max_abs_pitch = std::max(max_abs_pitch, std::abs(ypr[1]));
+    max_abs_roll = std::max(max_abs_roll, std::abs(ypr[2]));
+    EXPECT_TRUE(
+        g.T_pen_camera.matrix().isApprox((g.T_pen_body * sim::forward_camera()).matrix(), 1e-12));
+    EXPECT_EQ(g.T_pen_camera.matrix().row(3), Eigen::RowVector4d(0, 0, 0, 1));
+  };
+  sim::replay(seq, v);
+  EXPECT_GE(before_lock, static_cast<int>(blind));
+  EXPECT_GE(with_pose + before_lock + 5, static_cast<int>(seq.camera.size()));
+  // Not a comparison of zeros: the vehicle rolls and pitches by several degrees.
+  EXPECT_GT(max_abs_roll, 2 * kDeg);
+  EXPECT_GT(max_abs_pitch, 2 * kDeg);
+
+  seq.depth.clear();
+  auto no_depth = estimator_config(12.0);
+  no_depth.has_pressure = false;
+  LogCapture log;
+  GlobalPoseEstimator est_no_depth(no_depth);
+  int with_r_g = 0, with_finite_pose = 0;
+  v.depth = nullptr;
+  v.dvl = [&](const DvlSample& s) { est_no_depth.add(s); };
+  v.attitude = [&](const AttitudeSample& s) { est_no_depth.add(s); };
+  v.camera = [&](const NetObservation& obs, const sim::Pose&) {
+    est_no_depth.add(obs);
+    const GlobalPose g = est_no_depth.estimate(obs.t_ns);
+    with_r_g += std::isfinite(g.r_g_m) && std::isfinite(g.rho_g_rad);
+    with_finite_pose += !all_nan(g.T_pen_body) || !all_nan(g.T_pen_camera);
+  };
+  sim::replay(seq, v);
+  EXPECT_GT(with_r_g, 0);
+  EXPECT_EQ(with_finite_pose, 0);
+}
+
+// The published baseline's pose: its own r_g, rho_g, z_g, psi_g with the latest attitude
+// sample's roll and pitch (even though its fix assumes them 0), NaN until it has all four.
+TEST(PublishedGlobalPose, BodyAndCameraPoseInThePen) {
+  sim::Trajectory traj;
+  traj.duration_s = 3;
+  traj.roll_pitch_amp_rad = 6 * kDeg;
+  std::mt19937_64 rng(testing::fresh_seed());
+  const sim::Sequence seq = sim::make_sequence(traj, {}, rng());
+  PublishedGlobalPoseConfig cfg;
+  cfg.T_body_camera = sim::forward_camera();
+  PublishedGlobalPose node(cfg);
+  AttitudeSample latest{.timestamp_ns = 0, .roll_rad = 0, .pitch_rad = 0, .yaw_rad = 0};
+  int with_pose = 0;
+  sim::Visitor v;
+  v.dvl = [&](const DvlSample& s) { node.add(s); };
+  v.depth = [&](const PressureSample& s) { node.add(s); };
+  v.attitude = [&](const AttitudeSample& s) {
+    node.add(s);
+    latest = s;
+  };
+  v.camera = [&](const NetObservation& obs, const sim::Pose&) {
+    const GlobalPose g = node.add(obs);
+    if (!std::isfinite(g.r_g_m) || !std::isfinite(g.rho_g_rad) || !std::isfinite(g.z_g_m)) {
+      EXPECT_TRUE(all_nan(g.T_pen_body) && all_nan(g.T_pen_camera));
+      return;
+    }
+    ++with_pose;
+    const Eigen::Vector3d p = g.T_pen_body.translation();
+    EXPECT_NEAR(p.x(), g.r_g_m * std::cos(g.rho_g_rad), 1e-9);
+    EXPECT_NEAR(p.y(), g.r_g_m * std::sin(g.rho_g_rad), 1e-9);
+    EXPECT_NEAR(p.z(), g.z_g_m, 1e-9);
+    const Eigen::Vector3d ypr = yaw_pitch_roll(g.T_pen_body.linear());
+    EXPECT_NEAR(wrap_angle(ypr[0] - g.psi_g_rad), 0, 1e-9);
+    EXPECT_NEAR(ypr[1], latest.pitch_rad, 1e-9);
+    EXPECT_NEAR(ypr[2], latest.roll_rad, 1e-9);
+    EXPECT_TRUE(
+        g.T_pen_camera.matrix().isApprox((g.T_pen_body * sim::forward_camera()).matrix(), 1e-12));
+  };
+  sim::replay(seq, v);
+  EXPECT_GE(with_pose + 5, static_cast<int>(seq.camera.size()));
+  EXPECT_GT(latest.timestamp_ns, 0);
 }
 
 // Samples arriving up to 0.3 s late and out of order, plus duplicates, give the same estimates

@@ -13,6 +13,7 @@
 
 #include "pipeline/dataset/csv.h"
 #include "pipeline/dataset/diagnostics_csv.h"
+#include "pipeline/dataset/trajectory_tum.h"
 #include "pipeline/runner.h"
 #include "runtime/error.h"
 #include "tests/support/net_image.h"
@@ -125,6 +126,45 @@ std::vector<EstimateRow> direct_rows(const Dataset& d) {
   return rows;
 }
 
+// trajectory_tum.txt beside estimates.csv: a line for each row with the whole global pose and
+// none for the others, in order, with the same timestamps; position (r_g cos rho_g, r_g sin rho_g,
+// z_g) and yaw psi_g as far as estimates.csv's 9 digits keep them (1e-6 m and rad: 1000x their
+// rounding); roll and pitch within 5 sigma (0.015 rad) of the truth, the attitude sensor's noise
+// being 0.003 rad. Returns the number of lines.
+size_t expect_trajectory_matches(const Dataset& d, const std::vector<EstimateRow>& rows,
+                                 const std::vector<TumPose>& trajectory) {
+  size_t next = 0;
+  for (size_t i = 0; i < rows.size(); ++i) {
+    const EstimateRow& r = rows[i];
+    if (!std::isfinite(r.r_g_m) || !std::isfinite(r.rho_g_rad) || !std::isfinite(r.z_g_m) ||
+        !std::isfinite(r.psi_g_rad))
+      continue;
+    if (next == trajectory.size()) {
+      ADD_FAILURE() << "no trajectory line for frame " << i;
+      return next;
+    }
+    const TumPose& p = trajectory[next++];
+    EXPECT_EQ(p.timestamp_ns, r.timestamp_ns) << "frame " << i;
+    EXPECT_NEAR(p.p_m.x(), r.r_g_m * std::cos(r.rho_g_rad), 1e-6) << "frame " << i;
+    EXPECT_NEAR(p.p_m.y(), r.r_g_m * std::sin(r.rho_g_rad), 1e-6) << "frame " << i;
+    EXPECT_NEAR(p.p_m.z(), r.z_g_m, 1e-6) << "frame " << i;
+    EXPECT_GE(p.q.w(), 0);
+    EXPECT_NEAR(p.q.norm(), 1, 1e-8);
+    const Eigen::Matrix3d R = p.q.normalized().toRotationMatrix();
+    EXPECT_NEAR(global_pose::wrap_angle(std::atan2(R(1, 0), R(0, 0)) - r.psi_g_rad), 0, 1e-6)
+        << "frame " << i;
+    const GroundTruthRow* t = d.truth_for_frame(i);
+    if (!t) {
+      ADD_FAILURE() << "no truth for frame " << i;
+      continue;
+    }
+    EXPECT_NEAR(-std::asin(R(2, 0)), t->pitch_rad, 0.015) << "frame " << i;
+    EXPECT_NEAR(std::atan2(R(2, 1), R(2, 2)), t->roll_rad, 0.015) << "frame " << i;
+  }
+  EXPECT_EQ(next, trajectory.size()) << "lines for frames without a pose";
+  return trajectory.size();
+}
+
 // `pensight run` replays the dataset through Pipeline; its estimates.csv is that of the direct
 // calls, to the last written digit.
 TEST(Pipeline, ReplayOfARenderedSequenceEqualsTheDirectCalls) {
@@ -152,6 +192,7 @@ TEST(Pipeline, ReplayOfARenderedSequenceEqualsTheDirectCalls) {
   // Not a comparison of NaNs: the sequence follows the net, so most frames have both.
   EXPECT_GE(with_pose, static_cast<int>(direct.size()) - 2);
   EXPECT_GE(with_r_g, static_cast<int>(direct.size()) / 2);
+  EXPECT_GE(expect_trajectory_matches(run.dataset, run.rows, run.trajectory), direct.size() / 2);
 }
 
 // The start of the sweep faces open water, then turns onto the net: diagnostics.csv says why each
@@ -182,6 +223,11 @@ TEST(Pipeline, RunWritesDiagnosticsAndTiming) {
   }
   EXPECT_GT(nan_frames, 0);
   EXPECT_LT(nan_frames, static_cast<int>(diag.rows()));
+  // The frames facing open water have no pose and no trajectory line.
+  const size_t lines =
+      expect_trajectory_matches(d, rows, read_trajectory_tum(out / kTrajectoryTumFile));
+  EXPECT_GT(lines, 0u);
+  EXPECT_LT(lines, rows.size());
   const CsvTable timing(out / kTimingFile, 10, 10);
   bool fft = false, orin = false;
   for (size_t i = 0; i < timing.rows(); ++i) {
