@@ -114,10 +114,7 @@ int cmd_map(const Args& args) {
   }
   if (!quiet) bar.update(dataset.frames.size(), dataset.frames.size());
 
-  mapping::write_map_vdb(map, out / "map.vdb");
-  const mapping::SurfaceMesh mesh = mapping::extract_surface(map);
-  mapping::write_mesh_ply(mesh, out / "map_mesh.ply");
-  mapping::write_points_ply(map, out / "map_points.ply");
+  const mapping::SurfaceMesh mesh = mapping::write_map_outputs(map, out);
   std::printf("frames: %zu integrated, %zu without a pose, %zu without depth\n", integrated,
               without_pose, without_depth);
   std::printf("integration: mean %.1f ms, max %.1f ms per frame at %.0f mm voxels\n",

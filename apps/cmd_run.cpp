@@ -7,6 +7,10 @@
 #include "pipeline/dataset/global_pose_csv.h"
 #include "pipeline/dataset/trajectory_tum.h"
 #include "pipeline/runner.h"
+#if PENSIGHT_HAS_MAPPING
+#include "mapping/map_io.h"
+#include "mapping/mapping_stage.h"
+#endif
 
 namespace pensight::app {
 
@@ -43,6 +47,15 @@ int cmd_run(const Args& args) {
                "write OUT/overlays/<frame>.png for every frame (ROI grid, lattices, pose); "
                "without it, for 4 frames the report shows");
   cli.add_flag("--quiet", quiet, "no progress bar");
+#if PENSIGHT_HAS_MAPPING
+  bool map = false;
+  std::string map_config_file;
+  cli.add_flag("--map", map,
+               "run the mapping stage: the dataset's ground-truth depth (groundtruth0/depth/, "
+               "until the dense-depth stage lands) at the estimated camera poses; writes "
+               "OUT/map.vdb, map_mesh.ply, map_points.ply");
+  cli.add_option("--map-config", map_config_file, "map YAML (docs/mapping.md)");
+#endif
   try {
     cli.parse(std::vector<std::string>(args.rbegin(), args.rend()));
   } catch (const CLI::ParseError& e) {
@@ -54,6 +67,21 @@ int cmd_run(const Args& args) {
   ProgressBar bar("run");
   if (!quiet) options.on_progress = [&](size_t done, size_t total) { bar.update(done, total); };
   const Dataset dataset = read_dataset(dataset_dir);
+#if PENSIGHT_HAS_MAPPING
+  std::unique_ptr<mapping::MappingStage> mapper;
+  if (map) {
+    mapper = std::make_unique<mapping::MappingStage>(
+        dataset.cam0.camera,
+        map_config_file.empty() ? mapping::MapConfig{} : mapping::read_map_config(map_config_file));
+    options.truth_depth = true;
+    options.stages.push_back({[&](const FrameResult& r) { mapper->push(r); },
+                              [&] {
+                                mapper->finish();
+                                mapping::write_map_outputs(mapper->map(), out_dir);
+                                return mapper->stats();
+                              }});
+  }
+#endif
   Device device;
   const RunSummary s = run_dataset(dataset, out_dir, options, device);
   std::printf("backend: %s\n", s.backend.c_str());
@@ -65,6 +93,17 @@ int cmd_run(const Args& args) {
   std::printf("global pose sensors:\n%s", s.global_pose_counters.c_str());
   std::printf("wrote %s/estimates.csv, %s, %s, %s, overlays/, report.html\n", out_dir.c_str(),
               kDiagnosticsFile, kTrajectoryTumFile, kTimingFile);
+#if PENSIGHT_HAS_MAPPING
+  if (mapper) {
+    const mapping::MappingCounters c = mapper->counters();
+    std::printf(
+        "map: %zu frames integrated, %zu dropped (the stage fell behind), %zu without a pose, "
+        "%zu without depth; %zu occupied voxels; wrote %s/map.vdb, map_mesh.ply, "
+        "map_points.ply\n",
+        c.integrated, c.dropped, c.without_pose, c.without_depth,
+        mapper->map().occupied_voxel_count(), out_dir.c_str());
+  }
+#endif
   if (options.write_published_global_pose)
     std::printf("wrote %s/%s (published global-pose node, the baseline)\n", out_dir.c_str(),
                 kPublishedGlobalPoseFile);

@@ -171,6 +171,14 @@ OccupancyMap read_map_vdb(const std::filesystem::path& file) {
   }
 }
 
+SurfaceMesh write_map_outputs(const OccupancyMap& map, const std::filesystem::path& dir) {
+  write_map_vdb(map, dir / "map.vdb");
+  SurfaceMesh mesh = extract_surface(map);
+  write_mesh_ply(mesh, dir / "map_mesh.ply");
+  write_points_ply(map, dir / "map_points.ply");
+  return mesh;
+}
+
 void write_mesh_ply(const SurfaceMesh& mesh, const std::filesystem::path& file) {
   write_ply(file, mesh.vertices, &mesh);
 }

@@ -31,6 +31,9 @@ void write_map_vdb(const OccupancyMap& map, const std::filesystem::path& file);
 // keep their defaults.
 OccupancyMap read_map_vdb(const std::filesystem::path& file);
 
+// The three map outputs into `dir`: map.vdb, map_mesh.ply, map_points.ply. Returns the mesh.
+SurfaceMesh write_map_outputs(const OccupancyMap& map, const std::filesystem::path& dir);
+
 // Binary little-endian PLY (vertex x, y, z as float; faces as uchar-counted uint lists).
 void write_mesh_ply(const SurfaceMesh& mesh, const std::filesystem::path& file);
 void write_points_ply(const OccupancyMap& map, const std::filesystem::path& file);

@@ -72,6 +72,7 @@ struct Pipeline::Impl {
   struct Pushed {
     int64_t timestamp_ns;
     std::shared_ptr<const ImageU8> image;
+    std::shared_ptr<const ImageF32> depth_m;
     Clock::time_point at;
   };
   BoundedQueue<Pushed> camera_q;
@@ -114,6 +115,7 @@ struct Pipeline::Impl {
       d->pushed = item->at;
       d->result.timestamp_ns = item->timestamp_ns;
       d->result.image = item->image;
+      d->result.depth_m = item->depth_m;
       try {
         d->result.detection = detector.detect(*item->image, item->timestamp_ns);
         std::lock_guard lock(stats_mutex);
@@ -237,7 +239,8 @@ Pipeline::~Pipeline() {
 void Pipeline::push(CameraFrame frame) {
   Impl& m = *impl_;
   auto image = std::make_shared<const ImageU8>(std::move(frame.image));
-  if (m.finished || !m.camera_q.push({frame.timestamp_ns, std::move(image), Clock::now()})) {
+  if (m.finished || !m.camera_q.push({frame.timestamp_ns, std::move(image),
+                                      std::move(frame.depth_m), Clock::now()})) {
     throw Error("Pipeline: camera frame pushed after finish(); push before finishing");
   }
 }

@@ -37,11 +37,15 @@ namespace pensight {
 struct CameraFrame {
   int64_t timestamp_ns = 0;
   ImageU8 image;  // the camera's resolution, 8-bit grey
+  // Optional z-depth in metres registered to the image (a depth sensor's, or replayed ground
+  // truth), handed on in FrameResult for the mapping stage (mapping/mapping_stage.h).
+  std::shared_ptr<const ImageF32> depth_m;
 };
 
 struct FrameResult {
   int64_t timestamp_ns = 0;
   std::shared_ptr<const ImageU8> image;  // the frame as pushed (for overlays), shared, not copied
+  std::shared_ptr<const ImageF32> depth_m;  // CameraFrame::depth_m, shared, not copied
   // Why the frame was not processed (e.g. wrong image size) or its global pose failed; when set,
   // the estimates below are empty or NaN.
   std::string error;

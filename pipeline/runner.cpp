@@ -252,6 +252,11 @@ RunSummary run_dataset(const Dataset& dataset, const std::filesystem::path& out_
   std::error_code ec;
   std::filesystem::create_directories(out_dir, ec);
   if (ec) throw Error("cannot create output folder " + out_dir.string() + ": " + ec.message());
+  if (options.truth_depth && !(dataset.groundtruth0 && dataset.groundtruth0->has_depth)) {
+    throw Error("'" + dataset.root.string() +
+                "' has no groundtruth0/depth/ to map with; map a rendered dataset, or run without "
+                "the ground-truth depth");
+  }
   RunWriter writer(dataset, out_dir, options.write_published_global_pose, summary);
 
   const size_t total = dataset.frames.size();
@@ -274,6 +279,7 @@ RunSummary run_dataset(const Dataset& dataset, const std::filesystem::path& out_
       write_error = std::current_exception();
       return;
     }
+    for (const RunOptions::AttachedStage& stage : options.stages) stage.push(r);
     if (options.on_progress) options.on_progress(writer.frames_done(), total);
   };
   Pipeline pipeline(config, device);
@@ -297,6 +303,9 @@ RunSummary run_dataset(const Dataset& dataset, const std::filesystem::path& out_
     CameraFrame frame{t_ns, {}};
     try {
       frame.image = dataset.load_frame(i);
+      if (options.truth_depth) {
+        frame.depth_m = std::make_shared<const ImageF32>(dataset.load_depth_m(i));
+      }
     } catch (const Error& e) {
       log_warning("frame " + std::to_string(i) + " skipped (NaN row): " + e.what());
       writer.skip(i, e.what());
@@ -313,6 +322,7 @@ RunSummary run_dataset(const Dataset& dataset, const std::filesystem::path& out_
 
   std::vector<StageStats> stages = pipeline.stats();
   stages.insert(stages.begin(), load.stats());
+  for (const RunOptions::AttachedStage& stage : options.stages) stages.push_back(stage.finish());
   summary.timing = timing_table(stages);
   summary.global_pose_counters = global_pose::describe(pipeline.global_pose_counters());
   write_timing_csv(out_dir / kTimingFile, summary.timing);

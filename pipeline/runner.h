@@ -11,6 +11,7 @@
 #include "pipeline/dataset/dataset_reader.h"
 #include "pipeline/global_pose/global_pose_estimator.h"
 #include "pipeline/net_detector.h"
+#include "pipeline/pipeline.h"
 #include "pipeline/timing_table.h"
 #include "runtime/device.h"
 
@@ -31,6 +32,18 @@ struct RunOptions {
   bool overlays = false;
   // Called after each frame with (frames done, total frames), on the pipeline's delivery thread.
   std::function<void(size_t, size_t)> on_progress;
+  // Hand each frame the dataset's ground-truth depth (groundtruth0/depth/) in CameraFrame::depth_m,
+  // the mapping stage's input until the dense-depth stage produces it. Throws pensight::Error
+  // when the dataset has none.
+  bool truth_depth = false;
+  // Stages outside the pipeline layer (the mapping stage) that take every result.
+  struct AttachedStage {
+    // On the delivery thread, after the frame's rows are written; must not block.
+    std::function<void(const FrameResult&)> push;
+    // After the last frame: drains the stage, writes its outputs, returns its timing row.
+    std::function<StageStats()> finish;
+  };
+  std::vector<AttachedStage> stages;
 };
 
 struct RunSummary {
