@@ -28,6 +28,7 @@ void validate(const MapConfig& c) {
   check_range("min_range_m", c.min_range_m, 0, 100);
   check_range("max_range_m", c.max_range_m, c.min_range_m + c.voxel_m, 100);
   check_range("free_margin_m", c.free_margin_m, 0, 1);
+  check_range("threads", c.threads, 0, 256);
 }
 
 MapConfig read_map_config(const std::filesystem::path& file) {
@@ -42,6 +43,7 @@ MapConfig read_map_config(const std::filesystem::path& file) {
   c.min_range_m = y.number("min_range_m", c.min_range_m);
   c.max_range_m = y.number("max_range_m", c.max_range_m);
   c.free_margin_m = y.number("free_margin_m", c.free_margin_m);
+  c.threads = y.integer("threads", c.threads);
   y.check_unknown_keys();
   try {
     validate(c);

@@ -25,6 +25,8 @@ struct MapConfig {
   // pixel footprint (0: in front at all); a margin of the depth noise keeps a noisy surface from
   // clearing itself.
   double free_margin_m = 0.0;
+  // Worker threads of one integration (TBB); 0: one per core.
+  int threads = 0;
 };
 
 // Throws pensight::Error naming the parameter and its allowed range when one is out of range.

@@ -94,7 +94,9 @@ struct LeafTask {
 }  // namespace
 
 ProjectiveIntegrator::ProjectiveIntegrator(const PinholeCamera& camera, const MapConfig& config)
-    : camera_(camera), config_(config) {
+    : camera_(camera),
+      config_(config),
+      arena_(config.threads > 0 ? config.threads : tbb::task_arena::automatic) {
   validate(config_);
   if (camera_.has_distortion()) {
     throw Error(
@@ -105,6 +107,14 @@ ProjectiveIntegrator::ProjectiveIntegrator(const PinholeCamera& camera, const Ma
 
 IntegrationStats ProjectiveIntegrator::integrate(OccupancyMap& map, const ImageF32& depth_m,
                                                  const Eigen::Isometry3d& T_pen_camera) {
+  IntegrationStats stats;
+  arena_.execute([&] { stats = integrate_in_arena(map, depth_m, T_pen_camera); });
+  return stats;
+}
+
+IntegrationStats ProjectiveIntegrator::integrate_in_arena(OccupancyMap& map,
+                                                          const ImageF32& depth_m,
+                                                          const Eigen::Isometry3d& T_pen_camera) {
   IntegrationStats stats;
   if (depth_m.width != camera_.width_px || depth_m.height != camera_.height_px) {
     throw Error("projective integrator: depth image is " + std::to_string(depth_m.width) + "x" +

@@ -18,6 +18,7 @@
 // the leaves that hold a surface or straddle the frustum's edge, one add per voxel of the free
 // leaves that are not yet saturated. Memory: the pyramid (2 x 4/3 x the image) and the hit mask.
 #include <openvdb/openvdb.h>
+#include <tbb/task_arena.h>
 #include <Eigen/Geometry>
 
 #include <vector>
@@ -51,8 +52,11 @@ class ProjectiveIntegrator {
                              const Eigen::Isometry3d& T_pen_camera);
 
  private:
+  IntegrationStats integrate_in_arena(OccupancyMap& map, const ImageF32& depth_m,
+                                      const Eigen::Isometry3d& T_pen_camera);
   PinholeCamera camera_;
   MapConfig config_;
+  tbb::task_arena arena_;  // config.threads workers
   DepthPyramid pyramid_;
 };
 

@@ -37,6 +37,8 @@ class RenderedDataset {
   RenderedDataset& operator=(const RenderedDataset&) = delete;
 
   const Dataset& dataset() const { return dataset_; }
+  // The temporary folder holding the dataset (in data/); outputs may go beside it.
+  const std::filesystem::path& dir() const { return dir_; }
   // `pensight run`'s pipeline (CPU backend) on `d` (this dataset or a changed copy of it), into
   // the output folder `name`; the published node's rows come in `published_rows`.
   RenderedRun run(const Dataset& d, const std::string& name,
