@@ -58,7 +58,10 @@ int pixel_of(double u) {
   return static_cast<int>(std::floor(u + 0.5));
 }
 
-enum class BlockKind { kSkip, kFree, kSurface };
+// kEdge: crosses the image border. Its voxels partly outside stay unknown anyway, and the camera
+// sweeps the rest into view in later frames, so a leaf at the edge holding no hit is left alone:
+// the frustum's sides would otherwise leave a trail of half-known leaves in memory.
+enum class BlockKind { kSkip, kFree, kSurface, kEdge };
 
 struct Classifier {
   const Projection& proj;
@@ -78,9 +81,8 @@ struct Classifier {
     const DepthPyramid::Bounds b =
         pyramid.query(pixel_of(f.u_min), pixel_of(f.v_min), pixel_of(f.u_max), pixel_of(f.v_max));
     if (f.z_near > b.far_m) return BlockKind::kSkip;  // hidden or unknown
-    if (proj.inside_image(f) && f.z_far < b.near_m - free_margin_m && f.z_far <= max_range_m) {
-      return BlockKind::kFree;
-    }
+    if (!proj.inside_image(f)) return BlockKind::kEdge;
+    if (f.z_far < b.near_m - free_margin_m && f.z_far <= max_range_m) return BlockKind::kFree;
     return BlockKind::kSurface;
   }
 };
@@ -208,33 +210,45 @@ IntegrationStats ProjectiveIntegrator::integrate_in_arena(OccupancyMap& map,
   std::vector<LeafTask> tasks;
   auto acc = map.grid().getAccessor();
   const auto min_lo = static_cast<float>(config_.min_log_odds);
-  auto saturated_tile = [&](const openvdb::Coord& o) {
-    return acc.probeConstLeaf(o) == nullptr && acc.isValueOn(o) && acc.getValue(o) <= min_lo;
-  };
+  const auto miss = static_cast<float>(config_.miss_log_odds);
+  // A free leaf that is a tile (unknown, or free from earlier frames) stays one: its one value
+  // takes the miss, so open water is never allocated voxel by voxel. Stored leaves are updated
+  // in the parallel pass below.
   auto add_free = [&](const openvdb::Coord& origin, int size) {
     for (int x = 0; x < size; x += kLeafDim) {
       for (int y = 0; y < size; y += kLeafDim) {
         for (int z = 0; z < size; z += kLeafDim) {
           const openvdb::Coord o = origin.offsetBy(x, y, z);
-          if (saturated_tile(o)) {
-            ++stats.saturated_leaves;
-          } else {
-            tasks.push_back({o, true});
+          if (Leaf* leaf = acc.probeLeaf(o)) {
+            tasks.push_back({o, true, leaf});
+            continue;
           }
+          const bool known = acc.isValueOn(o);
+          const float value = known ? acc.getValue(o) : 0.0f;
+          if (known && value <= min_lo) {
+            ++stats.saturated_leaves;
+            continue;
+          }
+          acc.addTile(1, o, std::max(value + miss, min_lo), true);
+          ++stats.free_tiles;
         }
       }
     }
   };
   auto visit = [&](auto& self, const openvdb::Coord& origin, int size) -> void {
-    switch (classifier.classify(origin, size)) {
+    const BlockKind kind = classifier.classify(origin, size);
+    switch (kind) {
       case BlockKind::kSkip:
         return;
       case BlockKind::kFree:
         add_free(origin, size);
         return;
+      case BlockKind::kEdge:
       case BlockKind::kSurface:
         if (size == kLeafDim) {
-          tasks.push_back({origin, false});
+          if (kind == BlockKind::kSurface || hits.mask.probeConstLeaf(origin) != nullptr) {
+            tasks.push_back({origin, false});
+          }
           return;
         }
         const int half = size / 2;
@@ -253,13 +267,12 @@ IntegrationStats ProjectiveIntegrator::integrate_in_arena(OccupancyMap& map,
     }
   }
   for (LeafTask& t : tasks) {
-    t.leaf = acc.touchLeaf(t.origin);
+    if (t.leaf == nullptr) t.leaf = acc.touchLeaf(t.origin);
     (t.free ? stats.free_leaves : stats.surface_leaves) += 1;
   }
 
   // Update the leaves in parallel; each task owns its leaf.
   const auto hit = static_cast<float>(config_.hit_log_odds);
-  const auto miss = static_cast<float>(config_.miss_log_odds);
   const auto max_lo = static_cast<float>(config_.max_log_odds);
   std::vector<char> saturated(tasks.size(), 0);
   const Eigen::Matrix3d step_C = proj.R_camera_pen * v;  // C offset per index step along x, y, z

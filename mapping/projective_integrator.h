@@ -7,8 +7,8 @@
 // - misses: a voxel whose whole pixel footprint is valid and lies beyond its farthest point (by
 //   free_margin_m) is free; blocks are classified coarse-to-fine from 64^3 voxels down to leaves
 //   against a min/max pyramid of the depth image (depth_pyramid.h), so whole blocks of open water
-//   are cleared without visiting their voxels one by one, and leaves already saturated free
-//   (stored as tiles) are skipped;
+//   are cleared without visiting their voxels one by one: a free leaf that is not stored (unknown
+//   or free water) stays a tile of one value, and one already saturated free is skipped;
 // - everything else (behind a surface, outside the image, in a footprint with a hole) is left
 //   unknown, never cleared.
 // Leaves are allocated once per frame, then updated in parallel (TBB); a leaf that ends saturated
@@ -34,8 +34,9 @@ struct IntegrationStats {
   bool integrated = false;  // false: the pose was not finite, nothing changed
   size_t hit_voxels = 0;
   size_t surface_leaves = 0;    // leaves tested voxel by voxel
-  size_t free_leaves = 0;       // leaves cleared as a whole
-  size_t saturated_leaves = 0;  // free leaves skipped: already saturated
+  size_t free_leaves = 0;       // stored leaves cleared as a whole
+  size_t free_tiles = 0;        // tiles (unknown or free leaves, never stored) cleared
+  size_t saturated_leaves = 0;  // free tiles skipped: already saturated
 };
 
 class ProjectiveIntegrator {
