@@ -6,7 +6,8 @@
 # and nothing else may see them: it is a shared library that links wavemap PRIVATE and exports only
 # pensight::bench::WavemapPeer (wavemap_peer.map), so no Eigen function compiled with AVX-512
 # assumptions replaces the benchmark's own at link time.
-find_package(wavemap 2.2 CONFIG REQUIRED PATHS ${PENSIGHT_WAVEMAP_DIR} NO_DEFAULT_PATH)
+# wavemap itself is found by the top-level CMakeLists.txt (its package config must run in the
+# folder that found Boost).
 
 add_library(pensight_wavemap_peer SHARED ${CMAKE_CURRENT_LIST_DIR}/wavemap_peer.cpp)
 target_link_libraries(pensight_wavemap_peer PRIVATE wavemap::wavemap_core pensight)
