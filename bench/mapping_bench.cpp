@@ -74,25 +74,27 @@ double process_cpu_s() {
   return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
 }
 
-// Share of the last frame's measured points (every 16th pixel per axis) whose ray reads occupied
-// somewhere from half a voxel in front of the point to 1.5 voxels behind it: the voxel holding a
-// surface point may read free and the one just behind it occupied.
-double surface_occupied_share(const Sequence& q, int frames, double voxel_m,
+// Share of the measured points within max range (every 16th pixel per axis of every integrated
+// frame) whose ray reads occupied somewhere from half a voxel in front of the point to 1.5 voxels
+// behind it: the voxel holding a surface point may read free and the one just behind it occupied.
+double surface_occupied_share(const Sequence& q, int frames, const mapping::MapConfig& config,
                               const std::function<float(const Eigen::Vector3d&)>& log_odds_at) {
-  const ImageF32& depth = q.depth_m[frames - 1];
-  const Eigen::Isometry3d& T = q.T_pen_camera[frames - 1];
   int points = 0, occupied = 0;
-  for (int y = 8; y < depth.height; y += 16) {
-    for (int x = 8; x < depth.width; x += 16) {
-      const float d = depth.at(x, y);
-      if (!(d > 0)) continue;
-      const Eigen::Vector3d ray = T.linear() * q.camera.ray(Eigen::Vector2d(x, y));
-      const Eigen::Vector3d p = T.translation() + ray * d, u = ray.normalized();
-      ++points;
-      for (const double k : {-0.5, 0.0, 0.5, 1.0, 1.5}) {
-        if (log_odds_at(p + u * (k * voxel_m)) > 0) {
-          ++occupied;
-          break;
+  for (int f = 0; f < frames; ++f) {
+    const ImageF32& depth = q.depth_m[f];
+    const Eigen::Isometry3d& T = q.T_pen_camera[f];
+    for (int y = 8; y < depth.height; y += 16) {
+      for (int x = 8; x < depth.width; x += 16) {
+        const float d = depth.at(x, y);
+        if (!(d >= config.min_range_m && d <= config.max_range_m)) continue;
+        const Eigen::Vector3d ray = T.linear() * q.camera.ray(Eigen::Vector2d(x, y));
+        const Eigen::Vector3d p = T.translation() + ray * d, u = ray.normalized();
+        ++points;
+        for (const double k : {-0.5, 0.0, 0.5, 1.0, 1.5}) {
+          if (log_odds_at(p + u * (k * config.voxel_m)) > 0) {
+            ++occupied;
+            break;
+          }
         }
       }
     }
@@ -140,25 +142,27 @@ void BM_map_projective(benchmark::State& state) {
   const mapping::MapConfig config;
   mapping::ProjectiveIntegrator integrator(sequence(static_cast<int>(state.range(0))).camera,
                                            config);
-  double leaves = 0;  // leaves updated, over all iterations
+  double surface_leaves = 0, free_leaves = 0;  // leaves updated, over all iterations
   run(
       state, [&] { return std::make_unique<mapping::OccupancyMap>(config); },
       [&](mapping::OccupancyMap& map, const ImageF32& depth, const Eigen::Isometry3d& T) {
         const mapping::IntegrationStats st = integrator.integrate(map, depth, T);
-        leaves += static_cast<double>(st.surface_leaves + st.free_leaves);
+        surface_leaves += static_cast<double>(st.surface_leaves);
+        free_leaves += static_cast<double>(st.free_leaves);
       },
       [&](const mapping::OccupancyMap& map, const Sequence& q, int frames) {
+        const double n = static_cast<double>(state.iterations()) * frames;
+        state.counters["surface_leaves"] = surface_leaves / n;
+        state.counters["free_leaves"] = free_leaves / n;
         // Upper bound: every voxel of every leaf the frame updated (surface or free).
-        state.counters["voxels_per_frame"] =
-            512 * leaves / (static_cast<double>(state.iterations()) * frames);
+        state.counters["voxels_per_frame"] = 512 * (surface_leaves + free_leaves) / n;
         state.counters["memory_MB"] = static_cast<double>(map.memory_bytes()) / 1e6;
         const auto file = std::filesystem::temp_directory_path() / "pensight_mapping_bench.vdb";
         mapping::write_map_vdb(map, file);
         state.counters["vdb_MB"] = static_cast<double>(std::filesystem::file_size(file)) / 1e6;
         std::filesystem::remove(file);
-        state.counters["surface_occupied"] =
-            surface_occupied_share(q, frames, config.voxel_m,
-                                   [&](const Eigen::Vector3d& p) { return map.log_odds_at(p); });
+        state.counters["surface_occupied"] = surface_occupied_share(
+            q, frames, config, [&](const Eigen::Vector3d& p) { return map.log_odds_at(p); });
       });
 }
 BENCHMARK(BM_map_projective)
@@ -180,9 +184,8 @@ void BM_map_raycast(benchmark::State& state) {
       },
       [&](const mapping::OccupancyMap& map, const Sequence& q, int frames) {
         state.counters["memory_MB"] = static_cast<double>(map.memory_bytes()) / 1e6;
-        state.counters["surface_occupied"] =
-            surface_occupied_share(q, frames, config.voxel_m,
-                                   [&](const Eigen::Vector3d& p) { return map.log_odds_at(p); });
+        state.counters["surface_occupied"] = surface_occupied_share(
+            q, frames, config, [&](const Eigen::Vector3d& p) { return map.log_odds_at(p); });
       });
 }
 BENCHMARK(BM_map_raycast)
@@ -207,9 +210,8 @@ void BM_map_wavemap(benchmark::State& state) {
       },
       [&](const bench::WavemapPeer& peer, const Sequence& q, int frames) {
         state.counters["memory_MB"] = static_cast<double>(peer.memory_bytes()) / 1e6;
-        state.counters["surface_occupied"] =
-            surface_occupied_share(q, frames, config.voxel_m,
-                                   [&](const Eigen::Vector3d& p) { return peer.log_odds_at(p); });
+        state.counters["surface_occupied"] = surface_occupied_share(
+            q, frames, config, [&](const Eigen::Vector3d& p) { return peer.log_odds_at(p); });
       });
 }
 BENCHMARK(BM_map_wavemap)
