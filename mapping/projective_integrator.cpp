@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "runtime/error.h"
@@ -272,6 +273,21 @@ IntegrationStats ProjectiveIntegrator::integrate(OccupancyMap& map, const ImageF
           const auto* hit_leaf = hits.mask.probeConstLeaf(o);
           const Eigen::Vector3d c0 =
               proj.R_camera_pen * (Eigen::Vector3d(o.x(), o.y(), o.z()) * v) + proj.t_camera_pen;
+          // The leaf's own bounds decide most of its voxels without a footprint and a query of
+          // their own: a voxel's footprint lies inside the leaf's, so its pyramid blocks lie in
+          // the leaf's blocks, its near is at least the leaf's near and its far at most the
+          // leaf's far. The result is the same as testing every voxel.
+          const Projection::Footprint lf = proj.footprint(
+              c0 + step_C * Eigen::Vector3d::Constant(0.5 * (kLeafDim - 1)), 0.5 * kLeafDim * v);
+          DepthPyramid::Bounds lb{0.0f, std::numeric_limits<float>::infinity()};
+          bool leaf_inside = false;
+          if (lf.z_near > 0 && !proj.misses_image(lf)) {
+            lb = pyramid_.query(pixel_of(lf.u_min), pixel_of(lf.v_min), pixel_of(lf.u_max),
+                                pixel_of(lf.v_max));
+            leaf_inside = proj.inside_image(lf);
+          }
+          const double leaf_free_below_m = lb.near_m - config_.free_margin_m;
+          const double voxel_half_z_m = proj.box_extent.z() * (0.5 * v);
           bool all_min = true;
           for (int ix = 0; ix < kLeafDim; ++ix) {
             for (int iy = 0; iy < kLeafDim; ++iy) {
@@ -284,13 +300,21 @@ IntegrationStats ProjectiveIntegrator::integrate(OccupancyMap& map, const ImageF
                   all_min = false;
                   continue;
                 }
-                const Projection::Footprint f = proj.footprint(c, 0.5 * v);
-                bool is_free =
-                    f.z_near > 0 && f.z_far <= config_.max_range_m && proj.inside_image(f);
-                if (is_free) {
-                  const DepthPyramid::Bounds b = pyramid_.query(
-                      pixel_of(f.u_min), pixel_of(f.v_min), pixel_of(f.u_max), pixel_of(f.v_max));
-                  is_free = f.z_far < b.near_m - config_.free_margin_m;
+                const double z_near = c.z() - voxel_half_z_m, z_far = c.z() + voxel_half_z_m;
+                bool is_free;
+                if (z_near > lb.far_m) {
+                  is_free = false;  // hidden or unknown: behind every depth of the leaf
+                } else if (leaf_inside && z_near > 0 && z_far <= config_.max_range_m &&
+                           z_far < leaf_free_below_m) {
+                  is_free = true;  // in front of every depth of the leaf
+                } else {
+                  const Projection::Footprint f = proj.footprint(c, 0.5 * v);
+                  is_free = f.z_near > 0 && f.z_far <= config_.max_range_m && proj.inside_image(f);
+                  if (is_free) {
+                    const DepthPyramid::Bounds b = pyramid_.query(
+                        pixel_of(f.u_min), pixel_of(f.v_min), pixel_of(f.u_max), pixel_of(f.v_max));
+                    is_free = f.z_far < b.near_m - config_.free_margin_m;
+                  }
                 }
                 if (is_free) {
                   values[n] = std::max(values[n] + miss, min_lo);
