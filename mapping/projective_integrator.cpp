@@ -5,6 +5,7 @@
 #include <tbb/parallel_reduce.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -60,6 +61,7 @@ int pixel_of(double u) {
 }
 
 enum class BlockKind { kSkip, kFree, kSurface };
+enum class Decision : char { kUndecided, kFree, kNotFree };
 
 struct Classifier {
   const Projection& proj;
@@ -273,21 +275,45 @@ IntegrationStats ProjectiveIntegrator::integrate(OccupancyMap& map, const ImageF
           const auto* hit_leaf = hits.mask.probeConstLeaf(o);
           const Eigen::Vector3d c0 =
               proj.R_camera_pen * (Eigen::Vector3d(o.x(), o.y(), o.z()) * v) + proj.t_camera_pen;
-          // The leaf's own bounds decide most of its voxels without a footprint and a query of
-          // their own: a voxel's footprint lies inside the leaf's, so its pyramid blocks lie in
-          // the leaf's blocks, its near is at least the leaf's near and its far at most the
-          // leaf's far. The result is the same as testing every voxel.
-          const Projection::Footprint lf = proj.footprint(
-              c0 + step_C * Eigen::Vector3d::Constant(0.5 * (kLeafDim - 1)), 0.5 * kLeafDim * v);
-          DepthPyramid::Bounds lb{0.0f, std::numeric_limits<float>::infinity()};
-          bool leaf_inside = false;
-          if (lf.z_near > 0 && !proj.misses_image(lf)) {
-            lb = pyramid_.query(pixel_of(lf.u_min), pixel_of(lf.v_min), pixel_of(lf.u_max),
-                                pixel_of(lf.v_max));
-            leaf_inside = proj.inside_image(lf);
-          }
-          const double leaf_free_below_m = lb.near_m - config_.free_margin_m;
-          const double voxel_half_z_m = proj.box_extent.z() * (0.5 * v);
+          // Whole sub-blocks (8, 4, 2 voxels per side) are decided from their own footprint
+          // where they lie wholly in front of or behind every depth in it: a voxel's footprint
+          // lies inside its block's, so its pyramid blocks lie in the block's, its near is at
+          // least the block's near and its far at most the block's far. The voxels left
+          // undecided are tested one by one; the result is the same as testing every voxel.
+          std::array<Decision, Leaf::SIZE> decided;
+          decided.fill(Decision::kUndecided);
+          auto fill = [&](int x0, int y0, int z0, int size, Decision d) {
+            for (int x = x0; x < x0 + size; ++x) {
+              for (int y = y0; y < y0 + size; ++y) {
+                for (int z = z0; z < z0 + size; ++z) {
+                  decided[Leaf::coordToOffset(o.offsetBy(x, y, z))] = d;
+                }
+              }
+            }
+          };
+          auto decide = [&](auto& self, int x0, int y0, int z0, int size) -> void {
+            const double mid = 0.5 * (size - 1);
+            const Projection::Footprint f = proj.footprint(
+                c0 + step_C * Eigen::Vector3d(x0 + mid, y0 + mid, z0 + mid), 0.5 * size * v);
+            if (f.z_far <= 0) return fill(x0, y0, z0, size, Decision::kNotFree);
+            if (f.z_near > 0) {
+              if (proj.misses_image(f)) return fill(x0, y0, z0, size, Decision::kNotFree);
+              const DepthPyramid::Bounds b = pyramid_.query(pixel_of(f.u_min), pixel_of(f.v_min),
+                                                            pixel_of(f.u_max), pixel_of(f.v_max));
+              if (f.z_near > b.far_m) return fill(x0, y0, z0, size, Decision::kNotFree);
+              if (proj.inside_image(f) && f.z_far <= config_.max_range_m &&
+                  f.z_far < b.near_m - config_.free_margin_m) {
+                return fill(x0, y0, z0, size, Decision::kFree);
+              }
+            }
+            if (size == 2) return;
+            const int half = size / 2;
+            for (int k = 0; k < 8; ++k) {
+              self(self, x0 + (k & 1) * half, y0 + ((k >> 1) & 1) * half,
+                   z0 + ((k >> 2) & 1) * half, half);
+            }
+          };
+          decide(decide, 0, 0, 0, kLeafDim);
           bool all_min = true;
           for (int ix = 0; ix < kLeafDim; ++ix) {
             for (int iy = 0; iy < kLeafDim; ++iy) {
@@ -300,14 +326,8 @@ IntegrationStats ProjectiveIntegrator::integrate(OccupancyMap& map, const ImageF
                   all_min = false;
                   continue;
                 }
-                const double z_near = c.z() - voxel_half_z_m, z_far = c.z() + voxel_half_z_m;
-                bool is_free;
-                if (z_near > lb.far_m) {
-                  is_free = false;  // hidden or unknown: behind every depth of the leaf
-                } else if (leaf_inside && z_near > 0 && z_far <= config_.max_range_m &&
-                           z_far < leaf_free_below_m) {
-                  is_free = true;  // in front of every depth of the leaf
-                } else {
+                bool is_free = decided[n] == Decision::kFree;
+                if (decided[n] == Decision::kUndecided) {
                   const Projection::Footprint f = proj.footprint(c, 0.5 * v);
                   is_free = f.z_near > 0 && f.z_far <= config_.max_range_m && proj.inside_image(f);
                   if (is_free) {
