@@ -56,8 +56,16 @@ struct Projection {
   }
 };
 
+// floor(x) as an int for |x| < 2^31, without a call: the build targets baseline x86-64, which
+// has no rounding instruction, so std::floor is a library call (the hit pass does three per
+// pixel).
+int floor_to_int(double x) {
+  const int i = static_cast<int>(x);
+  return i - (x < i);
+}
+
 int pixel_of(double u) {
-  return static_cast<int>(std::floor(u + 0.5));
+  return floor_to_int(u + 0.5);
 }
 
 enum class BlockKind { kSkip, kFree, kSurface };
@@ -169,9 +177,8 @@ IntegrationStats ProjectiveIntegrator::integrate(OccupancyMap& map, const ImageF
           if (!(d >= min_range && d <= max_range)) continue;
           const Eigen::Vector3d p_C((x - cam->cx_px) / cam->fx_px * d, yn * d, d);
           const Eigen::Vector3d p = *R * p_C + *t;
-          const openvdb::Coord c(static_cast<int>(std::floor(p.x() + 0.5)),
-                                 static_cast<int>(std::floor(p.y() + 0.5)),
-                                 static_cast<int>(std::floor(p.z() + 0.5)));
+          const openvdb::Coord c(floor_to_int(p.x() + 0.5), floor_to_int(p.y() + 0.5),
+                                 floor_to_int(p.z() + 0.5));
           if (c == last) continue;  // neighbouring pixels mostly share a voxel
           last = c;
           acc.setValueOn(c);
