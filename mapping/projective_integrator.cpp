@@ -5,7 +5,9 @@
 #include <tbb/parallel_reduce.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "runtime/error.h"
@@ -54,14 +56,23 @@ struct Projection {
   }
 };
 
+// floor(x) as an int for |x| < 2^31, without a call: the build targets baseline x86-64, which
+// has no rounding instruction, so std::floor is a library call (the hit pass does three per
+// pixel).
+int floor_to_int(double x) {
+  const int i = static_cast<int>(x);
+  return i - (x < i);
+}
+
 int pixel_of(double u) {
-  return static_cast<int>(std::floor(u + 0.5));
+  return floor_to_int(u + 0.5);
 }
 
 // kEdge: crosses the image border. Its voxels partly outside stay unknown anyway, and the camera
 // sweeps the rest into view in later frames, so a leaf at the edge holding no hit is left alone:
 // the frustum's sides would otherwise leave a trail of half-known leaves in memory.
 enum class BlockKind { kSkip, kFree, kSurface, kEdge };
+enum class Decision : char { kUndecided, kFree, kNotFree };
 
 struct Classifier {
   const Projection& proj;
@@ -178,9 +189,8 @@ IntegrationStats ProjectiveIntegrator::integrate_in_arena(OccupancyMap& map,
           if (!(d >= min_range && d <= max_range)) continue;
           const Eigen::Vector3d p_C((x - cam->cx_px) / cam->fx_px * d, yn * d, d);
           const Eigen::Vector3d p = *R * p_C + *t;
-          const openvdb::Coord c(static_cast<int>(std::floor(p.x() + 0.5)),
-                                 static_cast<int>(std::floor(p.y() + 0.5)),
-                                 static_cast<int>(std::floor(p.z() + 0.5)));
+          const openvdb::Coord c(floor_to_int(p.x() + 0.5), floor_to_int(p.y() + 0.5),
+                                 floor_to_int(p.z() + 0.5));
           if (c == last) continue;  // neighbouring pixels mostly share a voxel
           last = c;
           acc.setValueOn(c);
@@ -295,6 +305,45 @@ IntegrationStats ProjectiveIntegrator::integrate_in_arena(OccupancyMap& map,
           const auto* hit_leaf = hits.mask.probeConstLeaf(o);
           const Eigen::Vector3d c0 =
               proj.R_camera_pen * (Eigen::Vector3d(o.x(), o.y(), o.z()) * v) + proj.t_camera_pen;
+          // Whole sub-blocks (8, 4, 2 voxels per side) are decided from their own footprint
+          // where they lie wholly in front of or behind every depth in it: a voxel's footprint
+          // lies inside its block's, so its pyramid blocks lie in the block's, its near is at
+          // least the block's near and its far at most the block's far. The voxels left
+          // undecided are tested one by one; the result is the same as testing every voxel.
+          std::array<Decision, Leaf::SIZE> decided;
+          decided.fill(Decision::kUndecided);
+          auto fill = [&](int x0, int y0, int z0, int size, Decision d) {
+            for (int x = x0; x < x0 + size; ++x) {
+              for (int y = y0; y < y0 + size; ++y) {
+                for (int z = z0; z < z0 + size; ++z) {
+                  decided[Leaf::coordToOffset(o.offsetBy(x, y, z))] = d;
+                }
+              }
+            }
+          };
+          auto decide = [&](auto& self, int x0, int y0, int z0, int size) -> void {
+            const double mid = 0.5 * (size - 1);
+            const Projection::Footprint f = proj.footprint(
+                c0 + step_C * Eigen::Vector3d(x0 + mid, y0 + mid, z0 + mid), 0.5 * size * v);
+            if (f.z_far <= 0) return fill(x0, y0, z0, size, Decision::kNotFree);
+            if (f.z_near > 0) {
+              if (proj.misses_image(f)) return fill(x0, y0, z0, size, Decision::kNotFree);
+              const DepthPyramid::Bounds b = pyramid_.query(pixel_of(f.u_min), pixel_of(f.v_min),
+                                                            pixel_of(f.u_max), pixel_of(f.v_max));
+              if (f.z_near > b.far_m) return fill(x0, y0, z0, size, Decision::kNotFree);
+              if (proj.inside_image(f) && f.z_far <= config_.max_range_m &&
+                  f.z_far < b.near_m - config_.free_margin_m) {
+                return fill(x0, y0, z0, size, Decision::kFree);
+              }
+            }
+            if (size == 2) return;
+            const int half = size / 2;
+            for (int k = 0; k < 8; ++k) {
+              self(self, x0 + (k & 1) * half, y0 + ((k >> 1) & 1) * half,
+                   z0 + ((k >> 2) & 1) * half, half);
+            }
+          };
+          decide(decide, 0, 0, 0, kLeafDim);
           bool all_min = true;
           for (int ix = 0; ix < kLeafDim; ++ix) {
             for (int iy = 0; iy < kLeafDim; ++iy) {
@@ -307,13 +356,15 @@ IntegrationStats ProjectiveIntegrator::integrate_in_arena(OccupancyMap& map,
                   all_min = false;
                   continue;
                 }
-                const Projection::Footprint f = proj.footprint(c, 0.5 * v);
-                bool is_free =
-                    f.z_near > 0 && f.z_far <= config_.max_range_m && proj.inside_image(f);
-                if (is_free) {
-                  const DepthPyramid::Bounds b = pyramid_.query(
-                      pixel_of(f.u_min), pixel_of(f.v_min), pixel_of(f.u_max), pixel_of(f.v_max));
-                  is_free = f.z_far < b.near_m - config_.free_margin_m;
+                bool is_free = decided[n] == Decision::kFree;
+                if (decided[n] == Decision::kUndecided) {
+                  const Projection::Footprint f = proj.footprint(c, 0.5 * v);
+                  is_free = f.z_near > 0 && f.z_far <= config_.max_range_m && proj.inside_image(f);
+                  if (is_free) {
+                    const DepthPyramid::Bounds b = pyramid_.query(
+                        pixel_of(f.u_min), pixel_of(f.v_min), pixel_of(f.u_max), pixel_of(f.v_max));
+                    is_free = f.z_far < b.near_m - config_.free_margin_m;
+                  }
                 }
                 if (is_free) {
                   values[n] = std::max(values[n] + miss, min_lo);

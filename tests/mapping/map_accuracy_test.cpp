@@ -11,8 +11,8 @@
 #include "mapping/map_io.h"
 #include "mapping/projective_integrator.h"
 #include "sim/frame_state.h"
+#include "sim/truth_depth.h"
 #include "tests/support/rendered_run.h"
-#include "tests/support/truth_depth.h"
 
 namespace pensight::mapping {
 namespace {
@@ -36,7 +36,7 @@ SequenceResult map_sequence(const std::string& file) {
   const int frames = s.num_frames();
   for (int f = 0; f < frames; ++f) {
     const sim::FrameState fs = sim::frame_state(s, f);
-    const ImageF32 depth = testing::truth_depth(s, net, cam, fs.T_world_camera);
+    const ImageF32 depth = sim::truth_depth(s, net, cam, fs.T_world_camera);
     const auto t0 = std::chrono::steady_clock::now();
     integrator.integrate(map, depth, fs.T_world_camera);
     const double ms =

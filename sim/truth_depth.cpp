@@ -1,13 +1,13 @@
-#include "tests/support/truth_depth.h"
+#include "sim/truth_depth.h"
 
 #include "sim/render_cpu.h"
 
-namespace pensight::testing {
+namespace pensight::sim {
 
-ImageF32 truth_depth(const sim::Scenario& s, const sim::NetGeometry& net, const PinholeCamera& cam,
+ImageF32 truth_depth(const Scenario& s, const NetGeometry& net, const PinholeCamera& cam,
                      const Eigen::Isometry3d& T_world_camera, int stride) {
   ImageF32 depth(cam.width_px, cam.height_px, 0.0f);
-  const double range = sim::net_visible_range_m(s.water);
+  const double range = net_visible_range_m(s.water);
   const Eigen::Vector3d o = T_world_camera.translation();
   for (int y = 0; y < cam.height_px; y += stride) {
     for (int x = 0; x < cam.width_px; x += stride) {
@@ -22,4 +22,4 @@ ImageF32 truth_depth(const sim::Scenario& s, const sim::NetGeometry& net, const 
   return depth;
 }
 
-}  // namespace pensight::testing
+}  // namespace pensight::sim
