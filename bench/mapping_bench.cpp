@@ -74,12 +74,24 @@ double process_cpu_s() {
   return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
 }
 
-// Share of the measured points within max range (every 16th pixel per axis of every integrated
-// frame) whose ray reads occupied somewhere from half a voxel in front of the point to 1.5 voxels
-// behind it: the voxel holding a surface point may read free and the one just behind it occupied.
-double surface_occupied_share(const Sequence& q, int frames, const mapping::MapConfig& config,
-                              const std::function<float(const Eigen::Vector3d&)>& log_odds_at) {
-  int points = 0, occupied = 0;
+// What a map says around the measured points (every 16th pixel per axis of every integrated
+// frame, within max range), read through the map's own log-odds query, so every integrator is
+// scored alike:
+// - surface_occupied: share of points whose ray reads occupied somewhere from half a voxel in
+//   front of the point to 1.5 voxels behind it (the voxel holding a surface point may read free
+//   and the one just behind it occupied);
+// - surface_offset_voxel: median distance, in voxels, from the point to where the ray first reads
+//   occupied (searched from 3 voxels in front to 3 behind, in quarter voxels);
+// - front_occupied / front_free: share of the points 2 to 4 voxels in front of the surface,
+//   along the ray, that read occupied (false occupancy) or free (cleared water).
+struct MapQuality {
+  double surface_occupied = 0, surface_offset_voxel = 0, front_occupied = 0, front_free = 0;
+};
+MapQuality map_quality(const Sequence& q, int frames, const mapping::MapConfig& config,
+                       const std::function<float(const Eigen::Vector3d&)>& log_odds_at) {
+  int points = 0, occupied = 0, front = 0, front_occ = 0, front_free = 0;
+  std::vector<double> offsets;
+  const double v = config.voxel_m;
   for (int f = 0; f < frames; ++f) {
     const ImageF32& depth = q.depth_m[f];
     const Eigen::Isometry3d& T = q.T_pen_camera[f];
@@ -91,15 +103,43 @@ double surface_occupied_share(const Sequence& q, int frames, const mapping::MapC
         const Eigen::Vector3d p = T.translation() + ray * d, u = ray.normalized();
         ++points;
         for (const double k : {-0.5, 0.0, 0.5, 1.0, 1.5}) {
-          if (log_odds_at(p + u * (k * config.voxel_m)) > 0) {
+          if (log_odds_at(p + u * (k * v)) > 0) {
             ++occupied;
             break;
           }
         }
+        for (double k = -3; k <= 3; k += 0.25) {
+          if (log_odds_at(p + u * (k * v)) > 0) {
+            offsets.push_back(std::abs(k));
+            break;
+          }
+        }
+        for (const double k : {-2.0, -3.0, -4.0}) {
+          const float l = log_odds_at(p + u * (k * v));
+          ++front;
+          front_occ += l > 0;
+          front_free += l < 0;
+        }
       }
     }
   }
-  return points > 0 ? static_cast<double>(occupied) / points : 0.0;
+  MapQuality m;
+  if (points == 0) return m;
+  m.surface_occupied = static_cast<double>(occupied) / points;
+  if (!offsets.empty()) {
+    std::nth_element(offsets.begin(), offsets.begin() + offsets.size() / 2, offsets.end());
+    m.surface_offset_voxel = offsets[offsets.size() / 2];
+  }
+  m.front_occupied = static_cast<double>(front_occ) / front;
+  m.front_free = static_cast<double>(front_free) / front;
+  return m;
+}
+
+void report_quality(benchmark::State& state, const MapQuality& m) {
+  state.counters["surface_occupied"] = m.surface_occupied;
+  state.counters["surface_offset_voxel"] = m.surface_offset_voxel;
+  state.counters["front_occupied"] = m.front_occupied;
+  state.counters["front_free"] = m.front_free;
 }
 
 // The benchmark loop: per iteration make_map() (untimed: the previous map is destroyed and a
@@ -161,8 +201,9 @@ void BM_map_projective(benchmark::State& state) {
         mapping::write_map_vdb(map, file);
         state.counters["vdb_MB"] = static_cast<double>(std::filesystem::file_size(file)) / 1e6;
         std::filesystem::remove(file);
-        state.counters["surface_occupied"] = surface_occupied_share(
-            q, frames, config, [&](const Eigen::Vector3d& p) { return map.log_odds_at(p); });
+        report_quality(state, map_quality(q, frames, config, [&](const Eigen::Vector3d& p) {
+                         return map.log_odds_at(p);
+                       }));
       });
 }
 BENCHMARK(BM_map_projective)
@@ -184,8 +225,9 @@ void BM_map_raycast(benchmark::State& state) {
       },
       [&](const mapping::OccupancyMap& map, const Sequence& q, int frames) {
         state.counters["memory_MB"] = static_cast<double>(map.memory_bytes()) / 1e6;
-        state.counters["surface_occupied"] = surface_occupied_share(
-            q, frames, config, [&](const Eigen::Vector3d& p) { return map.log_odds_at(p); });
+        report_quality(state, map_quality(q, frames, config, [&](const Eigen::Vector3d& p) {
+                         return map.log_odds_at(p);
+                       }));
       });
 }
 BENCHMARK(BM_map_raycast)
@@ -210,8 +252,9 @@ void BM_map_wavemap(benchmark::State& state) {
       },
       [&](const bench::WavemapPeer& peer, const Sequence& q, int frames) {
         state.counters["memory_MB"] = static_cast<double>(peer.memory_bytes()) / 1e6;
-        state.counters["surface_occupied"] = surface_occupied_share(
-            q, frames, config, [&](const Eigen::Vector3d& p) { return peer.log_odds_at(p); });
+        report_quality(state, map_quality(q, frames, config, [&](const Eigen::Vector3d& p) {
+                         return peer.log_odds_at(p);
+                       }));
       });
 }
 BENCHMARK(BM_map_wavemap)

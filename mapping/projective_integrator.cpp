@@ -99,10 +99,14 @@ PENSIGHT_SIMD_CLONES void row_voxels(const float* __restrict depth, int width, c
   }
 }
 
-// kEdge: crosses the image border. Its voxels partly outside stay unknown anyway, and the camera
-// sweeps the rest into view in later frames, so a leaf at the edge holding no hit is left alone:
-// the frustum's sides would otherwise leave a trail of half-known leaves in memory.
-enum class BlockKind { kSkip, kFree, kSurface, kEdge };
+// kEdge: crosses the image border. kFarEdge: the same beyond kFineEdgeRange_m; a leaf there
+// holding no hit is decided in sub-blocks of 2^3 and more only: its voxels cut by the border stay
+// unknown (the camera sweeps them into view in later frames), which spares the per-voxel tests of
+// the frustum's far side surface, most of a distant view's leaves. Near the camera, where the
+// border leaves cover much of the view and the water matters to the vehicle, every voxel is
+// tested.
+enum class BlockKind { kSkip, kFree, kSurface, kEdge, kFarEdge };
+constexpr double kFineEdgeRange_m = 2.5;
 enum class Decision : char { kUndecided, kFree, kNotFree };
 
 struct Classifier {
@@ -123,7 +127,9 @@ struct Classifier {
     const DepthPyramid::Bounds b =
         pyramid.query(pixel_of(f.u_min), pixel_of(f.v_min), pixel_of(f.u_max), pixel_of(f.v_max));
     if (f.z_near > b.far_m) return BlockKind::kSkip;  // hidden or unknown
-    if (!proj.inside_image(f)) return BlockKind::kEdge;
+    if (!proj.inside_image(f)) {
+      return f.z_near > kFineEdgeRange_m ? BlockKind::kFarEdge : BlockKind::kEdge;
+    }
     if (f.z_far < b.near_m - free_margin_m && f.z_far <= max_range_m) return BlockKind::kFree;
     return BlockKind::kSurface;
   }
@@ -133,6 +139,7 @@ struct LeafTask {
   openvdb::Coord origin;
   bool free;  // cleared as a whole
   Leaf* leaf = nullptr;
+  bool coarse = false;  // decided in sub-blocks only (BlockKind::kFarEdge without hits)
 };
 
 }  // namespace
@@ -289,12 +296,13 @@ IntegrationStats ProjectiveIntegrator::integrate_in_arena(OccupancyMap& map,
       case BlockKind::kFree:
         add_free(origin, size);
         return;
+      case BlockKind::kFarEdge:
       case BlockKind::kEdge:
       case BlockKind::kSurface:
         if (size == kLeafDim) {
-          if (kind == BlockKind::kSurface || hits.mask.probeConstLeaf(origin) != nullptr) {
-            tasks.push_back({origin, false});
-          }
+          const bool coarse =
+              kind == BlockKind::kFarEdge && hits.mask.probeConstLeaf(origin) == nullptr;
+          tasks.push_back({origin, false, nullptr, coarse});
           return;
         }
         const int half = size / 2;
@@ -393,7 +401,7 @@ IntegrationStats ProjectiveIntegrator::integrate_in_arena(OccupancyMap& map,
                   continue;
                 }
                 bool is_free = decided[n] == Decision::kFree;
-                if (decided[n] == Decision::kUndecided) {
+                if (decided[n] == Decision::kUndecided && !tasks[i].coarse) {
                   const Projection::Footprint f = proj.footprint(c, 0.5 * v);
                   is_free = f.z_near > 0 && f.z_far <= config_.max_range_m && proj.inside_image(f);
                   if (is_free) {
