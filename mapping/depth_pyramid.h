@@ -26,8 +26,10 @@ class DepthPyramid {
   int height() const { return height_; }
 
   // Bounds over the integer pixel rectangle [x0, x1] x [y0, y1] (clamped to the image), taken
-  // from the level whose blocks are at least half the rectangle's extent: a superset of at most
-  // twice the rectangle per axis, so near is a lower and far an upper bound.
+  // from the level whose blocks of 2^k pixels are at least half the rectangle's larger extent e:
+  // the blocks it touches, a superset reaching less than one block (2^k < e) beyond each side,
+  // so at most 3e - 2 pixels per axis (e = 10 from x = 7 reads pixels 0-23). near is a lower and
+  // far an upper bound.
   Bounds query(int x0, int y0, int x1, int y1) const;
 
  private:

@@ -77,7 +77,7 @@ SurfaceMesh extract_surface(const OccupancyMap& map) {
   // side. With kOutside = 3 x max_log_odds the crossing lies a quarter voxel from a saturated
   // occupied voxel's centre (3.5 / (3.5 + 10.5)), so the shell around a one-voxel sheet of twine
   // is half a voxel thick and centred on it.
-  const double occupied = map.config().occupied_log_odds;
+  const auto occupied = static_cast<float>(map.config().occupied_log_odds);  // as the queries
   const auto outside = static_cast<float>(3 * map.config().max_log_odds);
   openvdb::FloatGrid::Ptr field = openvdb::FloatGrid::create(outside);
   field->setTransform(map.grid().transform().copy());

@@ -33,9 +33,12 @@ float OccupancyMap::log_odds_at(const Eigen::Vector3d& p_pen) const {
 }
 
 Occupancy OccupancyMap::occupancy_at(const Eigen::Vector3d& p_pen) const {
-  const double l = log_odds_at(p_pen);
-  if (l > config_.occupied_log_odds) return Occupancy::kOccupied;
-  return l < -config_.occupied_log_odds ? Occupancy::kFree : Occupancy::kUnknown;
+  // Compared in float, as the grid stores it and as the other queries compare: in double a voxel
+  // at exactly occupied_log_odds (0.2f > 0.2) would read occupied here and not occupied there.
+  const float l = log_odds_at(p_pen);
+  const auto threshold = static_cast<float>(config_.occupied_log_odds);
+  if (l > threshold) return Occupancy::kOccupied;
+  return l < -threshold ? Occupancy::kFree : Occupancy::kUnknown;
 }
 
 std::optional<Eigen::Vector3d> OccupancyMap::first_occupied_along_ray(
