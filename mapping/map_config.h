@@ -27,6 +27,8 @@ struct MapConfig {
   double free_margin_m = 0.0;
   // Worker threads of one integration (TBB); 0: one per core.
   int threads = 0;
+
+  bool operator==(const MapConfig&) const = default;
 };
 
 // Throws pensight::Error naming the parameter and its allowed range when one is out of range.
