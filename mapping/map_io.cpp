@@ -1,5 +1,6 @@
 #include "mapping/map_io.h"
 
+#include <openvdb/io/Stream.h>
 #include <openvdb/tools/VolumeToMesh.h>
 
 #include <cstring>
@@ -135,19 +136,24 @@ OccupancyMap read_map_vdb(const std::filesystem::path& file) {
     throw Error("map '" + file.string() +
                 "': no such file (give the map.vdb that pensight map wrote)");
   }
+  // Read through a stream that throws on a short read: OpenVDB's own file reader takes the size
+  // of a compressed block from the bytes where a truncated file ends and allocates that much.
   openvdb::GridBase::Ptr base;
   try {
-    openvdb::io::File in(file.string());
-    in.open(false);
-    if (!in.hasGrid("occupancy")) {
-      in.close();
-      throw Error("map '" + file.string() +
-                  "': no grid named 'occupancy' (not a pensight map; pensight map writes one)");
+    std::ifstream in(file, std::ios::binary);
+    in.exceptions(std::ios::failbit | std::ios::badbit);
+    openvdb::io::Stream stream(in, false);
+    for (const openvdb::GridBase::Ptr& g : *stream.getGrids()) {
+      if (g->getName() == "occupancy") base = g;
     }
-    base = in.readGrid("occupancy");
-    in.close();
-  } catch (const openvdb::Exception& e) {
+  } catch (const std::ios_base::failure&) {
+    throw Error("map '" + file.string() + "': truncated (the file ends inside its grid data)");
+  } catch (const std::exception& e) {  // openvdb::Exception, std::bad_alloc from corrupt sizes
     throw Error("map '" + file.string() + "': not a readable OpenVDB file (" + e.what() + ")");
+  }
+  if (!base) {
+    throw Error("map '" + file.string() +
+                "': no grid named 'occupancy' (not a pensight map; pensight map writes one)");
   }
   openvdb::FloatGrid::Ptr grid = openvdb::gridPtrCast<openvdb::FloatGrid>(base);
   if (!grid) {
