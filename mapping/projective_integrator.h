@@ -10,7 +10,8 @@
 //   are cleared without visiting their voxels one by one: a free leaf that is not stored (unknown
 //   or free water) stays a tile of one value, and one already saturated free is skipped;
 // - everything else (behind a surface, outside the image, in a footprint with a hole) is left
-//   unknown, never cleared.
+//   unknown, never cleared; so are the voxels cut by the image border in border leaves beyond
+//   2.5 m that hold no hit, which are decided in sub-blocks of 2^3 voxels and more only.
 // Leaves are allocated once per frame, then updated in parallel (TBB); a leaf that ends saturated
 // free becomes a tile.
 //
