@@ -27,6 +27,7 @@
 #include "mapping/map_io.h"
 #include "mapping/projective_integrator.h"
 #include "mapping/raycast_integrator.h"
+#include "pipeline/evaluation/evaluation.h"
 #include "sim/frame_state.h"
 #include "sim/scenario.h"
 #include "sim/truth_depth.h"
@@ -126,10 +127,7 @@ MapQuality map_quality(const Sequence& q, int frames, const mapping::MapConfig& 
   MapQuality m;
   if (points == 0) return m;
   m.surface_occupied = static_cast<double>(occupied) / points;
-  if (!offsets.empty()) {
-    std::nth_element(offsets.begin(), offsets.begin() + offsets.size() / 2, offsets.end());
-    m.surface_offset_voxel = offsets[offsets.size() / 2];
-  }
+  m.surface_offset_voxel = error_stats(offsets).median;  // 0 without offsets
   m.front_occupied = static_cast<double>(front_occ) / front;
   m.front_free = static_cast<double>(front_free) / front;
   return m;

@@ -6,15 +6,10 @@
 #include <unordered_map>
 #include <vector>
 
+#include "pipeline/evaluation/evaluation.h"
+
 namespace pensight::mapping {
 namespace {
-
-double quantile(std::vector<double> v, double q) {
-  if (v.empty()) return std::nan("");
-  const size_t k = std::min(v.size() - 1, static_cast<size_t>(q * static_cast<double>(v.size())));
-  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
-  return v[k];
-}
 
 struct CellHash {
   size_t operator()(const Eigen::Vector3i& c) const {
@@ -39,8 +34,9 @@ MapAccuracy score_map(const OccupancyMap& map, const SurfaceMesh& mesh,
     errors.push_back(std::abs(signed_distance_m(p.cast<double>())));
     buckets[(p.cast<double>() / v).array().floor().cast<int>().matrix()].push_back(p);
   }
-  a.median_m = quantile(errors, 0.5);
-  a.p95_m = quantile(errors, 0.95);
+  const ErrorStats e = error_stats(errors);
+  a.median_m = e.count ? e.median : std::nan("");
+  a.p95_m = e.count ? e.p95 : std::nan("");
 
   a.observed_points = observed_P.size();
   size_t covered = 0;
