@@ -15,18 +15,6 @@
 #include "runtime/error.h"
 
 namespace pensight::app {
-namespace {
-
-ImageF32 metres_from_mm(const ImageU16& mm) {
-  ImageF32 out(mm.width, mm.height);
-  for (size_t i = 0; i < mm.pixels.size(); ++i) {
-    out.pixels[i] = static_cast<float>(mm.pixels[i]) * 1e-3f;  // 0 stays 0: no measurement
-  }
-  return out;
-}
-
-}  // namespace
-
 int cmd_map(const Args& args) {
   CLI::App cli(
       "Integrate a dataset's depth images and camera poses into the occupancy map (OpenVDB) and "
@@ -102,8 +90,8 @@ int cmd_map(const Args& args) {
     }
     const ImageF32 depth =
         from_truth ? dataset.load_depth_m(i)
-                   : metres_from_mm(read_png_u16(depth_file, dataset.cam0.camera.width_px,
-                                                 dataset.cam0.camera.height_px));
+                   : depth_m_from_mm(read_png_u16(depth_file, dataset.cam0.camera.width_px,
+                                                  dataset.cam0.camera.height_px));
     const auto t0 = std::chrono::steady_clock::now();
     integrator.integrate(map, depth, pose->second * dataset.cam0.T_BS);
     const double ms =

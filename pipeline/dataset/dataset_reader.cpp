@@ -141,12 +141,15 @@ ImageU16 Dataset::load_depth_mm(size_t i) const {
                       cam0.camera.height_px);
 }
 
-ImageF32 Dataset::load_depth_m(size_t i) const {
-  const ImageU16 mm = load_depth_mm(i);
+ImageF32 depth_m_from_mm(const ImageU16& mm) {
   ImageF32 out(mm.width, mm.height);
   std::transform(mm.pixels.begin(), mm.pixels.end(), out.pixels.begin(),
                  [](uint16_t v) { return v == 0 ? std::nanf("") : static_cast<float>(v) * 1e-3f; });
   return out;
+}
+
+ImageF32 Dataset::load_depth_m(size_t i) const {
+  return depth_m_from_mm(load_depth_mm(i));
 }
 
 const GroundTruthRow* Dataset::truth_for_frame(size_t i) const {

@@ -44,6 +44,9 @@ class Dataset {
   const GroundTruthRow* truth_for_frame(size_t i) const;
 };
 
+// A depth PNG of the contract (16-bit z-depth in millimetres, 0 = none) in metres, NaN where none.
+ImageF32 depth_m_from_mm(const ImageU16& mm);
+
 // Reads scene.yaml, cam0/ (required) and the optional sensor folders. Throws pensight::Error
 // naming the file (and line or key) for anything missing or malformed.
 Dataset read_dataset(const std::filesystem::path& root);
