@@ -82,7 +82,7 @@ std::vector<Frame> make_frames() {
       const double outlier = i % 10 == 3 ? 0.4 : 0.0;
       fr.camera.points_C.push_back(dir * (d ? *d * (1 + 0.015 * n01(rng)) + outlier : kNaN));
     }
-    const auto rel = net_relative_pose(T_pc, kRadius);
+    const auto rel = net_relative_pose(T_pc, NetWall::cylinder(kRadius));
     fr.camera.d_net_m = rel.d_net_m;
     fr.camera.psi_net_rad = rel.psi_net_rad;
     for (const double s : {t + 0.007, t + 0.057}) {
@@ -99,7 +99,7 @@ std::vector<Frame> make_frames() {
       d.valid = true;
       d.velocity_B_mps =
           T.linear().transpose() * v_P + 0.01 * Eigen::Vector3d(n01(rng), n01(rng), n01(rng));
-      d.beam_range_m = dvl_ranges_to_cylinder(dvl, T, kRadius);
+      d.beam_range_m = dvl_ranges_to_wall(dvl, T, NetWall::cylinder(kRadius));
       fr.dvl.push_back(d);
     }
     if (f % 4 != 3) fr.depth.push_back({ns(t + 0.031), 5.0 + 0.02 * n01(rng)});

@@ -237,6 +237,7 @@ class RunWriter {
 global_pose::GlobalPoseEstimatorConfig global_pose_config(const Dataset& d) {
   global_pose::GlobalPoseEstimatorConfig c;
   c.pen_radius_m = d.scene.pen_radius_m;
+  c.flat_panel = d.scene.flat_panel;
   c.initial_rho_rad = d.scene.initial_rho_rad.value_or(0.0);
   c.T_body_camera = d.cam0.T_BS;
   if (d.dvl0) c.dvl_beams = d.dvl0->calibration;

@@ -408,8 +408,13 @@ int64_t Scenario::frame_time_ns(int frame) const {
 }
 
 SceneConfig Scenario::scene_config() const {
-  return {net.mesh_m, pen.radius_m, std::nullopt, net.mesh_type,
-          net.opening_angle_deg * M_PI / 180};
+  SceneConfig scene{net.mesh_m, pen.radius_m, std::nullopt, net.mesh_type,
+                    net.opening_angle_deg * M_PI / 180};
+  // The plane pen's net is the plane x = radius_m, facing -x (PenConfig).
+  if (pen.shape == NetShape::kPlane)
+    scene.flat_panel =
+        SceneConfig::FlatPanel{Eigen::Vector3d(pen.radius_m, 0, 0), Eigen::Vector3d::UnitX()};
+  return scene;
 }
 
 Scenario parse_scenario(const std::string& text, const std::string& file_name) {

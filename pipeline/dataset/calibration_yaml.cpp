@@ -192,6 +192,33 @@ SceneConfig read_scene_yaml(const std::filesystem::path& file) {
     }
     s.net_mesh_angle_rad = *deg * std::numbers::pi / 180;
   }
+  const std::string net_type = y.string("net_type", "cylinder");
+  if (net_type == "flat_panel") {
+    SceneConfig::FlatPanel panel;
+    const auto point = y.numbers("net_plane_point_m", 3);
+    const auto normal = y.numbers("net_plane_normal", 3);
+    panel.plane_point_m = Eigen::Vector3d(point[0], point[1], point[2]);
+    panel.plane_normal = Eigen::Vector3d(normal[0], normal[1], normal[2]);
+    // The estimators model a hanging (vertical) net: its normal lies within 10 deg of the
+    // horizontal, and it is given to 1 % of unit length (a normal from another tool's fit).
+    const double norm = panel.plane_normal.norm();
+    if (!(std::abs(norm - 1) <= 0.01) ||
+        !(std::abs(panel.plane_normal.z()) <= std::sin(10 * std::numbers::pi / 180))) {
+      y.fail("net_plane_normal",
+             "must be a unit vector within 10 deg of the horizontal (a hanging net), e.g. "
+             "[1, 0, 0]");
+    }
+    panel.plane_normal.z() = 0;
+    panel.plane_normal.normalize();
+    // The pen frame's origin is on the camera side of the panel.
+    if (!(panel.plane_normal.dot(panel.plane_point_m) > 0)) {
+      y.fail("net_plane_normal",
+             "must point away from the pen frame's origin (the camera side): normal . point > 0");
+    }
+    s.flat_panel = panel;
+  } else if (net_type != "cylinder") {
+    y.fail("net_type", "'" + net_type + "' is not a net type: use cylinder or flat_panel");
+  }
   y.check_unknown_keys();
   return s;
 }
@@ -203,6 +230,16 @@ std::string scene_yaml(const SceneConfig& s) {
   if (s.net_mesh_angle_rad) {
     out += "net_mesh_angle_deg: " + format_number(*s.net_mesh_angle_rad * 180 / std::numbers::pi) +
            "\n";
+  }
+  if (s.flat_panel) {
+    const auto vec = [](const Eigen::Vector3d& v) {
+      std::string text = "[";
+      for (int i = 0; i < 3; ++i) text.append(i ? ", " : "").append(format_number(v(i)));
+      return text.append("]");
+    };
+    out += "net_type: flat_panel\n";
+    out += "net_plane_point_m: " + vec(s.flat_panel->plane_point_m) + "\n";
+    out += "net_plane_normal: " + vec(s.flat_panel->plane_normal) + "\n";
   }
   if (s.initial_rho_rad) out += "initial_rho_rad: " + format_number(*s.initial_rho_rad) + "\n";
   return out;

@@ -37,6 +37,14 @@ struct SceneConfig {
   // Optional (contract 1.1): a prior for the detector, which estimates what is absent.
   std::optional<MeshType> net_mesh_type;
   std::optional<double> net_mesh_angle_rad;  // nominal opening angle; scene.yaml has degrees
+  // Optional (contract 1.1): the net wall's shape. A flat panel is the vertical plane through
+  // `plane_point_m` (P) with the unit horizontal normal `plane_normal` pointing away from the
+  // camera side; pen_radius_m still names the equivalent cylinder.
+  struct FlatPanel {
+    Eigen::Vector3d plane_point_m = Eigen::Vector3d::Zero();
+    Eigen::Vector3d plane_normal = Eigen::Vector3d::UnitX();
+  };
+  std::optional<FlatPanel> flat_panel;  // nullopt: net_type cylinder
 };
 
 // One line of cam0/data.csv; the image is cam0/data/<filename>, the ground-truth depth (when

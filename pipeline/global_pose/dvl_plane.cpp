@@ -44,14 +44,13 @@ DvlPlane dvl_net_plane(const DvlCalibration& dvl, const std::array<double, 4>& r
   return plane;
 }
 
-std::array<double, 4> dvl_ranges_to_cylinder(const DvlCalibration& dvl,
-                                             const Eigen::Isometry3d& T_pen_body, double radius_m) {
+std::array<double, 4> dvl_ranges_to_wall(const DvlCalibration& dvl,
+                                         const Eigen::Isometry3d& T_pen_body, const NetWall& wall) {
   const Eigen::Isometry3d T_pen_dvl = T_pen_body * dvl.T_BS;
   std::array<double, 4> ranges = {kNaN, kNaN, kNaN, kNaN};
   for (size_t i = 0; i < 4; ++i) {
-    const auto t =
-        ray_to_cylinder(T_pen_dvl.translation(),
-                        T_pen_dvl.linear() * dvl.beam_directions_S[i].normalized(), radius_m);
+    const auto t = wall.ray_distance(T_pen_dvl.translation(),
+                                     T_pen_dvl.linear() * dvl.beam_directions_S[i].normalized());
     if (t) ranges[i] = *t;
   }
   return ranges;

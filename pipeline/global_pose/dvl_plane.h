@@ -28,8 +28,8 @@ struct DvlPlane {
 DvlPlane dvl_net_plane(const DvlCalibration& dvl, const std::array<double, 4>& range_m,
                        double roll_rad = 0, double pitch_rad = 0);
 
-// The beam ranges a DVL at T_pen_body would measure on the pen wall (NaN where a beam misses).
-std::array<double, 4> dvl_ranges_to_cylinder(const DvlCalibration& dvl,
-                                             const Eigen::Isometry3d& T_pen_body, double radius_m);
+// The beam ranges a DVL at T_pen_body would measure on the net wall (NaN where a beam misses).
+std::array<double, 4> dvl_ranges_to_wall(const DvlCalibration& dvl,
+                                         const Eigen::Isometry3d& T_pen_body, const NetWall& wall);
 
 }  // namespace pensight::global_pose

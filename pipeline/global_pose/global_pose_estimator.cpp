@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 #include <utility>
 
 #include "runtime/error.h"
@@ -24,6 +25,7 @@ enum Warning : int {
   kWarnDuplicate,
   kWarnTooLate,
   kWarnNotLockable,
+  kWarnDvlSpike,
 };
 
 const char* sensor_name(int s) {
@@ -34,6 +36,7 @@ const char* sensor_name(int s) {
 
 // The states each measurement model reads (a vertical cylinder does not depend on depth).
 constexpr int kPoseStates[] = {kX, kY, kPsi};
+constexpr int kVisionStates[] = {kX, kY, kPsi, kFixHeadingBias};
 constexpr int kVelocityStates[] = {kU, kV, kW, kDvlBiasU, kDvlBiasV};
 constexpr int kDepthStates[] = {kZ};
 constexpr int kYawStates[] = {kPsi, kYawBias};
@@ -56,9 +59,13 @@ std::string describe(const GlobalPoseCounters& c) {
     std::snprintf(line, sizeof(line),
                   "%-21s received %d, accepted %d, gated out %d, re-locked %d, invalid %d, "
                   "duplicates %d, out of order %d, too late %d\n",
-                  name, s->received, s->accepted, s->rejected, s->relocked, s->invalid,
+                  name, s->received, s->accepted, s->rejected - s->spikes, s->relocked, s->invalid,
                   s->duplicates, s->out_of_order, s->too_late);
     out += line;
+    if (s == &c.dvl_velocity) {
+      std::snprintf(line, sizeof(line), "%-21s spikes rejected %d\n", "", s->spikes);
+      out += line;
+    }
     if (s == &c.vision_fix) {
       std::snprintf(line, sizeof(line),
                     "%-21s not trusted to lock %d, position re-initialised %d\n", "",
@@ -76,7 +83,21 @@ GlobalPoseEstimator::GlobalPoseEstimator(GlobalPoseEstimatorConfig config)
         "global pose: pen_radius_m must be > 0 (scene.yaml pen_radius_m; 100 for a flat net)");
   if (!(cfg_.history_s >= 0))
     throw Error("global pose: history_s must be >= 0 (seconds of late samples to re-apply)");
-  cfg_.circle.radius_m = cfg_.pen_radius_m;
+  if (cfg_.flat_panel) {
+    const Eigen::Vector2d normal = cfg_.flat_panel->plane_normal.head<2>();
+    const Eigen::Vector2d point = cfg_.flat_panel->plane_point_m.head<2>();
+    if (!(normal.norm() > 0.5) || !(normal.normalized().dot(point) > 0))
+      throw Error(
+          "global pose: the flat panel's normal must be horizontal and point away from the pen "
+          "frame's origin (scene.yaml net_plane_normal, net_plane_point_m)");
+    wall_ = NetWall::flat_panel(cfg_.pen_radius_m, point, normal);
+    cfg_.circle.radius_m = kFlatPanelFitRadius_m;
+  } else {
+    wall_ = NetWall::cylinder(cfg_.pen_radius_m);
+    cfg_.circle.radius_m = cfg_.pen_radius_m;
+  }
+  cfg_.dvl_spikes.noise_mps = cfg_.noise.dvl_velocity_mps;
+  dvl_spikes_ = DvlSpikeTest(cfg_.dvl_spikes);
   if (!cfg_.has_dvl)
     log_warning(
         "global pose: no DVL (dvl0/ missing): running without velocity aiding; rho_g follows the "
@@ -98,7 +119,22 @@ void GlobalPoseEstimator::warn_once(int id, const std::string& message) {
 }
 
 void GlobalPoseEstimator::add(const DvlSample& s) {
-  enqueue({s.timestamp_ns, kDvl, s}, arrival_.dvl_velocity);
+  if (!s.valid || !s.velocity_B_mps.allFinite()) {
+    enqueue({s.timestamp_ns, kDvl, s}, arrival_.dvl_velocity);  // counted invalid when applied
+    return;
+  }
+  // The pen-frame velocity for the spike test: levelled and turned by the attitude (its yaw
+  // offset from P cancels in the difference of two samples), else by the filter's heading.
+  const auto a = attitude_.at(s.timestamp_ns, cfg_.max_attitude_gap_s);
+  const double heading =
+      a && std::isfinite(a->yaw_rad) ? a->yaw_rad : (state_.initialised ? state_.ekf.x(kPsi) : 0.0);
+  const Eigen::Vector3d v_P =
+      rotation_pen_body(a ? a->roll_rad : 0.0, a ? a->pitch_rad : 0.0, heading) * s.velocity_B_mps;
+  const int spikes_before = dvl_spikes_.spikes();
+  for (const DvlSample& r : dvl_spikes_.push(s, v_P))
+    enqueue({r.timestamp_ns, kDvl, r}, arrival_.dvl_velocity);
+  if (dvl_spikes_.spikes() > spikes_before)
+    warn_once(kWarnDvlSpike, "DVL velocity spike rejected (beyond the vehicle's acceleration)");
 }
 void GlobalPoseEstimator::add(const PressureSample& s) {
   enqueue({s.timestamp_ns, kDepth, s}, arrival_.depth);
@@ -164,6 +200,7 @@ void GlobalPoseEstimator::enqueue(Event e, SensorCounters& arrival) {
 }
 
 GlobalPose GlobalPoseEstimator::estimate(int64_t t_ns) {
+  dvl_spikes_.expire(t_ns);
   size_t n = 0;
   while (n < pending_.size() && pending_[n].t_ns <= t_ns) {
     history_.push_back({std::move(pending_[n]), state_});
@@ -187,7 +224,7 @@ GlobalPose GlobalPoseEstimator::estimate(int64_t t_ns) {
     return out;
   }
   PenEkf ekf = state_.ekf;
-  ekf.predict_to(t_ns, cfg_.noise.process);
+  ekf.predict_to(t_ns, process_noise());
   const StateVector& x = ekf.x;
   const double r = std::hypot(x(kX), x(kY));
   const double rho = std::atan2(x(kY), x(kX));
@@ -230,6 +267,9 @@ GlobalPoseCounters GlobalPoseEstimator::counters() const {
     dst.invalid += arrival.invalid;
   };
   merge(c.dvl_velocity, arrival_.dvl_velocity);
+  c.dvl_velocity.spikes = dvl_spikes_.spikes();
+  c.dvl_velocity.received += c.dvl_velocity.spikes;
+  c.dvl_velocity.rejected += c.dvl_velocity.spikes;
   merge(c.depth, arrival_.depth);
   merge(c.attitude, arrival_.attitude);
   merge(c.vision_fix, arrival_.vision_fix);
@@ -237,8 +277,7 @@ GlobalPoseCounters GlobalPoseEstimator::counters() const {
 }
 
 void GlobalPoseEstimator::apply(const Event& e) {
-  if (state_.initialised)
-    state_.ekf.predict_to(std::max(e.t_ns, state_.ekf.t_ns), cfg_.noise.process);
+  if (state_.initialised) state_.ekf.predict_to(std::max(e.t_ns, state_.ekf.t_ns), process_noise());
   state_.last_time_ns = std::max(state_.last_time_ns, e.t_ns);
   switch (e.kind) {
     case kAttitude:
@@ -254,6 +293,16 @@ void GlobalPoseEstimator::apply(const Event& e) {
       apply_camera(std::get<NetObservation>(e.sample));
       break;
   }
+}
+
+ProcessNoise GlobalPoseEstimator::process_noise() const {
+  ProcessNoise q = cfg_.noise.process;
+  // A manoeuvre: the acceleration the DVL showed over its last interval, and a yaw acceleration
+  // in proportion to the yaw rate (a turn starts and stops within about a second).
+  q.horizontal_accel = std::max(q.horizontal_accel, state_.dvl_accel_mps2);
+  q.yaw_accel =
+      std::max(q.yaw_accel, cfg_.yaw_accel_per_yaw_rate * std::abs(state_.ekf.x(kPsiRate)));
+  return q;
 }
 
 std::pair<double, double> GlobalPoseEstimator::level_at(int64_t t_ns) {
@@ -401,6 +450,13 @@ void GlobalPoseEstimator::apply_dvl(const DvlSample& s) {
     warn_once(kWarnInvalidDvl, "invalid or NaN DVL velocity skipped");
   } else {
     const Eigen::Vector3d v_L = rotation_level_body(roll, pitch) * s.velocity_B_mps;
+    // The acceleration over the last interval sizes the process noise (process_noise()).
+    if (state_.last_velocity_L.allFinite() && state_.last_dvl_ns != kNever) {
+      const double dt_s = 1e-9 * static_cast<double>(s.timestamp_ns - state_.last_dvl_ns);
+      state_.dvl_accel_mps2 =
+          dt_s > 0 && dt_s <= 1.0 ? (v_L - state_.last_velocity_L).norm() / dt_s : 0.0;
+    }
+    state_.last_dvl_ns = s.timestamp_ns;
     state_.last_velocity_L = v_L;
     if (!state_.initialised) {
       ++cv.accepted;
@@ -445,12 +501,17 @@ Eigen::Vector2d GlobalPoseEstimator::predicted_plane(const StateVector& x, const
                                                      double roll, double pitch) const {
   // The same beams and the same plane fit as the measurement, so the chord-vs-curve difference of
   // a plane through a curved wall is in the model, not in the innovation.
-  auto ranges =
-      dvl_ranges_to_cylinder(*cfg_.dvl_beams, T_pen_body(x, roll, pitch), cfg_.pen_radius_m);
+  auto ranges = dvl_ranges_to_wall(*cfg_.dvl_beams, T_pen_body(x, roll, pitch), wall_);
   for (size_t i = 0; i < 4; ++i)
     if (!std::isfinite(s.beam_range_m[i])) ranges[i] = kNaN;
   const DvlPlane p = dvl_net_plane(*cfg_.dvl_beams, ranges, roll, pitch);
   return {p.distance_m, p.heading_rad};
+}
+
+Eigen::Vector2d GlobalPoseEstimator::wall_fix(const PenFix& fix) const {
+  // The fitted circle's radius less r_g is the distance to the net along the outward normal,
+  // whose bearing in L is -psi_r; on a flat panel the circle stands in for the line.
+  return {cfg_.circle.radius_m - fix.r_g_m, fix.psi_r_rad};
 }
 
 std::string GlobalPoseEstimator::lock_refusal_at(const PenFix& fix, double rho_rad,
@@ -460,10 +521,12 @@ std::string GlobalPoseEstimator::lock_refusal_at(const PenFix& fix, double rho_r
       state_.plane_ns != kNever &&
       1e-9 * static_cast<double>(std::abs(t_ns - state_.plane_ns)) <= cfg_.lock.max_plane_age_s;
   if (!why.empty() || !recent_plane || !cfg_.dvl_beams) return why;
+  const Eigen::Vector2d z = wall_fix(fix);
+  const auto position = wall_.position_at(rho_rad, z.x());
+  if (!position) return "the fix puts the vehicle outside the flat panel's reach at this azimuth";
   StateVector x = StateVector::Zero();
-  x(kX) = fix.r_g_m * std::cos(rho_rad);
-  x(kY) = fix.r_g_m * std::sin(rho_rad);
-  x(kPsi) = rho_rad + fix.psi_r_rad;
+  x.head<2>() = *position;
+  x(kPsi) = wall_.normal_bearing_rad(*position) + z.y();
   const Eigen::Vector2d p =
       predicted_plane(x, state_.plane_sample, state_.plane_roll_rad, state_.plane_pitch_rad);
   const double dd = p.x() - state_.plane.distance_m;
@@ -505,12 +568,14 @@ void GlobalPoseEstimator::apply_camera(const NetObservation& obs) {
     Eigen::Matrix2d R = n.fix_inflation * n.fix_inflation * fix.covariance;
     R(0, 0) += n.fix_r_floor_m * n.fix_r_floor_m;
     R(1, 1) += n.fix_psi_r_floor_rad * n.fix_psi_r_floor_rad;
-    const auto model = [](const StateVector& x) {
-      return Eigen::Vector2d(std::hypot(x(kX), x(kY)),
-                             wrap_angle(x(kPsi) - std::atan2(x(kY), x(kX))));
+    const auto model = [this](const StateVector& x) {
+      const Eigen::Vector2d xy = x.head<2>();
+      return Eigen::Vector2d(
+          wall_.distance_m(xy),
+          wrap_angle(x(kPsi) - wall_.normal_bearing_rad(xy) + x(kFixHeadingBias)));
     };
-    const Eigen::Vector2d z(fix.r_g_m, fix.psi_r_rad);
-    if (gated_update<2>(kVisionFix, cf, z, model, R, {false, true}, kPoseStates) ==
+    const Eigen::Vector2d z = wall_fix(fix);
+    if (gated_update<2>(kVisionFix, cf, z, model, R, {false, true}, kVisionStates) ==
         UpdateOutcome::kRejected) {
       const Eigen::Vector2d h = model(state_.ekf.x);
       consider_reinitialising(fix, Eigen::Vector2d(z.x() - h.x(), wrap_angle(z.y() - h.y())),
@@ -531,13 +596,13 @@ void GlobalPoseEstimator::apply_camera(const NetObservation& obs) {
   }
   const auto model = [&, roll = roll, pitch = pitch](const StateVector& x) {
     const NetRelativePose p =
-        net_relative_pose(T_pen_body(x, roll, pitch) * cfg_.T_body_camera, cfg_.pen_radius_m);
-    return Eigen::Vector2d(p.d_net_m, p.psi_net_rad);
+        net_relative_pose(T_pen_body(x, roll, pitch) * cfg_.T_body_camera, wall_);
+    return Eigen::Vector2d(p.d_net_m, wrap_angle(p.psi_net_rad + x(kFixHeadingBias)));
   };
   gated_update<2>(
       kVisionRel, cr, Eigen::Vector2d(obs.d_net_m, obs.psi_net_rad), model,
       diag<2>(Eigen::Vector2d(cfg_.noise.d_net_frac * obs.d_net_m, cfg_.noise.psi_net_rad)),
-      {false, true}, kPoseStates);
+      {false, true}, kVisionStates);
 }
 
 void GlobalPoseEstimator::consider_reinitialising(const PenFix& fix,
@@ -579,42 +644,54 @@ void GlobalPoseEstimator::consider_reinitialising(const PenFix& fix,
       return;
   }
   char buf[240];
-  std::snprintf(buf, sizeof(buf),
-                "global pose: %zu vision fixes in a row gated out but agreeing (r_g off by %.2f m "
-                "changing %.2f m/s, psi_r by %.1f deg): position re-initialised at t = %lld ns",
-                run.size(), innovation.x(), rate.x(),
-                innovation.y() * 180.0 / 3.14159265358979323846, static_cast<long long>(t_ns));
+  std::snprintf(
+      buf, sizeof(buf),
+      "global pose: %zu vision fixes in a row gated out but agreeing (distance to the net "
+      "off by %.2f m changing %.2f m/s, heading by %.1f deg): position re-initialised at "
+      "t = %lld ns",
+      run.size(), innovation.x(), rate.x(), innovation.y() * 180.0 / std::numbers::pi,
+      static_cast<long long>(t_ns));
   log_warning(buf);
   reinitialise_position(fix, rate.x(), t_ns);
   ++state_.counts.vision_fix.reinitialised;
   run.clear();
 }
 
-void GlobalPoseEstimator::reinitialise_position(const PenFix& fix, double radial_rate_mps,
+void GlobalPoseEstimator::reinitialise_position(const PenFix& fix, double distance_rate_mps,
                                                 int64_t t_ns) {
   PenEkf& ekf = state_.ekf;
   StateVector& x = ekf.x;
   StateMatrix& P = ekf.P;
-  const double r_old = std::hypot(x(kX), x(kY));
+  const Eigen::Vector2d z = wall_fix(fix);
   const double rho = std::atan2(x(kY), x(kX));
-  const Eigen::Vector2d radial(std::cos(rho), std::sin(rho)), tangential(-radial.y(), radial.x());
-  // The azimuth keeps its uncertainty (the DVL and the attitude yaw carried it); the radial
-  // distance and the heading restart from the fix, uncorrelated with the rest.
-  const double rho_var = tangential.dot(P.topLeftCorner<2, 2>() * tangential) / (r_old * r_old);
+  const auto position = wall_.position_at(rho, z.x());
+  if (!position) return;  // lock_refusal_at refused such a fix before it got here
+  const double bearing = wall_.normal_bearing_rad(*position);
+  const Eigen::Vector2d normal(std::cos(bearing), std::sin(bearing)),
+      along(-normal.y(), normal.x());
+  // The position along the wall keeps its uncertainty (the DVL and the attitude yaw carried it);
+  // the distance to the wall and the heading restart from the fix, uncorrelated with the rest.
+  const double along_var = along.dot(P.topLeftCorner<2, 2>() * along);
+  // The cylinder's normal turns with the azimuth, a flat panel's does not.
+  const double bearing_var = wall_.flat ? 0.0 : along_var / position->squaredNorm();
   for (const int i : {static_cast<int>(kX), static_cast<int>(kY), static_cast<int>(kPsi)}) {
     P.row(i).setZero();
     P.col(i).setZero();
   }
-  x.head<2>() = fix.r_g_m * radial;
-  P.topLeftCorner<2, 2>() = fix.covariance(0, 0) * radial * radial.transpose() +
-                            fix.r_g_m * fix.r_g_m * rho_var * tangential * tangential.transpose();
-  x(kPsi) = wrap_angle(rho + fix.psi_r_rad);
-  P(kPsi, kPsi) = fix.covariance(1, 1) + std::pow(cfg_.noise.fix_psi_r_floor_rad, 2) + rho_var;
-  // The fixes' r changed faster than the filter's by radial_rate_mps: its velocity is off by that
-  // along the outward radial, whose bearing in the levelled frame is -psi_r. The DVL sets it
-  // from a wide prior.
-  const Eigen::Vector2d radial_L(std::cos(fix.psi_r_rad), -std::sin(fix.psi_r_rad));
-  x.segment<2>(kU) += radial_rate_mps * radial_L;
+  x.head<2>() = *position;
+  P.topLeftCorner<2, 2>() =
+      fix.covariance(0, 0) * normal * normal.transpose() + along_var * along * along.transpose();
+  // The fix's heading carries the vision heading bias: psi's error is minus the bias' error.
+  x(kPsi) = wrap_angle(bearing + z.y() - x(kFixHeadingBias));
+  const double bias_var = P(kFixHeadingBias, kFixHeadingBias);
+  P(kPsi, kPsi) =
+      fix.covariance(1, 1) + std::pow(cfg_.noise.fix_psi_r_floor_rad, 2) + bearing_var + bias_var;
+  P(kPsi, kFixHeadingBias) = P(kFixHeadingBias, kPsi) = -bias_var;
+  // The fixes' distance changed faster than the filter's by distance_rate_mps: the vehicle moves
+  // towards the net by that much more, along the outward normal, whose bearing in the levelled
+  // frame is -psi_r. The DVL sets it from a wide prior.
+  const Eigen::Vector2d normal_L(std::cos(z.y()), -std::sin(z.y()));
+  x.segment<2>(kU) -= distance_rate_mps * normal_L;
   for (const int i : {static_cast<int>(kU), static_cast<int>(kV)}) {
     P.row(i).setZero();
     P.col(i).setZero();
@@ -633,16 +710,24 @@ void GlobalPoseEstimator::initialise(const PenFix& fix, int64_t t_ns) {
   ekf.t_ns = t_ns;
   ekf.x.setZero();
   ekf.P.setZero();
-  const Eigen::Vector2d radial(std::cos(rho0), std::sin(rho0));
-  ekf.x.head<2>() = fix.r_g_m * radial;
-  // rho_g is defined as rho0 here: only the radial distance is uncertain.
+  const Eigen::Vector2d z = wall_fix(fix);
+  // lock_refusal_at has checked that the azimuth reaches the wall.
+  const Eigen::Vector2d position = wall_.position_at(rho0, z.x()).value_or(Eigen::Vector2d::Zero());
+  const double bearing = wall_.normal_bearing_rad(position);
+  const Eigen::Vector2d normal(std::cos(bearing), std::sin(bearing));
+  ekf.x.head<2>() = position;
+  // rho_g is defined as rho0 here: only the distance to the wall is uncertain.
   ekf.P.topLeftCorner<2, 2>() =
-      fix.covariance(0, 0) * radial * radial.transpose() + 1e-8 * Eigen::Matrix2d::Identity();
+      fix.covariance(0, 0) * normal * normal.transpose() + 1e-8 * Eigen::Matrix2d::Identity();
   const bool depth = std::isfinite(state_.last_depth_m);
   ekf.x(kZ) = depth ? state_.last_depth_m : 0.0;
   ekf.P(kZ, kZ) = depth ? std::pow(cfg_.noise.depth_m, 2) : 1e4;
-  ekf.x(kPsi) = wrap_angle(rho0 + fix.psi_r_rad);
-  ekf.P(kPsi, kPsi) = fix.covariance(1, 1) + std::pow(cfg_.noise.fix_psi_r_floor_rad, 2);
+  ekf.x(kPsi) = wrap_angle(bearing + z.y());
+  // The fix's heading carries the vision heading bias (0 expected): psi's error is the bias.
+  const double bias_var = std::pow(cfg_.noise.process.fix_heading_bias_rad, 2);
+  ekf.P(kPsi, kPsi) = fix.covariance(1, 1) + std::pow(cfg_.noise.fix_psi_r_floor_rad, 2) + bias_var;
+  ekf.P(kFixHeadingBias, kFixHeadingBias) = bias_var;
+  ekf.P(kPsi, kFixHeadingBias) = ekf.P(kFixHeadingBias, kPsi) = -bias_var;
   const bool velocity = state_.last_velocity_L.allFinite();
   ekf.x.segment<3>(kU) = velocity ? state_.last_velocity_L : Eigen::Vector3d::Zero();
   ekf.P.block<3, 3>(kU, kU) =

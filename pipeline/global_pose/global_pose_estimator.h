@@ -25,6 +25,7 @@
 
 #include "pipeline/global_pose/attitude_series.h"
 #include "pipeline/global_pose/dvl_plane.h"
+#include "pipeline/global_pose/dvl_spike_test.h"
 #include "pipeline/global_pose/lock_rule.h"
 #include "pipeline/global_pose/measurements.h"
 #include "pipeline/global_pose/pen_ekf.h"
@@ -33,7 +34,7 @@
 namespace pensight::global_pose {
 
 struct MeasurementNoise {
-  double dvl_velocity_mps = 0.02;
+  double dvl_velocity_mps = 0.005;
   double dvl_bias_prior_mps = 0.01;  // prior on the DVL's horizontal velocity error
   double depth_m = 0.02;
   double attitude_yaw_rad = 0.015;
@@ -51,6 +52,8 @@ struct MeasurementNoise {
 
 struct GlobalPoseEstimatorConfig {
   double pen_radius_m = 12.0;  // scene.yaml; a flat net is a large radius (100 m)
+  // scene.yaml net_type flat_panel: the wall is that plane instead of the pen_radius_m cylinder.
+  std::optional<SceneConfig::FlatPanel> flat_panel;
   double initial_rho_rad = 0.0;
   Eigen::Isometry3d T_body_camera = Eigen::Isometry3d::Identity();
   std::optional<DvlCalibration> dvl_beams;  // dvl0/sensor.yaml; no DVL plane updates without it
@@ -61,7 +64,8 @@ struct GlobalPoseEstimatorConfig {
   bool use_attitude_yaw = true;     // aid the heading with the attitude sensor's yaw
   bool use_vision_relative = true;  // fuse d_net / psi_net when given
   bool use_dvl_plane = true;
-  CircleFitOptions circle;  // radius_m is overwritten with pen_radius_m
+  // radius_m is overwritten with pen_radius_m, or kFlatPanelFitRadius_m on a flat panel.
+  CircleFitOptions circle;
   MeasurementNoise noise;
   double gate_scale = 1.0;  // multiplies the chi-square gates (p = 0.999)
   // After this many rejections in a row a sensor's next sample is applied without the gate, so
@@ -76,6 +80,13 @@ struct GlobalPoseEstimatorConfig {
   // Which circle fits may initialise the filter, and when agreeing gated-out fixes re-initialise
   // its position (lock_rule.h).
   LockRule lock;
+  // DVL velocity spikes: max_accel_mps2 and max_spike_samples (noise_mps is set from
+  // noise.dvl_velocity_mps).
+  DvlSpikeTestOptions dvl_spikes;
+  // The process noise grows with the manoeuvre: horizontal to the acceleration between the last
+  // two applied DVL velocities, yaw to this times the yaw rate [1/s] (ProcessNoise holds the
+  // steady-following floor).
+  double yaw_accel_per_yaw_rate = 1.0;
   double history_s = 2.0;
   double max_attitude_gap_s = 0.5;
   // Beyond these standard deviations a value is reported as NaN (not observable).
@@ -85,10 +96,15 @@ struct GlobalPoseEstimatorConfig {
   double max_z_sigma_m = 1.0;
 };
 
+// A flat panel's net points are fitted as a circle of this radius: a line to within 0.05 mm over
+// a 2 m view (sagitta w^2 / 8R), with the circle fit's robust machinery and covariance.
+inline constexpr double kFlatPanelFitRadius_m = 1e4;
+
 struct SensorCounters {
   int received = 0;
   int accepted = 0;
-  int rejected = 0;      // failed the innovation gate
+  int rejected = 0;      // failed the innovation gate, or a DVL spike
+  int spikes = 0;        // DVL velocity only: beyond what the vehicle can do (dvl_spike_test.h)
   int relocked = 0;      // applied without the gate after relock_after_rejections
   int invalid = 0;       // NaN, invalid flag, failed fit
   int duplicates = 0;    // same sensor, same timestamp: dropped
@@ -162,6 +178,9 @@ class GlobalPoseEstimator {
       Eigen::Vector2d innovation;
     };
     std::vector<RejectedFix> rejected_fixes;
+    // The last applied DVL velocity's time and the acceleration to it from the one before.
+    int64_t last_dvl_ns = kNever;
+    double dvl_accel_mps2 = 0;
   };
   struct Applied {
     Event event;
@@ -181,14 +200,19 @@ class GlobalPoseEstimator {
   // Counts a gated-out vision fix towards the re-initialisation rule (LockRule).
   void consider_reinitialising(const PenFix& fix, const Eigen::Vector2d& innovation, int64_t t_ns);
   // Re-locks x, y, psi to `fix` at the current azimuth after agreeing gated-out fixes, and
-  // corrects the velocity by the rate at which their r innovations grew.
-  void reinitialise_position(const PenFix& fix, double radial_rate_mps, int64_t t_ns);
+  // corrects the velocity by the rate at which their distance innovations grew.
+  void reinitialise_position(const PenFix& fix, double distance_rate_mps, int64_t t_ns);
+  // The vision fix as the wall model measures it: (distance to the wall, heading relative to its
+  // outward normal).
+  Eigen::Vector2d wall_fix(const PenFix& fix) const;
   // lock_refusal plus the check against a recent DVL net plane, for the state the fix would set
   // at azimuth rho_rad.
   std::string lock_refusal_at(const PenFix& fix, double rho_rad, int64_t t_ns) const;
   // The DVL net plane (distance, heading) a pose would give with the beams of `s`.
   Eigen::Vector2d predicted_plane(const StateVector& x, const DvlSample& s, double roll,
                                   double pitch) const;
+  // cfg_.noise.process raised for the manoeuvre in progress (yaw_accel_per_yaw_rate).
+  ProcessNoise process_noise() const;
   // Roll and pitch at t (0 with a one-time warning when there is no attitude near t).
   std::pair<double, double> level_at(int64_t t_ns);
   template <int M, class H>
@@ -199,11 +223,13 @@ class GlobalPoseEstimator {
   void warn_once(int id, const std::string& message);
 
   GlobalPoseEstimatorConfig cfg_;
+  NetWall wall_;
   FilterState state_;
   std::vector<Event> pending_;   // sorted by (t, kind)
   std::deque<Applied> history_;  // applied samples within history_s, oldest first
   bool history_trimmed_ = false;
   AttitudeSeries attitude_;
+  DvlSpikeTest dvl_spikes_;     // on arrival: spikes never reach the buffer
   GlobalPoseCounters arrival_;  // duplicates, out_of_order, too_late, received
   std::array<bool, 16> warned_ = {};
 };

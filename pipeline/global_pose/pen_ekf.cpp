@@ -1,6 +1,7 @@
 #include "pipeline/global_pose/pen_ekf.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace pensight::global_pose {
 
@@ -38,12 +39,17 @@ void PenEkf::predict_to(int64_t t_new_ns, const ProcessNoise& q) {
     F(kV, kPsiRate) = -dt * x(kU);
     x = propagate(x, dt);
     const double a = std::abs(dt);
+    const double decay = std::exp(-a / q.fix_heading_bias_time_s);
+    F(kFixHeadingBias, kFixHeadingBias) = decay;
+    x(kFixHeadingBias) *= decay;
     StateMatrix Q = StateMatrix::Zero();
     Q(kU, kU) = Q(kV, kV) = q.horizontal_accel * q.horizontal_accel * a;
     Q(kW, kW) = q.vertical_accel * q.vertical_accel * a;
     Q(kPsiRate, kPsiRate) = q.yaw_accel * q.yaw_accel * a;
     Q(kYawBias, kYawBias) = q.yaw_bias_walk * q.yaw_bias_walk * a;
     Q(kDvlBiasU, kDvlBiasU) = Q(kDvlBiasV, kDvlBiasV) = q.dvl_bias_walk * q.dvl_bias_walk * a;
+    Q(kFixHeadingBias, kFixHeadingBias) =
+        q.fix_heading_bias_rad * q.fix_heading_bias_rad * (1 - decay * decay);
     // Coefficient-based products: for 11x11 Eigen's blocked GEMM path costs several times more.
     const StateMatrix FP = F.lazyProduct(P);
     P = FP.lazyProduct(F.transpose()) + Q;

@@ -8,6 +8,9 @@
 //   psi_rate      yaw rate [rad/s]
 //   yaw_bias      attitude-sensor yaw minus psi [rad]
 //   dvl_bias u, v DVL horizontal velocity error [m/s] (offset, and scale error at steady speed)
+//   fix_heading_bias  the vision heading's (circle fit psi_r, FFT psi_net) slowly varying error
+//                 [rad]: it comes from the same net points frame after frame, so it is a
+//                 first-order Gauss-Markov process, not white noise
 // Process: constant velocity in L and constant yaw rate, driven by white acceleration noise; the
 // levelled velocity turns with the vehicle (du = r v dt, dv = -r u dt). Measurements are any
 // function h(x); Jacobians are taken by central differences (the state is 11 numbers, so this
@@ -34,6 +37,7 @@ enum StateIndex : int {
   kYawBias,
   kDvlBiasU,
   kDvlBiasV,
+  kFixHeadingBias,
   kStateDim
 };
 using StateVector = Eigen::Matrix<double, kStateDim, 1>;
@@ -43,11 +47,16 @@ using StateMatrix = Eigen::Matrix<double, kStateDim, kStateDim>;
 // a second): with 0.05 the filter gated out half the DVL samples and most fixes through the
 // sweep's turns and reversals. A 2 m/s DVL spike is still ~8 sigma after a 0.25 s DVL interval.
 struct ProcessNoise {
-  double horizontal_accel = 0.5;  // m/s^2 per sqrt(Hz)
-  double vertical_accel = 0.05;   // m/s^2 per sqrt(Hz)
-  double yaw_accel = 0.5;         // rad/s^2 per sqrt(Hz)
-  double yaw_bias_walk = 1e-4;    // rad per sqrt(s): drift of the attitude sensor's yaw
-  double dvl_bias_walk = 1e-4;    // m/s per sqrt(s)
+  double horizontal_accel = 0.05;  // m/s^2 per sqrt(Hz)
+  double vertical_accel = 0.05;    // m/s^2 per sqrt(Hz)
+  double yaw_accel = 0.05;         // rad/s^2 per sqrt(Hz)
+  double yaw_bias_walk = 1e-4;     // rad per sqrt(s): drift of the attitude sensor's yaw
+  double dvl_bias_walk = 1e-4;     // m/s per sqrt(s)
+  // The vision heading error's stationary standard deviation and correlation time. Without it
+  // the attitude yaw and ten white fixes a second would pin the azimuth to the fixes' wander
+  // (0.2 deg is 4 cm of arc at 12 m) instead of integrating the DVL over short spans.
+  double fix_heading_bias_rad = 0.002;
+  double fix_heading_bias_time_s = 30.0;
 };
 
 // Chi-square quantiles at p = 0.999 for 1, 2 and 3 degrees of freedom.

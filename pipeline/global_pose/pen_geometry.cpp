@@ -47,14 +47,52 @@ std::optional<double> ray_to_cylinder(const Eigen::Vector3d& origin_P, const Eig
   return (-b + std::sqrt(b * b - a * c)) / a;
 }
 
-NetRelativePose net_relative_pose(const Eigen::Isometry3d& T_pen_camera, double radius_m) {
+NetWall NetWall::flat_panel(double radius_m, const Eigen::Vector2d& point_m,
+                            const Eigen::Vector2d& normal) {
+  NetWall w;
+  w.radius_m = radius_m;
+  w.flat = true;
+  w.plane_point_m = point_m;
+  w.plane_normal = normal.normalized();
+  return w;
+}
+
+double NetWall::distance_m(const Eigen::Vector2d& xy) const {
+  return flat ? plane_normal.dot(plane_point_m - xy) : radius_m - xy.norm();
+}
+
+double NetWall::normal_bearing_rad(const Eigen::Vector2d& xy) const {
+  return flat ? std::atan2(plane_normal.y(), plane_normal.x()) : std::atan2(xy.y(), xy.x());
+}
+
+std::optional<Eigen::Vector2d> NetWall::position_at(double rho_rad, double distance_m) const {
+  const Eigen::Vector2d u(std::cos(rho_rad), std::sin(rho_rad));
+  if (!flat) return Eigen::Vector2d((radius_m - distance_m) * u);
+  // n . (p0 - s u) = distance  =>  s = (n . p0 - distance) / (n . u).
+  const double nu = plane_normal.dot(u);
+  const double s = (plane_normal.dot(plane_point_m) - distance_m) / nu;
+  if (!(nu > 1e-9) || !(s >= 0)) return std::nullopt;
+  return Eigen::Vector2d(s * u);
+}
+
+std::optional<double> NetWall::ray_distance(const Eigen::Vector3d& origin_P,
+                                            const Eigen::Vector3d& dir_P) const {
+  if (!flat) return ray_to_cylinder(origin_P, dir_P, radius_m);
+  const double ahead = plane_normal.dot(dir_P.head<2>());
+  const double gap = distance_m(origin_P.head<2>());
+  if (!(ahead > 1e-12) || gap < 0) return std::nullopt;
+  return gap / ahead;
+}
+
+NetRelativePose net_relative_pose(const Eigen::Isometry3d& T_pen_camera, const NetWall& wall) {
   const Eigen::Vector3d axis_P = T_pen_camera.linear().col(2);
-  const auto t = ray_to_cylinder(T_pen_camera.translation(), axis_P, radius_m);
+  const auto t = wall.ray_distance(T_pen_camera.translation(), axis_P);
   if (!t) return {};
   const Eigen::Vector3d hit_P = T_pen_camera.translation() + *t * axis_P;
   // The outward wall normal points away from the camera, as m does.
-  const Eigen::Vector3d normal_P(hit_P.x(), hit_P.y(), 0);
-  const Eigen::Vector3d m = T_pen_camera.linear().transpose() * normal_P.normalized();
+  const double bearing = wall.normal_bearing_rad(hit_P.head<2>());
+  const Eigen::Vector3d normal_P(std::cos(bearing), std::sin(bearing), 0);
+  const Eigen::Vector3d m = T_pen_camera.linear().transpose() * normal_P;
   return {*t, std::atan2(-m.x(), m.z()), std::atan2(-m.y(), m.z())};
 }
 

@@ -36,6 +36,36 @@ Eigen::Isometry3d T_pen_body_cylindrical(double r_m, double rho_rad, double z_m,
 std::optional<double> ray_to_cylinder(const Eigen::Vector3d& origin_P, const Eigen::Vector3d& dir_P,
                                       double radius_m);
 
+// The net wall the vehicle works at, in P: the vertical cylinder of `radius_m` about the pen axis,
+// or a flat panel, the vertical plane through `plane_point_m` with the horizontal unit normal
+// `plane_normal` pointing away from the camera side (scene.yaml net_type, dataset-format.md).
+// Positions are horizontal (x, y) in P, inside the wall (on the pen axis' side).
+struct NetWall {
+  double radius_m = 12.0;  // cylinder; for a flat panel the equivalent cylinder (unused here)
+  bool flat = false;
+  Eigen::Vector2d plane_point_m = Eigen::Vector2d::Zero();
+  Eigen::Vector2d plane_normal = Eigen::Vector2d::UnitX();
+
+  static NetWall cylinder(double radius_m) { return {radius_m}; }
+  // `normal` is normalised here; the panel must not pass through the pen frame's origin.
+  static NetWall flat_panel(double radius_m, const Eigen::Vector2d& point_m,
+                            const Eigen::Vector2d& normal);
+
+  // Distance from `xy` to the wall along its normal: R - |xy|, or n . (p0 - xy).
+  double distance_m(const Eigen::Vector2d& xy) const;
+  // Bearing in P of the wall's outward normal at the wall point nearest to `xy`: atan2(y, x) on
+  // the cylinder, the panel's fixed normal on a flat panel. A heading relative to the wall is
+  // psi - normal_bearing_rad (psi_r on the cylinder).
+  double normal_bearing_rad(const Eigen::Vector2d& xy) const;
+  // The position at azimuth rho_rad (atan2(y, x) = rho) that lies `distance_m` in front of the
+  // wall; nullopt when the azimuth's ray misses the panel there.
+  std::optional<Eigen::Vector2d> position_at(double rho_rad, double distance_m) const;
+  // Distance along the unit `dir_P` from `origin_P` (inside) to the wall; nullopt when the ray
+  // is horizontal-parallel to it, points away from it or starts outside.
+  std::optional<double> ray_distance(const Eigen::Vector3d& origin_P,
+                                     const Eigen::Vector3d& dir_P) const;
+};
+
 // Net-relative pose of a camera looking at the pen wall: d_net along +z_C to the wall and the
 // psi_net / pitch_net angles of the wall normal at that point (conventions of dataset-format.md).
 struct NetRelativePose {
@@ -43,6 +73,6 @@ struct NetRelativePose {
   double psi_net_rad = kNaN;
   double pitch_net_rad = kNaN;
 };
-NetRelativePose net_relative_pose(const Eigen::Isometry3d& T_pen_camera, double radius_m);
+NetRelativePose net_relative_pose(const Eigen::Isometry3d& T_pen_camera, const NetWall& wall);
 
 }  // namespace pensight::global_pose

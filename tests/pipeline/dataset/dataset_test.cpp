@@ -270,8 +270,40 @@ TEST_F(DatasetFilesTest, BadYamlAndMissingKeysAreNamed) {
   EXPECT_NE(e.find("'resolution': missing"), std::string::npos) << e;
 }
 
-// Other tools write dataset files with keys of their own, and contract keys pensight does not use
-// yet (the flat-panel scene keys): they are read with one note per file naming them.
+// A flat panel round-trips through scene_yaml; its keys are checked and named.
+TEST_F(DatasetFilesTest, FlatPanelSceneRoundTripsAndBadPanelsAreNamed) {
+  const fs::path scene = root_ / "scene.yaml";
+  SceneConfig s;
+  s.pen_radius_m = 100;
+  s.flat_panel =
+      SceneConfig::FlatPanel{Eigen::Vector3d(3.5, -1.25, 0.5), Eigen::Vector3d(0.6, -0.8, 0)};
+  write_file(scene, scene_yaml(s));
+  const Dataset d = read_dataset(root_);
+  ASSERT_TRUE(d.scene.flat_panel);
+  EXPECT_TRUE(d.scene.flat_panel->plane_point_m.isApprox(s.flat_panel->plane_point_m, 1e-12));
+  EXPECT_TRUE(d.scene.flat_panel->plane_normal.isApprox(s.flat_panel->plane_normal, 1e-12));
+  const std::string base = "net_mesh_size_m: 0.03\npen_radius_m: 100\n";
+  const std::pair<std::string, std::string> bad[] = {
+      {"net_type: hexagon\n", "'net_type': 'hexagon' is not a net type"},
+      {"net_type: flat_panel\nnet_plane_normal: [1, 0, 0]\n", "'net_plane_point_m': missing"},
+      {"net_type: flat_panel\nnet_plane_point_m: [5, 0, 0]\n", "'net_plane_normal': missing"},
+      {"net_type: flat_panel\nnet_plane_point_m: [5, 0, 0]\nnet_plane_normal: [2, 0, 0]\n",
+       "'net_plane_normal': must be a unit vector"},
+      {"net_type: flat_panel\nnet_plane_point_m: [5, 0, 0]\nnet_plane_normal: [0, 0, 1]\n",
+       "'net_plane_normal': must be a unit vector within 10 deg of the horizontal"},
+      {"net_type: flat_panel\nnet_plane_point_m: [5, 0, 0]\nnet_plane_normal: [-1, 0, 0]\n",
+       "'net_plane_normal': must point away from the pen frame's origin"},
+  };
+  for (const auto& [text, expected] : bad) {
+    write_file(scene, base + text);
+    const std::string e = error_of([&] { read_dataset(root_); });
+    EXPECT_NE(e.find(expected), std::string::npos) << text << " -> " << e;
+    EXPECT_NE(e.find("scene.yaml"), std::string::npos) << e;
+  }
+}
+
+// Other tools write dataset files with keys of their own: they are read with one note per file
+// naming them. The contract's flat-panel keys are read.
 TEST_F(DatasetFilesTest, KeysOfOtherToolsAreReadWithOneNotePerFile) {
   write_file(root_ / "scene.yaml",
              "net_mesh_size_m: 0.031\n"
@@ -296,9 +328,10 @@ TEST_F(DatasetFilesTest, KeysOfOtherToolsAreReadWithOneNotePerFile) {
   EXPECT_NEAR(*d.scene.net_mesh_angle_rad, 95 * M_PI / 180, 1e-12);
   EXPECT_DOUBLE_EQ(d.cam0.camera.fx_px, 23.1);
   EXPECT_EQ(count_of(log.text(), "keys not used by pensight"), 2u) << log.text();
-  EXPECT_NE(log.text().find("scene.yaml: keys not used by pensight: net_type, net_plane_point_m, "
-                            "net_plane_normal, foo\n"),
-            std::string::npos)
+  ASSERT_TRUE(d.scene.flat_panel);
+  EXPECT_EQ(d.scene.flat_panel->plane_point_m, Eigen::Vector3d(100, 0, 0));
+  EXPECT_EQ(d.scene.flat_panel->plane_normal, Eigen::Vector3d(1, 0, 0));
+  EXPECT_NE(log.text().find("scene.yaml: keys not used by pensight: foo\n"), std::string::npos)
       << log.text();
   EXPECT_NE(log.text().find("sensor.yaml: keys not used by pensight: rostopic\n"),
             std::string::npos)

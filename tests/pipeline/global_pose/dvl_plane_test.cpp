@@ -86,12 +86,12 @@ TEST(DvlPlane, InThePenTracksTheRelativePose) {
       const double r = radius - d(rng);
       pose.p_P = Eigen::Vector3d(r, 0, 4);
       const DvlPlane square =
-          dvl_net_plane(dvl, dvl_ranges_to_cylinder(dvl, pose.T_pen_body(), radius));
+          dvl_net_plane(dvl, dvl_ranges_to_wall(dvl, pose.T_pen_body(), NetWall::cylinder(radius)));
       ASSERT_TRUE(square.ok);
       EXPECT_NEAR(square.distance_m, radius - r, 0.01);
       EXPECT_NEAR(square.heading_rad, 0.0, 1e-9);
       pose.yaw_rad = yaw(rng);
-      const auto exact = dvl_ranges_to_cylinder(dvl, pose.T_pen_body(), radius);
+      const auto exact = dvl_ranges_to_wall(dvl, pose.T_pen_body(), NetWall::cylinder(radius));
       auto ranges = exact;
       for (auto& x : ranges) x += noise(rng);
       const DvlPlane plane = dvl_net_plane(dvl, ranges);

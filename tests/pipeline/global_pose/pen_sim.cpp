@@ -60,7 +60,7 @@ NetObservation net_observation(const Pose& pose, double radius_m,
       obs.quality.push_back(1.0);
     }
   }
-  const auto rel = net_relative_pose(T_pen_camera, radius_m);
+  const auto rel = net_relative_pose(T_pen_camera, NetWall::cylinder(radius_m));
   obs.d_net_m = rel.d_net_m * (1.0 + noise.d_net_sigma_frac * unit(rng));
   obs.psi_net_rad = rel.psi_net_rad + noise.psi_net_sigma_rad * unit(rng);
   return obs;
@@ -111,7 +111,8 @@ Sequence make_sequence(const Trajectory& traj, const SensorNoise& noise, uint64_
     const Eigen::Vector3d v = traj.body_velocity(t);
     s.velocity_B_mps = (1.0 + noise.dvl_scale_error) * v + noise.dvl_bias_mps +
                        noise.dvl_sigma_mps * Eigen::Vector3d(unit(rng), unit(rng), unit(rng));
-    const auto ranges = dvl_ranges_to_cylinder(dvl, traj.at(t).T_pen_body(), traj.radius_m);
+    const auto ranges =
+        dvl_ranges_to_wall(dvl, traj.at(t).T_pen_body(), NetWall::cylinder(traj.radius_m));
     for (size_t i = 0; i < 4; ++i) {
       if (ranges[i] < 30.0) s.beam_range_m[i] = ranges[i] + noise.dvl_range_sigma_m * unit(rng);
     }

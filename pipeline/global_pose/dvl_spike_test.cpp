@@ -1,0 +1,56 @@
+#include "pipeline/global_pose/dvl_spike_test.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace pensight::global_pose {
+
+bool DvlSpikeTest::within_bound(int64_t t_ns, const Eigen::Vector3d& v_P) const {
+  const double dt_s = std::abs(1e-9 * static_cast<double>(t_ns - reference_ns_));
+  // The difference of two samples has sqrt(2) x one sample's noise per axis, sqrt(3) axes.
+  const double noise = o_.noise_sigmas * o_.noise_mps * std::sqrt(6.0);
+  return (v_P - reference_P_mps_).norm() <= (o_.max_accel_mps2 + recent_accel_mps2_) * dt_s + noise;
+}
+
+void DvlSpikeTest::set_reference(int64_t t_ns, const Eigen::Vector3d& v_P) {
+  const double dt_s = std::abs(1e-9 * static_cast<double>(t_ns - reference_ns_));
+  const double noise = o_.noise_sigmas * o_.noise_mps * std::sqrt(6.0);
+  // The acceleration beyond the noise, from samples close enough in time to show a manoeuvre.
+  recent_accel_mps2_ = have_reference_ && dt_s > 0 && dt_s <= 1.0
+                           ? std::max(0.0, (v_P - reference_P_mps_).norm() - noise) / dt_s
+                           : 0.0;
+  have_reference_ = true;
+  reference_ns_ = t_ns;
+  reference_P_mps_ = v_P;
+}
+
+std::vector<DvlSample> DvlSpikeTest::push(const DvlSample& s, const Eigen::Vector3d& v_P) {
+  std::vector<DvlSample> released;
+  if (!have_reference_ || within_bound(s.timestamp_ns, v_P)) {
+    // Back within the bound: whatever was held was a spike.
+    spikes_ += static_cast<int>(held_.size());
+    held_.clear();
+    set_reference(s.timestamp_ns, v_P);
+    released.push_back(s);
+    return released;
+  }
+  held_.push_back({s, v_P});
+  if (static_cast<int>(held_.size()) <= o_.max_spike_samples) return released;
+  // The velocity stayed off for longer than a spike lasts: a manoeuvre. The held samples are
+  // released in order and the latest becomes the reference.
+  for (const Held& h : held_) {
+    set_reference(h.sample.timestamp_ns, h.velocity_P_mps);
+    released.push_back(h.sample);
+  }
+  held_.clear();
+  return released;
+}
+
+void DvlSpikeTest::expire(int64_t t_ns) {
+  if (held_.empty()) return;
+  if (1e-9 * static_cast<double>(t_ns - held_.front().sample.timestamp_ns) <= o_.max_hold_s) return;
+  spikes_ += static_cast<int>(held_.size());
+  held_.clear();
+}
+
+}  // namespace pensight::global_pose
