@@ -565,7 +565,9 @@ void GlobalPoseEstimator::apply_camera(const NetObservation& obs) {
     return;
   } else {
     const MeasurementNoise& n = cfg_.noise;
+    // wall_fix() is (radius - r_g, psi_r): the covariance of r_g and psi_r changes sign.
     Eigen::Matrix2d R = n.fix_inflation * n.fix_inflation * fix.covariance;
+    R(0, 1) = R(1, 0) = -R(0, 1);
     R(0, 0) += n.fix_r_floor_m * n.fix_r_floor_m;
     R(1, 1) += n.fix_psi_r_floor_rad * n.fix_psi_r_floor_rad;
     const auto model = [this](const StateVector& x) {

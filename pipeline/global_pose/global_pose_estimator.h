@@ -35,7 +35,10 @@ namespace pensight::global_pose {
 
 struct MeasurementNoise {
   double dvl_velocity_mps = 0.005;
-  double dvl_bias_prior_mps = 0.01;  // prior on the DVL's horizontal velocity error
+  // Prior on the DVL's horizontal velocity error: a 1 % scale error at 0.3 m/s plus a few mm/s
+  // of offset. A looser prior lets the bias states take up the vision's and the attitude's
+  // noise and move the along-net position with it (docs/global_pose.md, 2026-12-02).
+  double dvl_bias_prior_mps = 0.005;
   double depth_m = 0.02;
   double attitude_yaw_rad = 0.015;
   // Vision fix: the circle fit's covariance, floored and inflated (the ROI points' errors are

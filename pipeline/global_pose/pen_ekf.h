@@ -51,7 +51,7 @@ struct ProcessNoise {
   double vertical_accel = 0.05;    // m/s^2 per sqrt(Hz)
   double yaw_accel = 0.05;         // rad/s^2 per sqrt(Hz)
   double yaw_bias_walk = 1e-4;     // rad per sqrt(s): drift of the attitude sensor's yaw
-  double dvl_bias_walk = 1e-4;     // m/s per sqrt(s)
+  double dvl_bias_walk = 3e-5;     // m/s per sqrt(s): a scale error changes with the speed
   // The vision heading error's stationary standard deviation and correlation time. Without it
   // the attitude yaw and ten white fixes a second would pin the azimuth to the fixes' wander
   // (0.2 deg is 4 cm of arc at 12 m) instead of integrating the DVL over short spans.
