@@ -224,7 +224,7 @@ GlobalPose GlobalPoseEstimator::estimate(int64_t t_ns) {
     return out;
   }
   PenEkf ekf = state_.ekf;
-  ekf.predict_to(t_ns, process_noise());
+  ekf.predict_to(t_ns, cfg_.noise.process);
   const StateVector& x = ekf.x;
   const double r = std::hypot(x(kX), x(kY));
   const double rho = std::atan2(x(kY), x(kX));
@@ -277,7 +277,8 @@ GlobalPoseCounters GlobalPoseEstimator::counters() const {
 }
 
 void GlobalPoseEstimator::apply(const Event& e) {
-  if (state_.initialised) state_.ekf.predict_to(std::max(e.t_ns, state_.ekf.t_ns), process_noise());
+  if (state_.initialised)
+    state_.ekf.predict_to(std::max(e.t_ns, state_.ekf.t_ns), cfg_.noise.process);
   state_.last_time_ns = std::max(state_.last_time_ns, e.t_ns);
   switch (e.kind) {
     case kAttitude:
@@ -293,16 +294,6 @@ void GlobalPoseEstimator::apply(const Event& e) {
       apply_camera(std::get<NetObservation>(e.sample));
       break;
   }
-}
-
-ProcessNoise GlobalPoseEstimator::process_noise() const {
-  ProcessNoise q = cfg_.noise.process;
-  // A manoeuvre: the acceleration the DVL showed over its last interval, and a yaw acceleration
-  // in proportion to the yaw rate (a turn starts and stops within about a second).
-  q.horizontal_accel = std::max(q.horizontal_accel, state_.dvl_accel_mps2);
-  q.yaw_accel =
-      std::max(q.yaw_accel, cfg_.yaw_accel_per_yaw_rate * std::abs(state_.ekf.x(kPsiRate)));
-  return q;
 }
 
 std::pair<double, double> GlobalPoseEstimator::level_at(int64_t t_ns) {
@@ -450,13 +441,6 @@ void GlobalPoseEstimator::apply_dvl(const DvlSample& s) {
     warn_once(kWarnInvalidDvl, "invalid or NaN DVL velocity skipped");
   } else {
     const Eigen::Vector3d v_L = rotation_level_body(roll, pitch) * s.velocity_B_mps;
-    // The acceleration over the last interval sizes the process noise (process_noise()).
-    if (state_.last_velocity_L.allFinite() && state_.last_dvl_ns != kNever) {
-      const double dt_s = 1e-9 * static_cast<double>(s.timestamp_ns - state_.last_dvl_ns);
-      state_.dvl_accel_mps2 =
-          dt_s > 0 && dt_s <= 1.0 ? (v_L - state_.last_velocity_L).norm() / dt_s : 0.0;
-    }
-    state_.last_dvl_ns = s.timestamp_ns;
     state_.last_velocity_L = v_L;
     if (!state_.initialised) {
       ++cv.accepted;

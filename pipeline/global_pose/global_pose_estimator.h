@@ -86,10 +86,6 @@ struct GlobalPoseEstimatorConfig {
   // DVL velocity spikes: max_accel_mps2 and max_spike_samples (noise_mps is set from
   // noise.dvl_velocity_mps).
   DvlSpikeTestOptions dvl_spikes;
-  // The process noise grows with the manoeuvre: horizontal to the acceleration between the last
-  // two applied DVL velocities, yaw to this times the yaw rate [1/s] (ProcessNoise holds the
-  // steady-following floor).
-  double yaw_accel_per_yaw_rate = 1.0;
   double history_s = 2.0;
   double max_attitude_gap_s = 0.5;
   // Beyond these standard deviations a value is reported as NaN (not observable).
@@ -181,9 +177,6 @@ class GlobalPoseEstimator {
       Eigen::Vector2d innovation;
     };
     std::vector<RejectedFix> rejected_fixes;
-    // The last applied DVL velocity's time and the acceleration to it from the one before.
-    int64_t last_dvl_ns = kNever;
-    double dvl_accel_mps2 = 0;
   };
   struct Applied {
     Event event;
@@ -214,8 +207,6 @@ class GlobalPoseEstimator {
   // The DVL net plane (distance, heading) a pose would give with the beams of `s`.
   Eigen::Vector2d predicted_plane(const StateVector& x, const DvlSample& s, double roll,
                                   double pitch) const;
-  // cfg_.noise.process raised for the manoeuvre in progress (yaw_accel_per_yaw_rate).
-  ProcessNoise process_noise() const;
   // Roll and pitch at t (0 with a one-time warning when there is no attitude near t).
   std::pair<double, double> level_at(int64_t t_ns);
   template <int M, class H>
