@@ -5,20 +5,24 @@
 
 namespace pensight::global_pose {
 
+double DvlSpikeTest::noise_margin_mps() const {
+  // The difference of two samples has sqrt(2) x one sample's noise per axis, sqrt(3) axes.
+  return o_.noise_sigmas * o_.noise_mps * std::sqrt(6.0);
+}
+
 bool DvlSpikeTest::within_bound(int64_t t_ns, const Eigen::Vector3d& v_P) const {
   const double dt_s = std::abs(1e-9 * static_cast<double>(t_ns - reference_ns_));
-  // The difference of two samples has sqrt(2) x one sample's noise per axis, sqrt(3) axes.
-  const double noise = o_.noise_sigmas * o_.noise_mps * std::sqrt(6.0);
-  return (v_P - reference_P_mps_).norm() <= (o_.max_accel_mps2 + recent_accel_mps2_) * dt_s + noise;
+  return (v_P - reference_P_mps_).norm() <=
+         (o_.max_accel_mps2 + recent_accel_mps2_) * dt_s + noise_margin_mps();
 }
 
 void DvlSpikeTest::set_reference(int64_t t_ns, const Eigen::Vector3d& v_P) {
   const double dt_s = std::abs(1e-9 * static_cast<double>(t_ns - reference_ns_));
-  const double noise = o_.noise_sigmas * o_.noise_mps * std::sqrt(6.0);
   // The acceleration beyond the noise, from samples close enough in time to show a manoeuvre.
-  recent_accel_mps2_ = have_reference_ && dt_s > 0 && dt_s <= 1.0
-                           ? std::max(0.0, (v_P - reference_P_mps_).norm() - noise) / dt_s
-                           : 0.0;
+  recent_accel_mps2_ =
+      have_reference_ && dt_s > 0 && dt_s <= 1.0
+          ? std::max(0.0, (v_P - reference_P_mps_).norm() - noise_margin_mps()) / dt_s
+          : 0.0;
   have_reference_ = true;
   reference_ns_ = t_ns;
   reference_P_mps_ = v_P;

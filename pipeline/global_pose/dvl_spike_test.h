@@ -42,9 +42,9 @@ class DvlSpikeTest {
   void expire(int64_t t_ns);
   // Samples judged spikes so far.
   int spikes() const { return spikes_; }
-  const DvlSpikeTestOptions& options() const { return o_; }
 
  private:
+  double noise_margin_mps() const;
   bool within_bound(int64_t t_ns, const Eigen::Vector3d& v_P) const;
   void set_reference(int64_t t_ns, const Eigen::Vector3d& v_P);
 

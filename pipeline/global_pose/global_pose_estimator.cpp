@@ -492,25 +492,36 @@ Eigen::Vector2d GlobalPoseEstimator::predicted_plane(const StateVector& x, const
   return {p.distance_m, p.heading_rad};
 }
 
-Eigen::Vector2d GlobalPoseEstimator::wall_fix(const PenFix& fix) const {
+GlobalPoseEstimator::WallFix GlobalPoseEstimator::wall_fix(const PenFix& fix) const {
   // The fitted circle's radius less r_g is the distance to the net along the outward normal,
-  // whose bearing in L is -psi_r; on a flat panel the circle stands in for the line.
-  return {cfg_.circle.radius_m - fix.r_g_m, fix.psi_r_rad};
+  // whose bearing in L is -psi_r; on a flat panel the circle stands in for the line. The
+  // distance falls as r_g grows, so their covariance with psi_r changes sign.
+  WallFix w{{cfg_.circle.radius_m - fix.r_g_m, fix.psi_r_rad}, fix.covariance};
+  w.covariance(0, 1) = w.covariance(1, 0) = -fix.covariance(0, 1);
+  return w;
+}
+
+std::optional<GlobalPoseEstimator::WallPose> GlobalPoseEstimator::pose_from_fix(
+    const WallFix& fix, double rho_rad) const {
+  const auto xy = wall_.position_at(rho_rad, fix.z.x());
+  if (!xy) return std::nullopt;
+  const double bearing = wall_.normal_bearing_rad(*xy);
+  return WallPose{*xy, Eigen::Vector2d(std::cos(bearing), std::sin(bearing)), bearing + fix.z.y()};
 }
 
 std::string GlobalPoseEstimator::lock_refusal_at(const PenFix& fix, double rho_rad,
                                                  int64_t t_ns) const {
   std::string why = lock_refusal(fix, cfg_.lock);
+  const auto pose = pose_from_fix(wall_fix(fix), rho_rad);
+  if (why.empty() && !pose)
+    why = "the fix puts the vehicle beyond the flat panel's reach at this azimuth";
   const bool recent_plane =
       state_.plane_ns != kNever &&
       1e-9 * static_cast<double>(std::abs(t_ns - state_.plane_ns)) <= cfg_.lock.max_plane_age_s;
   if (!why.empty() || !recent_plane || !cfg_.dvl_beams) return why;
-  const Eigen::Vector2d z = wall_fix(fix);
-  const auto position = wall_.position_at(rho_rad, z.x());
-  if (!position) return "the fix puts the vehicle outside the flat panel's reach at this azimuth";
   StateVector x = StateVector::Zero();
-  x.head<2>() = *position;
-  x(kPsi) = wall_.normal_bearing_rad(*position) + z.y();
+  x.head<2>() = pose->xy_m;
+  x(kPsi) = pose->psi_rad;
   const Eigen::Vector2d p =
       predicted_plane(x, state_.plane_sample, state_.plane_roll_rad, state_.plane_pitch_rad);
   const double dd = p.x() - state_.plane.distance_m;
@@ -549,9 +560,8 @@ void GlobalPoseEstimator::apply_camera(const NetObservation& obs) {
     return;
   } else {
     const MeasurementNoise& n = cfg_.noise;
-    // wall_fix() is (radius - r_g, psi_r): the covariance of r_g and psi_r changes sign.
-    Eigen::Matrix2d R = n.fix_inflation * n.fix_inflation * fix.covariance;
-    R(0, 1) = R(1, 0) = -R(0, 1);
+    const WallFix wf = wall_fix(fix);
+    Eigen::Matrix2d R = n.fix_inflation * n.fix_inflation * wf.covariance;
     R(0, 0) += n.fix_r_floor_m * n.fix_r_floor_m;
     R(1, 1) += n.fix_psi_r_floor_rad * n.fix_psi_r_floor_rad;
     const auto model = [this](const StateVector& x) {
@@ -560,7 +570,7 @@ void GlobalPoseEstimator::apply_camera(const NetObservation& obs) {
           wall_.distance_m(xy),
           wrap_angle(x(kPsi) - wall_.normal_bearing_rad(xy) + x(kFixHeadingBias)));
     };
-    const Eigen::Vector2d z = wall_fix(fix);
+    const Eigen::Vector2d& z = wf.z;
     if (gated_update<2>(kVisionFix, cf, z, model, R, {false, true}, kVisionStates) ==
         UpdateOutcome::kRejected) {
       const Eigen::Vector2d h = model(state_.ekf.x);
@@ -648,27 +658,25 @@ void GlobalPoseEstimator::reinitialise_position(const PenFix& fix, double distan
   PenEkf& ekf = state_.ekf;
   StateVector& x = ekf.x;
   StateMatrix& P = ekf.P;
-  const Eigen::Vector2d z = wall_fix(fix);
-  const double rho = std::atan2(x(kY), x(kX));
-  const auto position = wall_.position_at(rho, z.x());
-  if (!position) return;  // lock_refusal_at refused such a fix before it got here
-  const double bearing = wall_.normal_bearing_rad(*position);
-  const Eigen::Vector2d normal(std::cos(bearing), std::sin(bearing)),
-      along(-normal.y(), normal.x());
+  const WallFix wf = wall_fix(fix);
+  const auto pose = pose_from_fix(wf, std::atan2(x(kY), x(kX)));
+  if (!pose) return;  // lock_refusal_at refused such a fix before it got here
+  const Eigen::Vector2d& normal = pose->normal;
+  const Eigen::Vector2d along(-normal.y(), normal.x());
   // The position along the wall keeps its uncertainty (the DVL and the attitude yaw carried it);
   // the distance to the wall and the heading restart from the fix, uncorrelated with the rest.
   const double along_var = along.dot(P.topLeftCorner<2, 2>() * along);
   // The cylinder's normal turns with the azimuth, a flat panel's does not.
-  const double bearing_var = wall_.flat ? 0.0 : along_var / position->squaredNorm();
+  const double bearing_var = wall_.flat ? 0.0 : along_var / pose->xy_m.squaredNorm();
   for (const int i : {static_cast<int>(kX), static_cast<int>(kY), static_cast<int>(kPsi)}) {
     P.row(i).setZero();
     P.col(i).setZero();
   }
-  x.head<2>() = *position;
+  x.head<2>() = pose->xy_m;
   P.topLeftCorner<2, 2>() =
       fix.covariance(0, 0) * normal * normal.transpose() + along_var * along * along.transpose();
   // The fix's heading carries the vision heading bias: psi's error is minus the bias' error.
-  x(kPsi) = wrap_angle(bearing + z.y() - x(kFixHeadingBias));
+  x(kPsi) = wrap_angle(pose->psi_rad - x(kFixHeadingBias));
   const double bias_var = P(kFixHeadingBias, kFixHeadingBias);
   P(kPsi, kPsi) =
       fix.covariance(1, 1) + std::pow(cfg_.noise.fix_psi_r_floor_rad, 2) + bearing_var + bias_var;
@@ -676,7 +684,7 @@ void GlobalPoseEstimator::reinitialise_position(const PenFix& fix, double distan
   // The fixes' distance changed faster than the filter's by distance_rate_mps: the vehicle moves
   // towards the net by that much more, along the outward normal, whose bearing in the levelled
   // frame is -psi_r. The DVL sets it from a wide prior.
-  const Eigen::Vector2d normal_L(std::cos(z.y()), -std::sin(z.y()));
+  const Eigen::Vector2d normal_L(std::cos(wf.z.y()), -std::sin(wf.z.y()));
   x.segment<2>(kU) -= distance_rate_mps * normal_L;
   for (const int i : {static_cast<int>(kU), static_cast<int>(kV)}) {
     P.row(i).setZero();
@@ -696,19 +704,18 @@ void GlobalPoseEstimator::initialise(const PenFix& fix, int64_t t_ns) {
   ekf.t_ns = t_ns;
   ekf.x.setZero();
   ekf.P.setZero();
-  const Eigen::Vector2d z = wall_fix(fix);
   // lock_refusal_at has checked that the azimuth reaches the wall.
-  const Eigen::Vector2d position = wall_.position_at(rho0, z.x()).value_or(Eigen::Vector2d::Zero());
-  const double bearing = wall_.normal_bearing_rad(position);
-  const Eigen::Vector2d normal(std::cos(bearing), std::sin(bearing));
-  ekf.x.head<2>() = position;
+  const auto pose = pose_from_fix(wall_fix(fix), rho0);
+  if (!pose) return;
+  const Eigen::Vector2d& normal = pose->normal;
+  ekf.x.head<2>() = pose->xy_m;
   // rho_g is defined as rho0 here: only the distance to the wall is uncertain.
   ekf.P.topLeftCorner<2, 2>() =
       fix.covariance(0, 0) * normal * normal.transpose() + 1e-8 * Eigen::Matrix2d::Identity();
   const bool depth = std::isfinite(state_.last_depth_m);
   ekf.x(kZ) = depth ? state_.last_depth_m : 0.0;
   ekf.P(kZ, kZ) = depth ? std::pow(cfg_.noise.depth_m, 2) : 1e4;
-  ekf.x(kPsi) = wrap_angle(bearing + z.y());
+  ekf.x(kPsi) = wrap_angle(pose->psi_rad);
   // The fix's heading carries the vision heading bias (0 expected): psi's error is the bias.
   const double bias_var = std::pow(cfg_.noise.process.fix_heading_bias_rad, 2);
   ekf.P(kPsi, kPsi) = fix.covariance(1, 1) + std::pow(cfg_.noise.fix_psi_r_floor_rad, 2) + bias_var;

@@ -198,9 +198,21 @@ class GlobalPoseEstimator {
   // Re-locks x, y, psi to `fix` at the current azimuth after agreeing gated-out fixes, and
   // corrects the velocity by the rate at which their distance innovations grew.
   void reinitialise_position(const PenFix& fix, double distance_rate_mps, int64_t t_ns);
-  // The vision fix as the wall model measures it: (distance to the wall, heading relative to its
-  // outward normal).
-  Eigen::Vector2d wall_fix(const PenFix& fix) const;
+  // The vision fix as the wall model measures it: z = (distance to the wall, heading relative to
+  // its outward normal), with the fit's covariance of z.
+  struct WallFix {
+    Eigen::Vector2d z;
+    Eigen::Matrix2d covariance;
+  };
+  WallFix wall_fix(const PenFix& fix) const;
+  // The pose a fix sets at azimuth rho_rad: the position, the wall's outward normal there and the
+  // heading; nullopt where that azimuth's ray misses a flat panel.
+  struct WallPose {
+    Eigen::Vector2d xy_m;
+    Eigen::Vector2d normal;
+    double psi_rad;
+  };
+  std::optional<WallPose> pose_from_fix(const WallFix& fix, double rho_rad) const;
   // lock_refusal plus the check against a recent DVL net plane, for the state the fix would set
   // at azimuth rho_rad.
   std::string lock_refusal_at(const PenFix& fix, double rho_rad, int64_t t_ns) const;
