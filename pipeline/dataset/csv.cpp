@@ -31,7 +31,8 @@ std::vector<std::string> split(const std::string& line) {
 
 }  // namespace
 
-CsvTable::CsvTable(const std::filesystem::path& file, size_t min_fields, size_t max_fields)
+CsvTable::CsvTable(const std::filesystem::path& file, size_t min_fields, size_t max_fields,
+                   BadRows bad_rows)
     : file_(file.string()) {
   std::ifstream in(file);
   if (!in) throw Error("cannot open '" + file_ + "': check that the file exists");
@@ -45,11 +46,15 @@ CsvTable::CsvTable(const std::filesystem::path& file, size_t min_fields, size_t 
     }
     Row row{number, split(t)};
     if (row.fields.size() < min_fields || row.fields.size() > max_fields) {
-      throw Error(file_ + ":" + std::to_string(number) + ": expected " +
-                  (min_fields == max_fields
-                       ? std::to_string(min_fields)
-                       : std::to_string(min_fields) + " to " + std::to_string(max_fields)) +
-                  " comma-separated fields, got " + std::to_string(row.fields.size()));
+      const std::string message =
+          file_ + ":" + std::to_string(number) + ": expected " +
+          (min_fields == max_fields
+               ? std::to_string(min_fields)
+               : std::to_string(min_fields) + " to " + std::to_string(max_fields)) +
+          " comma-separated fields, got " + std::to_string(row.fields.size());
+      if (bad_rows == BadRows::kThrow) throw Error(message);
+      rejected_.push_back({number, message});
+      continue;
     }
     rows_.push_back(std::move(row));
   }

@@ -7,6 +7,7 @@
 #include "pipeline/dataset/csv.h"
 #include "pipeline/dataset/png_io.h"
 #include "runtime/error.h"
+#include "runtime/log.h"
 
 namespace pensight {
 namespace fs = std::filesystem;
@@ -35,46 +36,87 @@ std::vector<ImageEntry> read_frames(const fs::path& file) {
   return out;
 }
 
-DvlData read_dvl(const fs::path& dir) {
+// Reads the rows of a sensor log with `parse`, skipping a row that parse throws on (a field that
+// is not a number) or whose timestamp does not increase, as well as the rows the table set aside.
+// Throws when more than kMaxSkippedRowFraction of the rows are bad, naming the first bad one.
+template <class Sample, class Parse>
+std::vector<Sample> read_log(const CsvTable& t, Parse parse, std::vector<SkippedRows>& skipped) {
+  constexpr size_t kWarningsPerFile = 5;
+  std::vector<CsvTable::Rejected> bad = t.rejected();
+  std::vector<Sample> out;
+  for (size_t r = 0; r < t.rows(); ++r) {
+    try {
+      Sample s = parse(r);
+      if (!out.empty() && s.timestamp_ns <= out.back().timestamp_ns) {
+        bad.push_back({t.line(r), t.file() + ":" + std::to_string(t.line(r)) +
+                                      ": timestamp repeats or goes back in time"});
+        continue;
+      }
+      out.push_back(s);
+    } catch (const Error& e) {
+      bad.push_back({t.line(r), e.what()});
+    }
+  }
+  if (bad.empty()) return out;
+  std::sort(bad.begin(), bad.end(), [](const auto& a, const auto& b) { return a.line < b.line; });
+  const size_t rows = out.size() + bad.size();
+  const std::string counted = std::to_string(bad.size()) + " of " + std::to_string(rows) + " rows";
+  if (static_cast<double>(bad.size()) > kMaxSkippedRowFraction * static_cast<double>(rows)) {
+    throw Error(bad.front().message + " (" + counted +
+                " are bad: check that the file is in the layout of dataset-format.md)");
+  }
+  for (size_t i = 0; i < std::min(bad.size(), kWarningsPerFile); ++i) {
+    log_warning(bad[i].message + "; row skipped");
+  }
+  log_warning(t.file() + ": " + counted + " skipped");
+  skipped.push_back({t.file(), bad.size(), rows});
+  return out;
+}
+
+DvlData read_dvl(const fs::path& dir, std::vector<SkippedRows>& skipped) {
   DvlData d;
   d.calibration = read_dvl_yaml(dir / "sensor.yaml");
-  const fs::path file = dir / "data.csv";
-  const CsvTable t(file, 5, 9);
-  for (size_t r = 0; r < t.rows(); ++r) {
-    if (t.fields(r) != 5 && t.fields(r) != 9) {
-      throw Error(file.string() + ": row " + std::to_string(r + 1) +
-                  " must have 5 fields, or 9 with the beam ranges r1..r4");
-    }
-    DvlSample s;
-    s.timestamp_ns = t.integer(r, 0);
-    s.velocity_B_mps = {t.number(r, 1), t.number(r, 2), t.number(r, 3)};
-    s.valid = t.integer(r, 4) != 0;
-    if (t.fields(r) == 9) {
-      d.has_beam_ranges = true;
-      for (size_t b = 0; b < 4; ++b) s.beam_range_m[b] = t.number(r, 5 + b);
-    }
-    d.samples.push_back(s);
-  }
-  require_time_order(d.samples, file);
+  const CsvTable t(dir / "data.csv", 5, 9, BadRows::kSetAside);
+  d.samples = read_log<DvlSample>(
+      t,
+      [&](size_t r) {
+        if (t.fields(r) != 5 && t.fields(r) != 9) {
+          throw Error(t.file() + ":" + std::to_string(t.line(r)) +
+                      ": expected 5 fields, or 9 with the beam ranges r1..r4");
+        }
+        DvlSample s;
+        s.timestamp_ns = t.integer(r, 0);
+        s.velocity_B_mps = {t.number(r, 1), t.number(r, 2), t.number(r, 3)};
+        s.valid = t.integer(r, 4) != 0;
+        if (t.fields(r) == 9) {
+          for (size_t b = 0; b < 4; ++b) s.beam_range_m[b] = t.number(r, 5 + b);
+        }
+        return s;
+      },
+      skipped);
+  // Beam ranges are a property of the file: its well-formed rows have 9 fields.
+  for (size_t r = 0; r < t.rows() && !d.has_beam_ranges; ++r) d.has_beam_ranges = t.fields(r) == 9;
   return d;
 }
 
-std::vector<PressureSample> read_pressure(const fs::path& file) {
-  const CsvTable t(file, 2, 2);
-  std::vector<PressureSample> out;
-  for (size_t r = 0; r < t.rows(); ++r) out.push_back({t.integer(r, 0), t.number(r, 1)});
-  require_time_order(out, file);
-  return out;
+std::vector<PressureSample> read_pressure(const fs::path& file, std::vector<SkippedRows>& skipped) {
+  const CsvTable t(file, 2, 2, BadRows::kSetAside);
+  return read_log<PressureSample>(
+      t,
+      [&](size_t r) {
+        return PressureSample{t.integer(r, 0), t.number(r, 1)};
+      },
+      skipped);
 }
 
-std::vector<AttitudeSample> read_attitude(const fs::path& file) {
-  const CsvTable t(file, 4, 4);
-  std::vector<AttitudeSample> out;
-  for (size_t r = 0; r < t.rows(); ++r) {
-    out.push_back({t.integer(r, 0), t.number(r, 1), t.number(r, 2), t.number(r, 3)});
-  }
-  require_time_order(out, file);
-  return out;
+std::vector<AttitudeSample> read_attitude(const fs::path& file, std::vector<SkippedRows>& skipped) {
+  const CsvTable t(file, 4, 4, BadRows::kSetAside);
+  return read_log<AttitudeSample>(
+      t,
+      [&](size_t r) {
+        return AttitudeSample{t.integer(r, 0), t.number(r, 1), t.number(r, 2), t.number(r, 3)};
+      },
+      skipped);
 }
 
 GroundTruth read_groundtruth(const fs::path& dir) {
@@ -115,11 +157,13 @@ Dataset read_dataset(const fs::path& root) {
   d.scene = read_scene_yaml(root / "scene.yaml");
   d.cam0 = read_camera_yaml(root / "cam0" / "sensor.yaml");
   d.frames = read_frames(root / "cam0" / "data.csv");
-  if (fs::is_directory(root / "dvl0")) d.dvl0 = read_dvl(root / "dvl0");
+  if (fs::is_directory(root / "dvl0")) d.dvl0 = read_dvl(root / "dvl0", d.skipped_rows);
   if (fs::is_directory(root / "pressure0")) {
-    d.pressure0 = read_pressure(root / "pressure0" / "data.csv");
+    d.pressure0 = read_pressure(root / "pressure0" / "data.csv", d.skipped_rows);
   }
-  if (fs::is_directory(root / "imu0")) d.imu0 = read_attitude(root / "imu0" / "attitude.csv");
+  if (fs::is_directory(root / "imu0")) {
+    d.imu0 = read_attitude(root / "imu0" / "attitude.csv", d.skipped_rows);
+  }
   if (fs::is_directory(root / "groundtruth0")) {
     d.groundtruth0 = read_groundtruth(root / "groundtruth0");
   }

@@ -10,6 +10,18 @@
 
 namespace pensight {
 
+// Rows of a sensor log (dvl0, pressure0, imu0) that read_dataset skipped: a wrong field count, a
+// field that is not a number, or a timestamp that does not increase.
+struct SkippedRows {
+  std::filesystem::path file;
+  size_t skipped = 0;
+  size_t rows = 0;  // data rows in the file, skipped ones included
+};
+
+// A sensor log fails to read when more than this fraction of its rows is bad: then the file is
+// not glitched but in another format, and skipping would hide that.
+inline constexpr double kMaxSkippedRowFraction = 0.5;
+
 struct DvlData {
   DvlCalibration calibration;
   std::vector<DvlSample> samples;
@@ -32,6 +44,8 @@ class Dataset {
   std::optional<std::vector<PressureSample>> pressure0;
   std::optional<std::vector<AttitudeSample>> imu0;
   std::optional<GroundTruth> groundtruth0;
+  // One entry per sensor log with skipped rows; empty when every row was read.
+  std::vector<SkippedRows> skipped_rows;
 
   // Frame i as 8-bit grey (colour and 16-bit PNGs are converted); throws pensight::Error when the
   // file is missing or its size differs from cam0/sensor.yaml.
@@ -48,7 +62,10 @@ class Dataset {
 ImageF32 depth_m_from_mm(const ImageU16& mm);
 
 // Reads scene.yaml, cam0/ (required) and the optional sensor folders. Throws pensight::Error
-// naming the file (and line or key) for anything missing or malformed.
+// naming the file (and line or key) for anything missing or malformed, except single bad rows of
+// the sensor logs: those are skipped, counted in skipped_rows and logged as warnings naming file
+// and line (the first 5 per file, then a count), unless more than kMaxSkippedRowFraction of a
+// log's rows are bad.
 Dataset read_dataset(const std::filesystem::path& root);
 
 }  // namespace pensight

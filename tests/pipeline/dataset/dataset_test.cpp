@@ -399,10 +399,62 @@ TEST_F(DatasetFilesTest, DatasetWithoutFramesIsRefused) {
   EXPECT_NE(e.find("cam0/data.csv: lists no camera frames"), std::string::npos) << e;
 }
 
-TEST_F(DatasetFilesTest, BadCsvFieldIsNamedWithLine) {
-  write_file(root_ / "pressure0" / "data.csv", "#timestamp [ns],depth [m]\n\n100,1.5\n200,abc\n");
+// A logger glitch in a long log: each kind of bad row (a field that is not a number, a wrong
+// field count, a timestamp that goes back) is skipped, counted and named with its line.
+TEST_F(DatasetFilesTest, BadSensorLogRowsAreSkippedCountedAndNamed) {
+  std::string dvl = "#timestamp [ns],vx,vy,vz,valid\n", pressure = "#timestamp [ns],depth [m]\n",
+              attitude = "#timestamp [ns],roll,pitch,yaw\n";
+  for (int i = 1; i <= 20; ++i) {
+    const std::string t = std::to_string(i * 100);
+    dvl += t + ",0.1,0,0,1\n";
+    pressure += t + ",1.5\n";
+    attitude += t + ",0,0,0.1\n";
+  }
+  dvl += "2100,0.1,0\n2200,0.1,0,0,1\n";  // line 22: 3 fields
+  pressure += "2100,abc\n2200,1.5\n";     // line 22: not a number
+  attitude += "50,0,0,0\n2200,0,0,0\n";   // line 22: back in time
+  const fs::path root = dir_ / "logs";
+  {
+    DatasetWriter w(root, contents());  // with dvl0/ and imu0/
+    std::mt19937_64 rng(5);
+    w.add_frame(100, random_frame(rng, 36, 27));
+    w.finish();
+  }
+  write_file(root / "dvl0" / "data.csv", dvl);
+  write_file(root / "pressure0" / "data.csv", pressure);
+  write_file(root / "imu0" / "attitude.csv", attitude);
+  LogCapture log;
+  const Dataset d = read_dataset(root);
+  EXPECT_EQ(d.dvl0->samples.size(), 21u);
+  EXPECT_EQ(d.pressure0->size(), 21u);
+  EXPECT_EQ(d.imu0->size(), 21u);
+  ASSERT_EQ(d.skipped_rows.size(), 3u);
+  for (const SkippedRows& s : d.skipped_rows) {
+    EXPECT_EQ(s.skipped, 1u) << s.file;
+    EXPECT_EQ(s.rows, 22u) << s.file;
+  }
+  EXPECT_NE(log.text().find("dvl0/data.csv:22: expected 5 to 9 comma-separated fields, got 3; row "
+                            "skipped"),
+            std::string::npos)
+      << log.text();
+  EXPECT_NE(log.text().find("pressure0/data.csv:22: field 2: expected a number"), std::string::npos)
+      << log.text();
+  EXPECT_NE(log.text().find("attitude.csv:22: timestamp repeats or goes back in time"),
+            std::string::npos)
+      << log.text();
+  EXPECT_NE(log.text().find("pressure0/data.csv: 1 of 22 rows skipped"), std::string::npos)
+      << log.text();
+}
+
+// A log with more bad rows than good ones is in another format: the run stops, naming the first.
+TEST_F(DatasetFilesTest, MostlyBadSensorLogIsRefusedNamingTheFirstBadRow) {
+  write_file(root_ / "pressure0" / "data.csv",
+             "#timestamp [ns],depth [m]\n\n100,1.5\n200,abc\n300;1.5\n");
   const std::string e = error_of([&] { read_dataset(root_); });
-  EXPECT_NE(e.find("data.csv:4: field 2"), std::string::npos) << e;
+  EXPECT_NE(e.find("data.csv:4: field 2: expected a number (or nan), got 'abc' (2 of 3 rows are "
+                   "bad"),
+            std::string::npos)
+      << e;
 }
 
 TEST_F(DatasetFilesTest, WrongImageSizeIsRefusedOnLoad) {
