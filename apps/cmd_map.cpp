@@ -52,7 +52,7 @@ int cmd_map(const Args& args) {
     for (const GroundTruthRow& r : dataset.groundtruth0->rows) {
       Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
       T.linear() = rotation_from_rpy(r.roll_rad, r.pitch_rad, r.yaw_rad);
-      T.translation() = r.p_world_body_m;
+      T.translation() = r.p_pen_body_m;
       body_poses[r.timestamp_ns] = T;
     }
   } else {
@@ -93,7 +93,7 @@ int cmd_map(const Args& args) {
                    : depth_m_from_mm(read_png_u16(depth_file, dataset.cam0.camera.width_px,
                                                   dataset.cam0.camera.height_px));
     const auto t0 = std::chrono::steady_clock::now();
-    integrator.integrate(map, depth, pose->second * dataset.cam0.T_BS);
+    integrator.integrate(map, depth, pose->second * dataset.cam0.T_body_camera);
     const double ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     total_ms += ms;

@@ -15,7 +15,7 @@ class ProgressBar {
 
  private:
   std::string label_;
-  bool tty_;
+  bool tty_ = false;
   Stopwatch clock_;
   int last_percent_ = -1;
 };

@@ -58,7 +58,7 @@ const std::vector<kernels::RoiOrigin>& grid() {
 // The windowed samples every spectra benchmark transforms.
 const std::vector<float>& samples() {
   static const std::vector<float> s = [] {
-    kernels::FftRoiCpu cpu({}, {}, 1, false);
+    kernels::FftRoiCpu cpu({}, {}, 1, kernels::FftPlanning::kQuick);
     std::vector<float> out(grid().size() * kNN);
     cpu.prepare(frame(), grid(), out);
     return out;
@@ -185,7 +185,7 @@ BENCHMARK(BM_Spectra_Vulkan)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // The stage's pieces on the CPU: resample + normalise + window alone.
 void BM_Prepare_Cpu(benchmark::State& state) {
-  kernels::FftRoiCpu cpu({}, {}, static_cast<int>(state.range(0)), false);
+  kernels::FftRoiCpu cpu({}, {}, static_cast<int>(state.range(0)), kernels::FftPlanning::kQuick);
   const ImageU8 img = frame();
   std::vector<float> out(grid().size() * kNN);
   const double cpu0 = process_cpu_ms();

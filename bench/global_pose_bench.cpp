@@ -15,6 +15,7 @@
 #include "pipeline/camera.h"
 #include "pipeline/global_pose/global_pose_estimator.h"
 #include "pipeline/global_pose/published_global_pose.h"
+#include "runtime/units.h"
 
 namespace {
 
@@ -33,8 +34,8 @@ Eigen::Isometry3d forward_mount(double x, double z) {
 
 DvlCalibration dvl_config() {
   DvlCalibration dvl;
-  dvl.T_BS = forward_mount(0.4, 0.2);
-  const double off = 22.5 * std::numbers::pi / 180.0;
+  dvl.T_body_dvl = forward_mount(0.4, 0.2);
+  const double off = deg_to_rad(22.5);
   for (size_t i = 0; i < 4; ++i) {
     const double az = std::numbers::pi / 4 + static_cast<double>(i) * std::numbers::pi / 2;
     dvl.beam_directions_S[i] = {std::sin(off) * std::cos(az), std::sin(off) * std::sin(az),
@@ -54,7 +55,7 @@ struct Frame {
 Eigen::Isometry3d pose_at(double t) {
   const double rho = 0.3 * t / (kRadius - 1.3), r = kRadius - 1.3 - 0.3 * std::sin(t / 6);
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = rotation_pen_body(0, 0, rho + 0.1 * std::sin(t / 4));
+  T.linear() = rotation_from_rpy(0, 0, rho + 0.1 * std::sin(t / 4));
   T.translation() = Eigen::Vector3d(r * std::cos(rho), r * std::sin(rho), 5.0);
   return T;
 }

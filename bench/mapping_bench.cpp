@@ -63,7 +63,7 @@ const Sequence& sequence(int seq) {
   q.depth_m.resize(frames);
   q.T_pen_camera.resize(frames);
   tbb::parallel_for(0, frames, [&](int f) {
-    q.T_pen_camera[f] = sim::frame_state(s, f).T_world_camera;
+    q.T_pen_camera[f] = sim::frame_state(s, f).T_pen_camera;
     q.depth_m[f] = sim::truth_depth(s, net, q.camera, q.T_pen_camera[f]);
   });
   return cache.emplace(seq, std::move(q)).first->second;

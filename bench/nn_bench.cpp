@@ -21,7 +21,8 @@ using namespace pensight;
 // part OpenCV DNN can run).
 nn::Graph model(int which) {
   if (which == 0) return nn::compact_depth_net({320, 240}, 1);
-  return nn::trudepth_net({320, 240}, 0.5f, 1, which == 1);
+  return nn::trudepth_net({320, 240}, 0.5f, 1,
+                          which == 1 ? nn::DepthHead::kAdaBins : nn::DepthHead::kConvSoftplus);
 }
 const char* model_name(int64_t which) {
   return which == 0 ? "compact" : which == 1 ? "trudepth-0.5" : "trudepth-0.5-no-head";

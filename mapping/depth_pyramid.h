@@ -13,8 +13,8 @@ class DepthPyramid {
  public:
   // Bounds over a footprint; near = 0 when any pixel in it has no valid depth.
   struct Bounds {
-    float near_m;
-    float far_m;
+    float near_m = 0;
+    float far_m = 0;
   };
 
   // depth_m: z-depth per pixel. Pixels with depth 0, NaN, negative or below min_range_m are

@@ -55,7 +55,7 @@ class MappingStage {
 
  private:
   struct Item {
-    int64_t t_ns;
+    int64_t t_ns = 0;
     std::shared_ptr<const ImageF32> depth_m;
     Eigen::Isometry3d T_pen_camera;
     StageMeter::Clock::time_point pushed;

@@ -234,8 +234,9 @@ NetDetection NetDetector::detect(const ImageU8& image, int64_t timestamp_ns) {
     for (size_t i = 0; i < d.points.size(); ++i) {
       if (!d.pose.inlier[i]) continue;
       const RoiNetPoint& p = d.points[i];
-      d.depths.push_back({static_cast<float>(p.centre_px.x()), static_cast<float>(p.centre_px.y()),
-                          static_cast<float>(p.p_C.z()), static_cast<float>(p.quality)});
+      d.depths.push_back({{static_cast<float>(p.centre_px.x()), static_cast<float>(p.centre_px.y()),
+                           static_cast<float>(p.p_C.z())},
+                          static_cast<float>(p.quality)});
     }
   }
   d.pose_ms = sw.elapsed_ms();

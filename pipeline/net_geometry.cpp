@@ -8,6 +8,7 @@
 #include <string>
 
 #include "runtime/error.h"
+#include "runtime/units.h"
 
 namespace pensight {
 
@@ -81,7 +82,7 @@ RoiNetPoint roi_net_point(const kernels::RoiLattice& lattice, kernels::RoiOrigin
   }
   if (!(mesh.opening_angle_rad > 0 && mesh.opening_angle_rad < std::numbers::pi)) {
     throw Error("roi_net_point: mesh opening angle must be within (0, 180) deg, got " +
-                std::to_string(mesh.opening_angle_rad * 180 / std::numbers::pi) +
+                std::to_string(rad_to_deg(mesh.opening_angle_rad)) +
                 "; set net_mesh_angle_deg in scene.yaml");
   }
   RoiNetPoint out;

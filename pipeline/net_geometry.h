@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "kernels/fft_roi/fft_roi.h"
+#include "kernels/sparse_prior/sparse_prior.h"
 #include "pipeline/camera.h"
 
 namespace pensight {
@@ -67,10 +68,10 @@ struct RoiNetPoint {
   bool valid() const { return status == RoiStatus::kValid; }
 };
 
-// Sparse depth sample for the depth-completion stage: pixel and z-depth in C.
+// Sparse depth sample for the depth-completion stage: the kernels' SparsePoint (here in the
+// camera image's pixels; the depth stage scales it to the network input) and its quality.
 struct SparseDepth {
-  float px = 0, py = 0;
-  float depth_m = 0;
+  kernels::SparsePoint point;  // x_px, y_px, z-depth in C
   float quality = 0;
 };
 

@@ -92,6 +92,13 @@ struct Pipeline::Impl {
 
   mutable std::mutex finish_mutex;
   std::atomic<bool> finished{false};
+  // Set once by the detection worker when the device is lost; push() and finish() throw it.
+  std::atomic<bool> device_lost{false};
+  std::string device_lost_message;  // written before device_lost is set, read after
+
+  void throw_if_device_lost() const {
+    if (device_lost) throw DeviceLostError(device_lost_message);
+  }
   std::thread detect_thread, pose_thread, deliver_thread;
 
   Impl(PipelineConfig c, Device& device)
@@ -111,6 +118,7 @@ struct Pipeline::Impl {
 
   void detect_loop() {
     while (auto item = camera_q.pop()) {
+      if (device_lost) continue;  // the run is over; frames still queued get no result
       auto d = std::make_unique<Detected>();
       d->pushed = item->at;
       d->result.timestamp_ns = item->timestamp_ns;
@@ -121,6 +129,13 @@ struct Pipeline::Impl {
         std::lock_guard lock(stats_mutex);
         fft.add(d->result.detection.fft_ms, d->pushed);
         relative.add(d->result.detection.pose_ms, d->pushed);
+      } catch (const DeviceLostError& e) {
+        device_lost_message = "Pipeline: the device was lost at the frame at t = " +
+                              std::to_string(item->timestamp_ns) +
+                              " ns, and the run stops there: " + e.what();
+        device_lost = true;
+        log_error(device_lost_message);
+        continue;
       } catch (const std::exception& e) {
         d->result.error = e.what();
       }
@@ -217,6 +232,16 @@ struct Pipeline::Impl {
     }
   }
 
+  // finish() without the device-lost report (the destructor must not throw).
+  void stop() {
+    std::lock_guard lock(finish_mutex);
+    if (finished.exchange(true)) return;
+    camera_q.close();
+    detect_thread.join();  // closes the pose queue when drained
+    pose_thread.join();    // closes the result queue when drained
+    if (deliver_thread.joinable()) deliver_thread.join();
+  }
+
   void push_sensor(PoseInput input) {
     if (finished || !pose_q.push(std::move(input))) {
       throw Error("Pipeline: sensor sample pushed after finish(); push before finishing");
@@ -233,11 +258,12 @@ Pipeline::Pipeline(PipelineConfig config, Device& device)
 }
 
 Pipeline::~Pipeline() {
-  finish();
+  impl_->stop();
 }
 
 void Pipeline::push(CameraFrame frame) {
   Impl& m = *impl_;
+  m.throw_if_device_lost();
   auto image = std::make_shared<const ImageU8>(std::move(frame.image));
   if (m.finished || !m.camera_q.push({frame.timestamp_ns, std::move(image),
                                       std::move(frame.depth_m), Clock::now()})) {
@@ -262,13 +288,8 @@ std::optional<FrameResult> Pipeline::poll() {
 }
 
 void Pipeline::finish() {
-  Impl& m = *impl_;
-  std::lock_guard lock(m.finish_mutex);
-  if (m.finished.exchange(true)) return;
-  m.camera_q.close();
-  m.detect_thread.join();  // closes the pose queue when drained
-  m.pose_thread.join();    // closes the result queue when drained
-  if (m.deliver_thread.joinable()) m.deliver_thread.join();
+  impl_->stop();
+  impl_->throw_if_device_lost();
 }
 
 std::vector<StageStats> Pipeline::stats() const {

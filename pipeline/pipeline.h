@@ -88,7 +88,8 @@ class Pipeline {
   Pipeline(const Pipeline&) = delete;
   Pipeline& operator=(const Pipeline&) = delete;
 
-  // Thread-safe. Throws pensight::Error after finish().
+  // Thread-safe. Throws pensight::Error after finish(), and DeviceLostError once the device was
+  // lost (the run cannot go on; a new Pipeline on a new Device, or the CPU backend, can).
   void push(CameraFrame frame);
   void push(const DvlSample& s);
   void push(const PressureSample& s);
@@ -99,7 +100,8 @@ class Pipeline {
 
   // Stops taking input, processes everything already pushed (every frame gets its result; the
   // sensor samples held after the last frame are given to the estimators) and delivers it; on
-  // return every on_frame call has finished. Idempotent.
+  // return every on_frame call has finished. Idempotent. Throws DeviceLostError when the device
+  // was lost: the frames from the lost one on have no results.
   void finish();
 
   // Per stage: "fft net detection", "relative pose (fft)", "global pose", "delivery"; latency

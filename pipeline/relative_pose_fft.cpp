@@ -6,12 +6,13 @@
 #include <cstdio>
 #include <limits>
 #include <optional>
+#include <utility>
 #include <vector>
+
+#include "runtime/units.h"
 
 namespace pensight {
 namespace {
-
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 struct Sample {
   Eigen::Vector3d p;
@@ -19,8 +20,9 @@ struct Sample {
   size_t roi;  // index into the caller's span
 };
 
-FftRelativePose invalid(size_t rois, int valid_rois, std::string reason) {
-  return {kNaN, kNaN, kNaN, valid_rois, 0, kNaN, std::vector<uint8_t>(rois, 0), std::move(reason)};
+FftRelativePose invalid(size_t rois, int valid_rois, FftPoseStatus status, std::string reason) {
+  return {status,           kNaN, kNaN, kNaN, valid_rois, 0, kNaN, std::vector<uint8_t>(rois, 0),
+          std::move(reason)};
 }
 
 // Weighted least squares of z on the given regressors of (x, y).
@@ -150,10 +152,12 @@ void fuse_roi_tilt(Eigen::Vector3d& plane, const std::vector<Sample>& s, const s
   plane(0) = offset / total;
 }
 
-// Why the fused plane cannot give a trustworthy d_net (see RelativePoseFftParams), or "".
-std::string implausible(const Eigen::Vector3d& plane, const std::vector<Sample>& s,
-                        const std::vector<int>& in, std::span<const RoiNetPoint> rois,
-                        const RelativePoseFftParams& params) {
+// Why the fused plane cannot give a trustworthy d_net (see RelativePoseFftParams), or kValid.
+std::pair<FftPoseStatus, std::string> implausible(const Eigen::Vector3d& plane,
+                                                  const std::vector<Sample>& s,
+                                                  const std::vector<int>& in,
+                                                  std::span<const RoiNetPoint> rois,
+                                                  const RelativePoseFftParams& params) {
   const double gain_x = 1 + plane(1) * plane(1), gain_y = 1 + plane(2) * plane(2);  // 1/cos^2
   double lever = std::numeric_limits<double>::infinity();
   for (int i : in) {
@@ -166,9 +170,9 @@ std::string implausible(const Eigen::Vector3d& plane, const std::vector<Sample>&
                   "net points too far from the optical axis for this obliquity (lever %.2f, "
                   "limit %.2f): d_net would be extrapolated",
                   lever, params.max_extrapolation_lever);
-    return text;
+    return {FftPoseStatus::kExtrapolated, text};
   }
-  if (!params.check_tilts) return {};
+  if (!params.check_tilts) return {FftPoseStatus::kValid, ""};
   const Eigen::Vector3d normal = net_plane_normal(plane(1), plane(2));
   std::vector<double> angles;
   for (int i : in) {
@@ -176,7 +180,7 @@ std::string implausible(const Eigen::Vector3d& plane, const std::vector<Sample>&
       angles.push_back(std::acos(std::min(1.0, std::abs(m->dot(normal)))));
     }
   }
-  if (angles.empty()) return {};
+  if (angles.empty()) return {FftPoseStatus::kValid, ""};
   const auto mid = angles.begin() + static_cast<std::ptrdiff_t>(angles.size() / 2);
   std::nth_element(angles.begin(), mid, angles.end());
   if (*mid > params.max_tilt_disagreement_rad) {
@@ -184,10 +188,10 @@ std::string implausible(const Eigen::Vector3d& plane, const std::vector<Sample>&
     std::snprintf(text, sizeof text,
                   "the ROIs' own tilts disagree with the fitted plane (median %.0f deg, limit "
                   "%.0f): a lattice harmonic?",
-                  *mid * 180 / M_PI, params.max_tilt_disagreement_rad * 180 / M_PI);
-    return text;
+                  rad_to_deg(*mid), rad_to_deg(params.max_tilt_disagreement_rad));
+    return {FftPoseStatus::kTiltsDisagree, text};
   }
-  return {};
+  return {FftPoseStatus::kValid, ""};
 }
 
 }  // namespace
@@ -206,20 +210,20 @@ FftRelativePose relative_pose_fft(std::span<const RoiNetPoint> rois,
   const int valid = static_cast<int>(s.size());
   const int need = std::max(3, params.min_valid_rois);
   if (valid < need) {
-    return invalid(rois.size(), valid,
+    return invalid(rois.size(), valid, FftPoseStatus::kTooFewRois,
                    "only " + std::to_string(valid) + " of " + std::to_string(rois.size()) +
                        " ROIs show a net lattice (need " + std::to_string(need) + ")");
   }
   std::vector<int> in = consensus(s, params.inlier_rel);
   if (static_cast<int>(in.size()) < need) {
-    return invalid(rois.size(), valid,
+    return invalid(rois.size(), valid, FftPoseStatus::kNoConsensus,
                    "no plane is consistent with " + std::to_string(need) + " of the " +
                        std::to_string(valid) + " net points");
   }
   Eigen::Vector3d plane = fit<3>(s, in, plane_basis);
   in = inliers<3>(s, plane, plane_basis, params.inlier_rel);
   if (static_cast<int>(in.size()) < need) {
-    return invalid(rois.size(), valid,
+    return invalid(rois.size(), valid, FftPoseStatus::kRefitLost,
                    "the refitted plane keeps fewer than " + std::to_string(need) + " net points");
   }
   plane = fit<3>(s, in, plane_basis);
@@ -227,16 +231,18 @@ FftRelativePose relative_pose_fft(std::span<const RoiNetPoint> rois,
 
   const double psi = std::atan(plane(1)), pitch = std::atan(plane(2));
   if (std::abs(psi) > params.max_obliquity_rad || std::abs(pitch) > params.max_obliquity_rad) {
-    return invalid(rois.size(), valid,
-                   "net too oblique (psi " + std::to_string(std::lround(psi * 180 / M_PI)) +
-                       " deg, pitch " + std::to_string(std::lround(pitch * 180 / M_PI)) +
+    return invalid(rois.size(), valid, FftPoseStatus::kTooOblique,
+                   "net too oblique (psi " + std::to_string(std::lround(rad_to_deg(psi))) +
+                       " deg, pitch " + std::to_string(std::lround(rad_to_deg(pitch))) +
                        " deg; limit " +
-                       std::to_string(std::lround(params.max_obliquity_rad * 180 / M_PI)) + ")");
+                       std::to_string(std::lround(rad_to_deg(params.max_obliquity_rad))) + ")");
   }
-  if (std::string why = implausible(plane, s, in, rois, params); !why.empty()) {
-    return invalid(rois.size(), valid, std::move(why));
+  if (auto [status, why] = implausible(plane, s, in, rois, params);
+      status != FftPoseStatus::kValid) {
+    return invalid(rois.size(), valid, status, std::move(why));
   }
-  FftRelativePose pose{plane(0),
+  FftRelativePose pose{FftPoseStatus::kValid,
+                       plane(0),
                        psi,
                        pitch,
                        valid,

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "pipeline/net_geometry.h"
+#include "runtime/units.h"
 
 namespace pensight {
 
@@ -48,16 +49,28 @@ struct RelativePoseFftParams {
   bool fuse_roi_tilt = true;
 };
 
+// Why an FFT relative pose is NaN (kValid when it is not).
+enum class FftPoseStatus {
+  kValid,
+  kTooFewRois,     // fewer ROIs with a lattice than min_valid_rois
+  kNoConsensus,    // no plane agrees with enough of the net points
+  kRefitLost,      // the refitted plane keeps too few of them
+  kTooOblique,     // beyond max_obliquity_rad
+  kExtrapolated,   // net points too far from the optical axis for the obliquity
+  kTiltsDisagree,  // the ROIs' own tilts contradict the plane (a lattice harmonic)
+};
+
 struct FftRelativePose {
-  double d_net_m;
-  double psi_net_rad;
-  double pitch_net_rad;
-  int valid_rois = 0;           // ROIs with a usable lattice
-  int inlier_rois = 0;          // of those, on the fitted surface
-  double rms_residual_m;        // of the inliers about the fitted surface
-  std::vector<uint8_t> inlier;  // per input ROI: 1 when it supports the fitted surface
-  std::string reason;           // why the pose is NaN; empty when valid
-  bool valid() const { return reason.empty(); }
+  FftPoseStatus status = FftPoseStatus::kTooFewRois;
+  double d_net_m = kNaN;
+  double psi_net_rad = kNaN;
+  double pitch_net_rad = kNaN;
+  int valid_rois = 0;            // ROIs with a usable lattice
+  int inlier_rois = 0;           // of those, on the fitted surface
+  double rms_residual_m = kNaN;  // of the inliers about the fitted surface
+  std::vector<uint8_t> inlier;   // per input ROI: 1 when it supports the fitted surface
+  std::string reason;            // status in words with its numbers; empty when valid
+  bool valid() const { return status == FftPoseStatus::kValid; }
 };
 
 // Unit normal, pointing at the camera, of the plane z = slope_x x + slope_y y + c in C

@@ -4,7 +4,6 @@
 #include <chrono>
 #include <exception>
 #include <mutex>
-#include <numbers>
 #include <optional>
 #include <string>
 #include <thread>
@@ -20,6 +19,7 @@
 #include "runtime/error.h"
 #include "runtime/log.h"
 #include "runtime/timing.h"
+#include "runtime/units.h"
 
 namespace pensight {
 namespace {
@@ -29,7 +29,7 @@ global_pose::PublishedGlobalPoseConfig published_config(const Dataset& d) {
   global_pose::PublishedGlobalPoseConfig c;
   c.pen_radius_m = d.scene.pen_radius_m;
   c.initial_rho_rad = d.scene.initial_rho_rad.value_or(0.0);
-  c.T_body_camera = d.cam0.T_BS;
+  c.T_body_camera = d.cam0.T_body_camera;
   c.has_dvl = d.dvl0.has_value();
   return c;
 }
@@ -139,7 +139,7 @@ class RunWriter {
       diag.inlier_rois = pose.inlier_rois;
       diag.plane_rms_m = pose.rms_residual_m;
       diag.fft_reason = pose.reason;
-      diag.mesh_angle_deg = r.detection.mesh_angle_rad * 180 / std::numbers::pi;
+      diag.mesh_angle_deg = rad_to_deg(r.detection.mesh_angle_rad);
       diag.mesh_type = to_string(r.detection.mesh_type);
       diag.reduced_rois = r.detection.reduced_rois;
       if (pose.valid()) {
@@ -239,7 +239,7 @@ global_pose::GlobalPoseEstimatorConfig global_pose_config(const Dataset& d) {
   c.pen_radius_m = d.scene.pen_radius_m;
   c.flat_panel = d.scene.flat_panel;
   c.initial_rho_rad = d.scene.initial_rho_rad.value_or(0.0);
-  c.T_body_camera = d.cam0.T_BS;
+  c.T_body_camera = d.cam0.T_body_camera;
   if (d.dvl0) c.dvl_beams = d.dvl0->calibration;
   c.has_dvl = d.dvl0.has_value();
   c.has_attitude = d.imu0.has_value();

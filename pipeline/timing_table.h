@@ -12,15 +12,16 @@
 #include <vector>
 
 #include "pipeline/stage_stats.h"
+#include "runtime/units.h"
 
 namespace pensight {
 
 inline constexpr const char* kTimingFile = "timing.csv";
 
 struct TimingRow {
-  StageStats ours;      // count 0: not run
-  double published_ms;  // NaN: not published
-  double published_rate_hz;
+  StageStats ours;             // count 0: not run
+  double published_ms = kNaN;  // NaN: not published
+  double published_rate_hz = kNaN;
 };
 
 // The published nodes with the stage of the same name (count 0 where none), then the stages

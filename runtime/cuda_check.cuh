@@ -12,6 +12,22 @@
 namespace pensight::cuda {
 
 inline void check(cudaError_t e, const char* call) {
+  // Sticky errors: the CUDA context is unusable until the process restarts.
+  switch (e) {
+    case cudaErrorIllegalAddress:
+    case cudaErrorLaunchFailure:
+    case cudaErrorLaunchTimeout:
+    case cudaErrorHardwareStackError:
+    case cudaErrorIllegalInstruction:
+    case cudaErrorMisalignedAddress:
+    case cudaErrorInvalidPc:
+    case cudaErrorECCUncorrectable:
+      throw DeviceLostError(std::string(call) + " failed: " + cudaGetErrorName(e) +
+                            " (the CUDA context is lost); restart the program, or run on the CPU "
+                            "(--backend cpu)");
+    default:
+      break;
+  }
   if (e != cudaSuccess) {
     throw Error(std::string(call) + " failed: " + cudaGetErrorName(e) + " (" +
                 cudaGetErrorString(e) + ")");

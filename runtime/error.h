@@ -17,7 +17,15 @@ class VulkanError : public Error {
   int result() const { return result_; }
 
  private:
-  int result_;
+  int result_ = 0;
+};
+
+// The GPU stopped answering (Vulkan VK_ERROR_DEVICE_LOST, a sticky CUDA error): nothing more runs
+// on it in this process, so a pipeline that meets it ends the run instead of going on frame by
+// frame. what() names the call and the way out.
+class DeviceLostError : public Error {
+ public:
+  using Error::Error;
 };
 
 }  // namespace pensight

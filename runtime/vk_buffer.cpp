@@ -73,7 +73,7 @@ Buffer::Impl::~Impl() {
 Buffer::Buffer(const Context& ctx, size_t size_bytes, MemoryUsage usage)
     : impl_(std::make_unique<Impl>()) {
   if (size_bytes == 0) throw Error("vk::Buffer: size must be > 0");
-  const Context::Impl& c = ctx.impl();
+  const Context::Impl& c = ImplAccess::of(ctx);
   const VkMemoryPropertyFlags local = VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
   const VkMemoryPropertyFlags host =
       VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;

@@ -12,6 +12,8 @@
 
 namespace pensight::vk {
 
+struct ImplAccess;
+
 enum class MemoryUsage {
   kDevice,    // device-local; host-mappable where the device allows
   kReadback,  // host-visible and cached, for results the host reads every frame
@@ -31,9 +33,9 @@ class Buffer {
   void download(void* dst, size_t bytes, size_t offset = 0) const;
 
   struct Impl;
-  Impl& impl() const { return *impl_; }
 
  private:
+  friend struct ImplAccess;  // vk_detail.h: runtime/ sources only
   std::unique_ptr<Impl> impl_;
 };
 
@@ -63,7 +65,7 @@ class TypedBuffer {
 
  private:
   Buffer buffer_;
-  size_t count_;
+  size_t count_ = 0;
 };
 
 }  // namespace pensight::vk

@@ -477,6 +477,8 @@ void Context::Impl::submit_and_wait(VkCommandBuffer cmd, VkFence fence) const {
   si.pCommandBuffers = &cmd;
   {
     std::lock_guard lock(queue_mutex);
+    const int lose_after = options.lose_device_after_submits;
+    if (lose_after > 0 && ++submits > lose_after) check(VK_ERROR_DEVICE_LOST, "vkQueueSubmit");
     PENSIGHT_VK(vk.vkQueueSubmit(queue, 1, &si, fence));
   }
   PENSIGHT_VK(vk.vkWaitForFences(device, 1, &fence, VK_TRUE, UINT64_MAX));

@@ -11,6 +11,8 @@
 
 namespace pensight::vk {
 
+struct ImplAccess;
+
 struct PipelineDesc;
 class Pipeline;
 
@@ -50,6 +52,9 @@ struct ContextOptions {
   // Directory of the persistent pipeline cache; empty = $PENSIGHT_CACHE_DIR, else
   // $XDG_CACHE_HOME/pensight, else ~/.cache/pensight. "-" disables the on-disk cache.
   std::filesystem::path cache_dir;
+  // Fault injection for tests of what a lost device does to a run: every queue submission after
+  // this many fails with VK_ERROR_DEVICE_LOST, as on a real device after a reset (0: never).
+  int lose_device_after_submits = 0;
 };
 
 class Context {
@@ -80,9 +85,9 @@ class Context {
   static std::vector<DeviceInfo> list_devices();
 
   struct Impl;
-  Impl& impl() const { return *impl_; }
 
  private:
+  friend struct ImplAccess;  // vk_detail.h: runtime/ sources only
   std::unique_ptr<Impl> impl_;
 };
 

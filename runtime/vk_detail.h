@@ -46,6 +46,7 @@ struct Context::Impl {
   uint32_t queue_family = 0;
   VkQueue queue = VK_NULL_HANDLE;
   mutable std::mutex queue_mutex;  // vkQueueSubmit needs external synchronisation
+  mutable int submits = 0;         // under queue_mutex (ContextOptions::lose_device_after_submits)
   VkPipelineCache pipeline_cache = VK_NULL_HANDLE;
   std::filesystem::path cache_path;
   VkPhysicalDeviceMemoryProperties memory{};
@@ -88,6 +89,14 @@ struct Pipeline::Impl {
 };
 
 // A transient command pool + buffer for one-off work (staging copies).
+// The one way to a runtime class's Impl: vk_detail.h is included by runtime/ sources only, so
+// nothing outside runtime/ reaches Vulkan handles through the public classes.
+struct ImplAccess {
+  static Context::Impl& of(const Context& c) { return *c.impl_; }
+  static Buffer::Impl& of(const Buffer& b) { return *b.impl_; }
+  static Pipeline::Impl& of(const Pipeline& p) { return *p.impl_; }
+};
+
 class OneShot {
  public:
   explicit OneShot(const Context::Impl& ctx);

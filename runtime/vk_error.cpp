@@ -39,6 +39,11 @@ const char* result_name(VkResult r) {
 }
 
 void check(VkResult r, const char* call) {
+  if (r == VK_ERROR_DEVICE_LOST) {
+    throw DeviceLostError(std::string(call) +
+                          " failed: VK_ERROR_DEVICE_LOST (the GPU was reset or hung); restart the "
+                          "program, or run on the CPU (--backend cpu)");
+  }
   if (r != VK_SUCCESS) throw VulkanError(call, r);
 }
 

@@ -20,14 +20,6 @@ std::span<const uint32_t> embedded_shader(const std::string& name) {
               ".comp is not part of this build)");
 }
 
-std::vector<std::string> embedded_shader_names() {
-  std::vector<std::string> names;
-  for (size_t i = 0; i < detail::kEmbeddedShaderCount; ++i) {
-    names.emplace_back(detail::kEmbeddedShaders[i].first);
-  }
-  return names;
-}
-
 Pipeline::Impl::~Impl() {
   if (!ctx) return;
   const auto& vk = ctx->vk;
@@ -39,7 +31,7 @@ Pipeline::Impl::~Impl() {
 
 Pipeline::Pipeline(const Context& ctx, PipelineDesc desc) : impl_(std::make_unique<Impl>()) {
   Impl& p = *impl_;
-  const Context::Impl& c = ctx.impl();
+  const Context::Impl& c = ImplAccess::of(ctx);
   p.ctx = &c;
   p.desc = std::move(desc);
   if (p.desc.push_constant_bytes % 4 != 0) {

@@ -14,6 +14,8 @@
 
 namespace pensight::vk {
 
+struct ImplAccess;
+
 struct PipelineDesc {
   std::string shader;                    // embedded name, e.g. "roi_normalize/roi_normalize"
   uint32_t num_buffers = 1;              // storage buffers at bindings 0..num_buffers-1
@@ -35,14 +37,13 @@ class Pipeline {
   const PipelineDesc& desc() const;
 
   struct Impl;
-  Impl& impl() const { return *impl_; }
 
  private:
+  friend struct ImplAccess;  // vk_detail.h: runtime/ sources only
   std::unique_ptr<Impl> impl_;
 };
 
 // SPIR-V words of an embedded shader; throws pensight::Error naming the shader if unknown.
 std::span<const uint32_t> embedded_shader(const std::string& name);
-std::vector<std::string> embedded_shader_names();
 
 }  // namespace pensight::vk

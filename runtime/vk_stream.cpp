@@ -116,7 +116,7 @@ struct CommandStream::Impl {
 
 CommandStream::CommandStream(const Context& ctx) : impl_(std::make_unique<Impl>()) {
   Impl& s = *impl_;
-  s.ctx = &ctx.impl();
+  s.ctx = &ImplAccess::of(ctx);
   const auto& vk = s.ctx->vk;
   VkCommandPoolCreateInfo pci{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
   pci.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
@@ -152,7 +152,7 @@ void CommandStream::dispatch(const Pipeline& pipeline, std::span<const Binding> 
                              Groups groups, const void* push_constants, size_t push_bytes,
                              std::string name) {
   Impl& s = *impl_;
-  const Pipeline::Impl& p = pipeline.impl();
+  const Pipeline::Impl& p = ImplAccess::of(pipeline);
   if (buffers.size() != p.desc.num_buffers) {
     throw Error("dispatch of '" + p.desc.shader + "': " + std::to_string(buffers.size()) +
                 " buffers bound, the pipeline has " + std::to_string(p.desc.num_buffers));
@@ -170,8 +170,8 @@ void CommandStream::dispatch(const Pipeline& pipeline, std::span<const Binding> 
   std::vector<std::pair<VkBuffer, Access>> accesses;
   infos.reserve(buffers.size());
   for (const Binding& b : buffers) {
-    infos.push_back({b.buffer->impl().buffer, 0, VK_WHOLE_SIZE});
-    accesses.emplace_back(b.buffer->impl().buffer, b.access);
+    infos.push_back({ImplAccess::of(*b.buffer).buffer, 0, VK_WHOLE_SIZE});
+    accesses.emplace_back(ImplAccess::of(*b.buffer).buffer, b.access);
   }
   std::vector<VkWriteDescriptorSet> writes(infos.size());
   for (uint32_t i = 0; i < infos.size(); ++i) {
@@ -207,9 +207,11 @@ void CommandStream::copy(const Buffer& src, const Buffer& dst, size_t bytes, siz
                 " bytes do not fit the source or destination buffer");
   }
   s.begin();
-  s.sync({{src.impl().buffer, Access::kRead}, {dst.impl().buffer, Access::kWrite}});
+  s.sync(
+      {{ImplAccess::of(src).buffer, Access::kRead}, {ImplAccess::of(dst).buffer, Access::kWrite}});
   VkBufferCopy region{src_offset, dst_offset, bytes};
-  s.ctx->vk.vkCmdCopyBuffer(s.cmd, src.impl().buffer, dst.impl().buffer, 1, &region);
+  s.ctx->vk.vkCmdCopyBuffer(s.cmd, ImplAccess::of(src).buffer, ImplAccess::of(dst).buffer, 1,
+                            &region);
   s.names.push_back("copy");
   s.timestamp(static_cast<uint32_t>(s.names.size()));
 }

@@ -49,7 +49,7 @@ struct Groups {
 
 struct DispatchTime {
   std::string name;
-  double device_ms;
+  double device_ms = 0;
 };
 
 class CommandStream {

@@ -15,11 +15,11 @@ FrameState frame_state_at(const Scenario& s, const BodyState& body, int frame, d
   f.t_s = t_s;
   f.timestamp_ns = s.start_time_ns + static_cast<int64_t>(std::llround(t_s * 1e9));
   f.body = body;
-  f.T_world_camera = f.body.T_world_body * s.camera.calibration.T_BS;
+  f.T_pen_camera = f.body.T_pen_body * s.camera.calibration.T_body_camera;
   for (const Lamp& l : s.light.lamps) {
     LampPose p;
-    p.position_m = f.body.T_world_body * l.position_B_m;
-    p.direction = f.body.T_world_body.linear() * l.direction_B;
+    p.position_m = f.body.T_pen_body * l.position_B_m;
+    p.direction = f.body.T_pen_body.linear() * l.direction_B;
     p.intensity = l.intensity * s.light.lamp_level;
     p.exponent = std::log(0.5) / std::log(std::cos(l.half_angle_rad));
     f.lamps.push_back(p);

@@ -25,7 +25,7 @@ struct FrameState {
   double t_s = 0;
   int64_t timestamp_ns = 0;
   BodyState body;
-  Eigen::Isometry3d T_world_camera = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d T_pen_camera = Eigen::Isometry3d::Identity();
   std::vector<LampPose> lamps;
   std::vector<FishPose> fish;
 };

@@ -3,18 +3,20 @@
 #include <algorithm>
 #include <cmath>
 
+#include "runtime/units.h"
+
 namespace pensight::sim {
 
 NetRelative net_relative(const Scenario& s, const NetGeometry& net,
-                         const Eigen::Isometry3d& T_world_camera) {
+                         const Eigen::Isometry3d& T_pen_camera) {
   NetRelative r;
-  const Eigen::Vector3d o = T_world_camera.translation();
-  const Eigen::Vector3d d = T_world_camera.linear().col(2);
+  const Eigen::Vector3d o = T_pen_camera.translation();
+  const Eigen::Vector3d d = T_pen_camera.linear().col(2);
   const auto hit = net.intersect(o, d);
   if (!hit || hit->t > net_visible_range_m(s.water)) return r;
   if (d.z() < 0 && -o.z() / d.z() <= hit->t) return r;  // the surface comes first
   r.d_net_m = hit->t;
-  r.m_C = T_world_camera.linear().transpose() * hit->normal;
+  r.m_C = T_pen_camera.linear().transpose() * hit->normal;
   r.psi_net_rad = std::atan2(-r.m_C.x(), r.m_C.z());
   r.pitch_net_rad = std::atan2(-r.m_C.y(), r.m_C.z());
   return r;
@@ -25,11 +27,11 @@ MeshTruthRow mesh_truth_row(const Scenario& s, const NetGeometry& net, const Net
   MeshTruthRow row;
   row.timestamp_ns = f.timestamp_ns;
   row.mesh_type = s.net.mesh_type;
-  if (std::isnan(net_relative(s, net, f.T_world_camera).d_net_m)) return row;
-  const auto hit = net.intersect(f.T_world_camera.translation(), f.T_world_camera.linear().col(2));
+  if (std::isnan(net_relative(s, net, f.T_pen_camera).d_net_m)) return row;
+  const auto hit = net.intersect(f.T_pen_camera.translation(), f.T_pen_camera.linear().col(2));
   const bool wall = hit->part == NetPart::kWall;
   const LocalMesh m =
-      lattice.local_mesh(hit->u_m, hit->v_m, wall, wall ? net.lattice_scale() : 1.0);
+      lattice.local_mesh(hit->u_m, hit->v_m, hit->part, wall ? net.lattice_scale() : 1.0);
   row.opening_angle_rad = m.opening_angle_rad;
   row.stretch = m.stretch;
   return row;
@@ -39,11 +41,11 @@ GroundTruthRow ground_truth_row(const Scenario& s, const NetGeometry& net, const
                                 const ImageF32& depth_m) {
   GroundTruthRow g;
   g.timestamp_ns = f.timestamp_ns;
-  g.p_world_body_m = f.body.T_world_body.translation();
+  g.p_pen_body_m = f.body.T_pen_body.translation();
   g.roll_rad = f.body.roll_rad;
   g.pitch_rad = f.body.pitch_rad;
-  g.yaw_rad = std::remainder(f.body.yaw_rad, 2 * M_PI);
-  const NetRelative r = net_relative(s, net, f.T_world_camera);
+  g.yaw_rad = wrap_angle(f.body.yaw_rad);
+  const NetRelative r = net_relative(s, net, f.T_pen_camera);
   g.d_net_m = r.d_net_m;
   g.psi_net_rad = r.psi_net_rad;
   g.pitch_net_rad = r.pitch_net_rad;

@@ -18,7 +18,7 @@ struct NetRelative {
 // The optical axis against the net; the net counts as missed beyond net_visible_range_m or
 // behind the water surface, exactly as for the depth image.
 NetRelative net_relative(const Scenario& s, const NetGeometry& net,
-                         const Eigen::Isometry3d& T_world_camera);
+                         const Eigen::Isometry3d& T_pen_camera);
 
 // The mesh at the optical axis's net hit (groundtruth0/mesh.csv), by the same rule as
 // net_relative; opening angle and stretch NaN where the axis misses.

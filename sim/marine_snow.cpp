@@ -57,7 +57,7 @@ std::vector<SnowSpot> snow_spots(const Scenario& s, const FrameState& f) {
   for (const double z : {kSnowNear_m, kSnowFar_m}) {
     for (const double x : {lo.x(), hi.x()}) {
       for (const double y : {lo.y(), hi.y()}) {
-        const Eigen::Vector3d p = f.T_world_camera * Eigen::Vector3d(x * z, y * z, z) - drift;
+        const Eigen::Vector3d p = f.T_pen_camera * Eigen::Vector3d(x * z, y * z, z) - drift;
         box_lo = box_lo.cwiseMin(p);
         box_hi = box_hi.cwiseMax(p);
       }
@@ -66,7 +66,7 @@ std::vector<SnowSpot> snow_spots(const Scenario& s, const FrameState& f) {
   const Eigen::Vector3i c_lo = (box_lo / kCell_m).array().floor().cast<int>();
   const Eigen::Vector3i c_hi = (box_hi / kCell_m).array().floor().cast<int>();
 
-  const Eigen::Isometry3d T_camera_world = f.T_world_camera.inverse();
+  const Eigen::Isometry3d T_camera_pen = f.T_pen_camera.inverse();
   // Light scattered by a particle at p: the ambient light from above (half of it, the
   // particle's lower half is dark) and the lamps' beams, as the renderers light surfaces.
   auto light_at = [&](const Eigen::Vector3d& p) {
@@ -96,9 +96,9 @@ std::vector<SnowSpot> snow_spots(const Scenario& s, const FrameState& f) {
           p_water.z() = (cz + unit_float(h = hash32(h))) * kCell_m;
           const double size = unit_float(h = hash32(h));
           const double shade = 0.4 + 0.6 * unit_float(hash32(h));
-          const Eigen::Vector3d p_world = p_water + drift;
-          if (p_world.z() < 0) continue;  // no particles above the water
-          const Eigen::Vector3d p_c = T_camera_world * p_world;
+          const Eigen::Vector3d p_pen = p_water + drift;
+          if (p_pen.z() < 0) continue;  // no particles above the water
+          const Eigen::Vector3d p_c = T_camera_pen * p_pen;
           const double z = p_c.z();
           if (z < kSnowNear_m || z > kSnowFar_m) continue;
           const Eigen::Vector2d xn = p_c.head<2>() / z;
@@ -113,7 +113,7 @@ std::vector<SnowSpot> snow_spots(const Scenario& s, const FrameState& f) {
           const double energy =
               sigma < kMinSigma_px ? (sigma / kMinSigma_px) * (sigma / kMinSigma_px) : 1.0;
           spot.sigma_px = std::clamp(sigma, kMinSigma_px, kMaxSigma_px);
-          spot.peak = w.snow_brightness * light_at(p_world) * shade * energy *
+          spot.peak = w.snow_brightness * light_at(p_pen) * shade * energy *
                       std::exp(-w.attenuation_per_m * p_c.norm());
           const double reach = kSnowCutoffSigmas * spot.sigma_px;
           if (spot.x_px < -reach || spot.y_px < -reach || spot.x_px > cam.width_px - 1 + reach ||

@@ -1,6 +1,7 @@
 #include "sim/net_geometry.h"
 
 #include <cmath>
+#include <numbers>
 
 #include "sim/net_mesh.h"
 
@@ -9,7 +10,7 @@ namespace pensight::sim {
 namespace {
 
 double circumference(const PenConfig& pen) {
-  return pen.shape == NetShape::kCylinder ? 2 * M_PI * pen.radius_m : 0;
+  return pen.shape == NetShape::kCylinder ? 2 * std::numbers::pi * pen.radius_m : 0;
 }
 
 }  // namespace

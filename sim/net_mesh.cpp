@@ -3,8 +3,10 @@
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <vector>
 
+#include "runtime/units.h"
 #include "sim/sim_hash.h"
 
 namespace pensight::sim {
@@ -14,7 +16,7 @@ namespace {
 // exactly (1, 0) and (0, 1), and its coverage equals the axis-aligned one bit for bit).
 Eigen::Vector2d cos_sin_deg(double deg) {
   if (deg == 90) return {0, 1};
-  const double a = deg * M_PI / 180;
+  const double a = deg_to_rad(deg);
   return {std::cos(a), std::sin(a)};
 }
 
@@ -94,17 +96,17 @@ NetLattice::NetLattice(const NetConfig& net, double u_around, uint64_t seed)
   period_ = n_a_.dot(b2_);
   e_b_ = (b1_ + b2_).normalized();
   // Angle mode at deform_scale_m, stretch mode 1.6 times longer so the two do not lock.
-  k_g_ = 2 * M_PI / net.deform_scale_m;
+  k_g_ = 2 * std::numbers::pi / net.deform_scale_m;
   k_s_ = k_g_ / 1.6;
   s_ = net.stretch_variation;
   // The opening angle changes by sin(theta) (eps_pp - eps_bb) = 2 g sin(theta) c3 c4.
-  g_ = net.opening_angle_variation_deg * M_PI / 180 / (2 * period_ / P);
+  g_ = deg_to_rad(net.opening_angle_variation_deg) / (2 * period_ / P);
   const uint32_t key = fold_seed(seed);
   for (uint32_t i = 0; i < 4; ++i) {
-    phase_[i] = 2 * M_PI * unit_float(hash3(i, key, kStreamDeform));
+    phase_[i] = 2 * std::numbers::pi * unit_float(hash3(i, key, kStreamDeform));
   }
   fade_m_ = net.deform_scale_m;
-  knot_mean_ = M_PI * net.knot_size_m * net.knot_size_m / 4 / (P * period_);
+  knot_mean_ = std::numbers::pi * net.knot_size_m * net.knot_size_m / 4 / (P * period_);
   rope_u_ = close_around(net.ropes.spacing_m, u_around);
   seam_u_ = close_around(net.seam_spacing_m, u_around);
   clump_v_ = kClumpCellMeshes * P;
@@ -134,7 +136,7 @@ NetLattice::NetLattice(const NetConfig& net, double u_around, uint64_t seed)
   }
 }
 
-void NetLattice::deform(double u, double v, bool wall, Eigen::Vector2d& x,
+void NetLattice::deform(double u, double v, NetPart part, Eigen::Vector2d& x,
                         Eigen::Matrix2d& J) const {
   const Eigen::Vector2d p(u, v), e_p(-e_b_.y(), e_b_.x());
   const double xi = e_b_.dot(p), eta = e_p.dot(p);
@@ -154,7 +156,7 @@ void NetLattice::deform(double u, double v, bool wall, Eigen::Vector2d& x,
   R.col(1) = e_p;
   Eigen::Vector2d D = R * D_local;
   Eigen::Matrix2d grad = R * G * R.transpose();
-  if (wall && u_around_ > 0) {
+  if (part == NetPart::kWall && u_around_ > 0) {
     // Fade to 0 over fade_m_ before the azimuth seam, where u jumps by u_around_.
     const double uw = u - u_around_ * std::round(u / u_around_);
     const double dist = u_around_ / 2 - std::abs(uw);
@@ -170,12 +172,12 @@ void NetLattice::deform(double u, double v, bool wall, Eigen::Vector2d& x,
   J = Eigen::Matrix2d::Identity() + grad;
 }
 
-LocalMesh NetLattice::local_mesh(double u, double v, bool wall, double u_scale) const {
+LocalMesh NetLattice::local_mesh(double u, double v, NetPart part, double u_scale) const {
   LocalMesh m;
   m.type = net_.mesh_type;
   Eigen::Vector2d x;
   Eigen::Matrix2d J = Eigen::Matrix2d::Identity();
-  if (deformed()) deform(u, v, wall, x, J);
+  if (deformed()) deform(u, v, part, x, J);
   // Knots where x' is a lattice point: a bar b in x' is J^-1 b in (u, v), and metres are
   // (u / u_scale, v).
   const Eigen::Matrix2d to_m = Eigen::Vector2d(1 / u_scale, 1).asDiagonal() * J.inverse();

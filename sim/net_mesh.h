@@ -9,6 +9,7 @@
 #include <Eigen/Core>
 #include <array>
 
+#include "sim/net_geometry.h"
 #include "sim/scenario.h"
 
 namespace pensight::sim {
@@ -45,12 +46,12 @@ class NetLattice {
   const Eigen::Vector2d& bar2() const { return b2_; }
 
   bool deformed() const { return s_ > 0 || g_ > 0; }
-  // x' and dx'/dx at (u, v); `wall`: on the cylinder wall, where D fades out over
-  // deform_scale_m before the azimuth seam so the lattice still closes around the pen.
-  void deform(double u, double v, bool wall, Eigen::Vector2d& x, Eigen::Matrix2d& J) const;
+  // x' and dx'/dx at (u, v) on `part`; on the cylinder wall D fades out over deform_scale_m
+  // before the azimuth seam so the lattice still closes around the pen.
+  void deform(double u, double v, NetPart part, Eigen::Vector2d& x, Eigen::Matrix2d& J) const;
 
   // The local mesh at (u, v); u_scale = du/ds (NetGeometry::lattice_scale() on the wall).
-  LocalMesh local_mesh(double u, double v, bool wall, double u_scale) const;
+  LocalMesh local_mesh(double u, double v, NetPart part, double u_scale) const;
 
   // Deformation constants for the shader: bisector (e_b), wavenumbers of the stretch and angle
   // modes, their amplitudes, the four phases, the fade length and u around the pen.

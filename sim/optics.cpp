@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <numbers>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -30,7 +31,7 @@ void for_rows(int height, F&& row) {
 
 double gaussian(uint32_t h1, uint32_t h2) {
   const double u1 = (static_cast<double>(h1 >> 8) + 0.5) * (1.0 / 16777216.0);
-  return std::sqrt(-2 * std::log(u1)) * std::cos(2 * M_PI * unit_float(h2));
+  return std::sqrt(-2 * std::log(u1)) * std::cos(2 * std::numbers::pi * unit_float(h2));
 }
 
 // Bilinear, clamped to the image (the motion segment may leave the frame); frames are at least
@@ -107,14 +108,14 @@ ImageF32 defocus(const ImageF32& grey, const ImageF32& depth_m, const CameraConf
 }
 
 CameraMotion camera_motion(const Scenario& s, const FrameState& f) {
-  const Eigen::Matrix3d R_wb = f.body.T_world_body.linear();
-  const Eigen::Matrix3d R_bc = s.camera.calibration.T_BS.linear();
-  const Eigen::Vector3d p_bc = s.camera.calibration.T_BS.translation();
+  const Eigen::Matrix3d R_pb = f.body.T_pen_body.linear();
+  const Eigen::Matrix3d R_bc = s.camera.calibration.T_body_camera.linear();
+  const Eigen::Vector3d p_bc = s.camera.calibration.T_body_camera.translation();
   const Eigen::Vector3d w_b = f.body.angular_velocity_body_radps;
   // The camera sits off the body origin, so the turn adds w x p to its velocity.
-  const Eigen::Vector3d v_world = f.body.velocity_world_mps + R_wb * w_b.cross(p_bc);
+  const Eigen::Vector3d v_pen = f.body.velocity_pen_mps + R_pb * w_b.cross(p_bc);
   CameraMotion m;
-  m.velocity_c_mps = (R_wb * R_bc).transpose() * v_world;
+  m.velocity_c_mps = (R_pb * R_bc).transpose() * v_pen;
   m.angular_velocity_c_radps = R_bc.transpose() * w_b;
   return m;
 }
@@ -162,7 +163,7 @@ std::array<ImageF32, 3> water_colour(const ImageF32& grey, const ImageF32& depth
                                      const Scenario& s, const FrameState& f) {
   const PinholeCamera& cam = s.camera.calibration.camera;
   const double c = s.water.attenuation_per_m;
-  const double z = std::max(f.T_world_camera.translation().z(), 0.0);
+  const double z = std::max(f.T_pen_camera.translation().z(), 0.0);
   // The grey veil at the camera (the renderers' background), in grey levels before vignetting.
   const double veil = 255.0 * s.camera.exposure * s.water.backscatter * s.light.ambient *
                       std::exp(-s.water.diffuse_attenuation_per_m * z);

@@ -54,16 +54,16 @@ class Tracer {
         net_(net),
         lattice_(lattice),
         f_(f),
-        o_(f.T_world_camera.translation()),
-        R_wc_(f.T_world_camera.linear()),
+        o_(f.T_pen_camera.translation()),
+        R_pc_(f.T_pen_camera.linear()),
         seed_(fold_seed(s.seed)),
         range_(net_visible_range_m(s.water)) {
     c_ = s.water.attenuation_per_m;
     E0_ = s.light.ambient;
     background_ = s.water.backscatter * ambient(o_.z());
     const PinholeCamera& cam = s.camera.calibration.camera;
-    dDx_ = R_wc_ * Eigen::Vector3d(1 / cam.fx_px, 0, 0);
-    dDy_ = R_wc_ * Eigen::Vector3d(0, 1 / cam.fy_px, 0);
+    dDx_ = R_pc_ * Eigen::Vector3d(1 / cam.fx_px, 0, 0);
+    dDy_ = R_pc_ * Eigen::Vector3d(0, 1 / cam.fy_px, 0);
     n_ = s.camera.samples_per_axis;
   }
 
@@ -94,10 +94,10 @@ class Tracer {
     double cover = 0, knot = 0, rope = 0, patch = 0;
   };
 
-  NetLook net_look(const NetHit& h, const Eigen::Vector3d& D_w, double s) const {
-    const double denom = D_w.dot(h.normal);
-    const Eigen::Vector3d px = s * (dDx_ - dDx_.dot(h.normal) / denom * D_w);
-    const Eigen::Vector3d py = s * (dDy_ - dDy_.dot(h.normal) / denom * D_w);
+  NetLook net_look(const NetHit& h, const Eigen::Vector3d& D_p, double s) const {
+    const double denom = D_p.dot(h.normal);
+    const Eigen::Vector3d px = s * (dDx_ - dDx_.dot(h.normal) / denom * D_p);
+    const Eigen::Vector3d py = s * (dDy_ - dDy_.dot(h.normal) / denom * D_p);
     const NetConfig& n = s_.net;
     const bool wall = h.part == NetPart::kWall;
     // Footprint of the sample along u and v per pixel axis, then in the lattice's coordinates.
@@ -108,7 +108,7 @@ class Tracer {
     Eigen::Vector2d x(h.u_m, h.v_m);
     if (lattice_.deformed()) {
       Eigen::Matrix2d J;
-      lattice_.deform(h.u_m, h.v_m, wall, x, J);
+      lattice_.deform(h.u_m, h.v_m, h.part, x, J);
       fx = J * fx;
       fy = J * fy;
     }
@@ -239,13 +239,13 @@ class Tracer {
   // Radiance along the camera ray D_c (camera frame, z = 1); also its net z-depth (0: none).
   double radiance(const Eigen::Vector3d& D_c, double& depth) const {
     const double len = D_c.norm();
-    const Eigen::Vector3d D_w = R_wc_ * D_c, d = D_w / len;
+    const Eigen::Vector3d D_p = R_pc_ * D_c, d = D_p / len;
     const Opaque opaque = first_opaque(d);
     const auto hit = net_.intersect(o_, d);
     depth = 0;
     if (!hit || hit->t >= opaque.t) return opaque.radiance + lamp_backscatter(d, opaque.t);
     if (hit->t <= range_) depth = hit->t / len * D_c.z();
-    const NetLook look = net_look(*hit, D_w, hit->t / len);
+    const NetLook look = net_look(*hit, D_p, hit->t / len);
     const double cover = look.cover;
     const NetConfig& n = s_.net;
     double albedo = n.albedo;
@@ -278,7 +278,7 @@ class Tracer {
   const NetLattice& lattice_;
   const FrameState& f_;
   Eigen::Vector3d o_;
-  Eigen::Matrix3d R_wc_;
+  Eigen::Matrix3d R_pc_;
   uint32_t seed_;
   double range_;
   double c_ = 0, E0_ = 0, background_ = 0;

@@ -71,7 +71,7 @@ Vec4 v4(double a, double b, double c, double d) {
 
 // The lamps in the camera frame (fixed to the body, like the camera).
 std::vector<LampPose> lamps_in_camera(const Scenario& s) {
-  const Eigen::Isometry3d T_camera_body = s.camera.calibration.T_BS.inverse();
+  const Eigen::Isometry3d T_camera_body = s.camera.calibration.T_body_camera.inverse();
   std::vector<LampPose> out;
   for (const Lamp& l : s.light.lamps) {
     LampPose p;
@@ -273,15 +273,15 @@ RenderVk::FrameData RenderVk::frame_data(const FrameState& f) const {
   // The shader holds the lamps in the camera frame as constants: they must ride with the body.
   const std::vector<LampPose> lamps = lamps_in_camera(s_);
   for (size_t i = 0; i < lamps.size(); ++i) {
-    if ((f.T_world_camera * lamps[i].position_m - f.lamps[i].position_m).norm() > 1e-6 ||
-        (f.T_world_camera.linear() * lamps[i].direction - f.lamps[i].direction).norm() > 1e-6) {
+    if ((f.T_pen_camera * lamps[i].position_m - f.lamps[i].position_m).norm() > 1e-6 ||
+        (f.T_pen_camera.linear() * lamps[i].direction - f.lamps[i].direction).norm() > 1e-6) {
       throw Error("RenderVk: lamp " + std::to_string(i) +
                   " is not fixed to the vehicle as the scenario describes it");
     }
   }
   FrameHeader h{};
-  const Eigen::Matrix3d R = f.T_world_camera.linear();
-  const Eigen::Vector3d o = f.T_world_camera.translation();
+  const Eigen::Matrix3d R = f.T_pen_camera.linear();
+  const Eigen::Vector3d o = f.T_pen_camera.translation();
   for (int r = 0; r < 3; ++r) h.rot[r] = v4(R(r, 0), R(r, 1), R(r, 2), o[r]);
   const WaterConfig& w = s_.water;
   const double background = w.backscatter * s_.light.ambient *

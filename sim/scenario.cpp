@@ -3,11 +3,13 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <fstream>
+#include <numbers>
 #include <optional>
 #include <sstream>
 
 #include "pipeline/dataset/strict_yaml.h"
 #include "runtime/error.h"
+#include "runtime/units.h"
 
 namespace pensight::sim {
 namespace {
@@ -76,7 +78,7 @@ CameraConfig parse_camera(const YamlMap& y) {
     y.optional_number("distortion");
   }
   c.position_B_m = vec3(y, "position_m", c.position_B_m);
-  c.pan_rad = ranged(y, "pan_rad", 0, -M_PI, M_PI);
+  c.pan_rad = ranged(y, "pan_rad", 0, -std::numbers::pi, std::numbers::pi);
   c.tilt_rad = ranged(y, "tilt_rad", 0, -1.5, 1.5);
   c.samples_per_axis = y.integer("samples_per_axis", 3);
   if (c.samples_per_axis < 1 || c.samples_per_axis > 8) {
@@ -265,8 +267,8 @@ DvlConfig parse_dvl(const YamlMap& y) {
   d.enabled = y.boolean("enabled", true);
   d.rate_hz = ranged(y, "rate_hz", d.rate_hz, 0.1, 100);
   d.position_B_m = vec3(y, "position_m", d.position_B_m);
-  d.pan_rad = ranged(y, "pan_rad", 0, -M_PI, M_PI);
-  d.tilt_rad = ranged(y, "tilt_rad", 0, -M_PI, M_PI);
+  d.pan_rad = ranged(y, "pan_rad", 0, -std::numbers::pi, std::numbers::pi);
+  d.tilt_rad = ranged(y, "tilt_rad", 0, -std::numbers::pi, std::numbers::pi);
   d.beam_angle_rad = ranged(y, "beam_angle_rad", d.beam_angle_rad, 0, 1.2);
   d.velocity_noise_mps = ranged(y, "velocity_noise_mps", d.velocity_noise_mps, 0, 10);
   d.range_noise_m = ranged(y, "range_noise_m", d.range_noise_m, 0, 10);
@@ -409,7 +411,7 @@ int64_t Scenario::frame_time_ns(int frame) const {
 
 SceneConfig Scenario::scene_config() const {
   SceneConfig scene{net.mesh_m, pen.radius_m, std::nullopt, net.mesh_type,
-                    net.opening_angle_deg * M_PI / 180};
+                    deg_to_rad(net.opening_angle_deg)};
   // The plane pen's net is the plane x = radius_m, facing -x (PenConfig).
   if (pen.shape == NetShape::kPlane)
     scene.flat_panel =
@@ -429,7 +431,7 @@ Scenario parse_scenario(const std::string& text, const std::string& file_name) {
   s.seed = static_cast<uint64_t>(seed);
   s.start_time_ns = y.integer64("start_time_ns", s.start_time_ns);
   if (const auto m = y.optional_map("camera")) s.camera = parse_camera(*m);
-  s.camera.calibration.T_BS =
+  s.camera.calibration.T_body_camera =
       forward_mount(s.camera.position_B_m, s.camera.pan_rad, s.camera.tilt_rad);
   if (const auto m = y.optional_map("pen")) s.pen = parse_pen(*m);
   if (const auto m = y.optional_map("net")) s.net = parse_net(*m);

@@ -98,7 +98,8 @@ struct Fish {
 };
 
 struct CameraConfig {
-  CameraCalibration calibration;  // intrinsics, size, rate; T_BS built from the mount below
+  CameraCalibration
+      calibration;  // intrinsics, size, rate; T_body_camera built from the mount below
   Eigen::Vector3d position_B_m{0.3, 0.0, 0.0};
   double pan_rad = 0, tilt_rad = 0;  // from looking straight ahead; tilt > 0 looks down
   int samples_per_axis = 3;          // supersampling: N x N rays per pixel

@@ -46,7 +46,7 @@ void validate(const Scenario& s) {
   const double step = 0.5 / s.camera.calibration.rate_hz;
   for (double t = 0; t <= s.duration_s + 1e-9; t += step) {
     const BodyState b = body_state(s, t);
-    const Eigen::Vector3d c = b.T_world_body * s.camera.calibration.T_BS.translation();
+    const Eigen::Vector3d c = b.T_pen_body * s.camera.calibration.T_body_camera.translation();
     if (net.clearance(c) <= 0) {
       fail("trajectory", "at t = " + at_time(t) + " the camera is outside the pen, " +
                              std::to_string(-net.clearance(c)) +

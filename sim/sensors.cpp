@@ -1,8 +1,10 @@
 #include "sim/sensors.h"
 
 #include <cmath>
+#include <numbers>
 #include <random>
 
+#include "runtime/units.h"
 #include "sim/trajectory.h"
 
 namespace pensight::sim {
@@ -27,9 +29,9 @@ void for_each_sample(const Scenario& s, double rate_hz, F&& f) {
 DvlCalibration dvl_calibration(const DvlConfig& dvl) {
   DvlCalibration c;
   c.rate_hz = dvl.rate_hz;
-  c.T_BS = forward_mount(dvl.position_B_m, dvl.pan_rad, dvl.tilt_rad);
+  c.T_body_dvl = forward_mount(dvl.position_B_m, dvl.pan_rad, dvl.tilt_rad);
   for (size_t k = 0; k < 4; ++k) {
-    const double phi = M_PI / 4 + M_PI / 2 * static_cast<double>(k);
+    const double phi = std::numbers::pi / 4 + std::numbers::pi / 2 * static_cast<double>(k);
     c.beam_directions_S[k] =
         Eigen::Vector3d(std::sin(dvl.beam_angle_rad) * std::cos(phi),
                         std::sin(dvl.beam_angle_rad) * std::sin(phi), std::cos(dvl.beam_angle_rad));
@@ -42,13 +44,13 @@ DvlSample measure_dvl(const DvlConfig& cfg, const NetGeometry& net, const BodySt
   const DvlCalibration calib = dvl_calibration(cfg);
   std::normal_distribution<double> gauss(0, 1);
   std::uniform_real_distribution<double> uniform(0, 1);
-  const Eigen::Isometry3d T_world_dvl = b.T_world_body * calib.T_BS;
+  const Eigen::Isometry3d T_pen_dvl = b.T_pen_body * calib.T_body_dvl;
   DvlSample d;
   d.timestamp_ns = timestamp_ns;
   int returns = 0;
   for (size_t k = 0; k < 4; ++k) {
-    const Eigen::Vector3d dir = T_world_dvl.linear() * calib.beam_directions_S[k];
-    const auto hit = net.intersect(T_world_dvl.translation(), dir);
+    const Eigen::Vector3d dir = T_pen_dvl.linear() * calib.beam_directions_S[k];
+    const auto hit = net.intersect(T_pen_dvl.translation(), dir);
     const double noise = gauss(rng);
     if (hit && hit->t <= cfg.max_range_m && hit->point.z() > 0) {
       d.beam_range_m[k] = hit->t + cfg.range_noise_m * noise;
@@ -56,7 +58,7 @@ DvlSample measure_dvl(const DvlConfig& cfg, const NetGeometry& net, const BodySt
     }
   }
   Eigen::Vector3d v =
-      (1 + cfg.scale_error) * b.T_world_body.linear().transpose() * b.velocity_world_mps +
+      (1 + cfg.scale_error) * b.T_pen_body.linear().transpose() * b.velocity_pen_mps +
       cfg.bias_B_mps;
   for (int i = 0; i < 3; ++i) v[i] += cfg.velocity_noise_mps * gauss(rng);
   if (uniform(rng) < cfg.spike_probability) {
@@ -87,7 +89,7 @@ std::vector<PressureSample> simulate_pressure(const Scenario& s) {
   std::normal_distribution<double> gauss(0, s.pressure.noise_m);
   std::vector<PressureSample> out;
   for_each_sample(s, s.pressure.rate_hz, [&](double t, int64_t ns) {
-    const double z = body_state(s, t).T_world_body.translation().z();
+    const double z = body_state(s, t).T_pen_body.translation().z();
     out.push_back({ns, z + s.pressure.bias_m + gauss(rng)});
   });
   return out;
@@ -100,7 +102,7 @@ std::vector<AttitudeSample> simulate_attitude(const Scenario& s) {
   for_each_sample(s, s.attitude.rate_hz, [&](double t, int64_t ns) {
     const BodyState b = body_state(s, t);
     const double roll = b.roll_rad + gauss(rng), pitch = b.pitch_rad + gauss(rng);
-    const double yaw = std::remainder(b.yaw_rad + gauss(rng), 2 * M_PI);
+    const double yaw = wrap_angle(b.yaw_rad + gauss(rng));
     out.push_back({ns, roll, pitch, yaw});
   });
   return out;

@@ -70,9 +70,9 @@ BodyState body_state(const Scenario& s, double t_s) {
     out.roll_rad = w.roll_rad;
     out.pitch_rad = w.pitch_rad;
     out.yaw_rad = facing_yaw(s.pen, w.along_m) + w.heading_rad;
-    out.T_world_body.setIdentity();
-    out.T_world_body.linear() = rotation_from_rpy(out.roll_rad, out.pitch_rad, out.yaw_rad);
-    out.T_world_body.translation() = net_point(s.pen, w.along_m, w.net_distance_m, w.depth_m);
+    out.T_pen_body.setIdentity();
+    out.T_pen_body.linear() = rotation_from_rpy(out.roll_rad, out.pitch_rad, out.yaw_rad);
+    out.T_pen_body.translation() = net_point(s.pen, w.along_m, w.net_distance_m, w.depth_m);
   };
   BodyState state, before, after;
   pose_at(t, state);
@@ -81,10 +81,9 @@ BodyState body_state(const Scenario& s, double t_s) {
   const double t0 = std::max(t - kDt, s.waypoints.front().t_s);
   pose_at(t0, before);
   pose_at(t + kDt, after);
-  state.velocity_world_mps =
-      (after.T_world_body.translation() - before.T_world_body.translation()) / (t + kDt - t0);
-  const Eigen::AngleAxisd turn(before.T_world_body.linear().transpose() *
-                               after.T_world_body.linear());
+  state.velocity_pen_mps =
+      (after.T_pen_body.translation() - before.T_pen_body.translation()) / (t + kDt - t0);
+  const Eigen::AngleAxisd turn(before.T_pen_body.linear().transpose() * after.T_pen_body.linear());
   state.angular_velocity_body_radps = turn.axis() * turn.angle() / (t + kDt - t0);
   return state;
 }

@@ -8,10 +8,10 @@
 namespace pensight::sim {
 
 struct BodyState {
-  Eigen::Isometry3d T_world_body = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d T_pen_body = Eigen::Isometry3d::Identity();
   double roll_rad = 0, pitch_rad = 0, yaw_rad = 0;
-  Eigen::Vector3d velocity_world_mps = Eigen::Vector3d::Zero();
-  // In the body frame: d/dt R_world_body = R_world_body [w]x (motion blur, sim/optics.h).
+  Eigen::Vector3d velocity_pen_mps = Eigen::Vector3d::Zero();
+  // In the body frame: d/dt R_pen_body = R_pen_body [w]x (motion blur, sim/optics.h).
   Eigen::Vector3d angular_velocity_body_radps = Eigen::Vector3d::Zero();
 };
 

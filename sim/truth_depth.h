@@ -14,6 +14,6 @@ namespace pensight::sim {
 
 // Every `stride`-th pixel per axis is traced; the others are 0 (no measurement).
 ImageF32 truth_depth(const Scenario& s, const NetGeometry& net, const PinholeCamera& cam,
-                     const Eigen::Isometry3d& T_world_camera, int stride = 1);
+                     const Eigen::Isometry3d& T_pen_camera, int stride = 1);
 
 }  // namespace pensight::sim

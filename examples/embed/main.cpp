@@ -5,12 +5,12 @@
 #include <atomic>
 #include <cstdio>
 #include <exception>
-#include <numbers>
 
 #include "pipeline/dataset/dataset_reader.h"
 #include "pipeline/pipeline.h"
 #include "pipeline/runner.h"
 #include "runtime/device.h"
+#include "runtime/units.h"
 
 int main(int argc, char** argv) {
   if (argc != 2) {
@@ -29,7 +29,7 @@ int main(int argc, char** argv) {
       with_pose += r.detection.pose.valid();
       std::printf("%lld d_net %.3f m psi_net %.2f deg r_g %.3f m\n",
                   static_cast<long long>(r.timestamp_ns), r.detection.pose.d_net_m,
-                  r.detection.pose.psi_net_rad * 180.0 / std::numbers::pi, r.global_pose.r_g_m);
+                  pensight::rad_to_deg(r.detection.pose.psi_net_rad), r.global_pose.r_g_m);
     };
     config.lossless_results = true;  // a replay: wait for the printer instead of dropping
     pensight::Device device;         // one per process; every stage borrows it

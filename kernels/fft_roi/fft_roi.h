@@ -74,20 +74,26 @@ struct RoiLattice {
 };
 static_assert(sizeof(RoiLattice) == 8 * sizeof(float));
 
-void validate(const FftRoiShape& shape, bool needs_power_of_two);
+// Which FFT sizes a backend can run: the CPU's FFTW any, the shaders' radix-2 stages powers of 2.
+enum class FftSizes { kAny, kPowerOfTwo };
+void validate(const FftRoiShape& shape, FftSizes sizes);
 
 // Analyses one ROI's r2c spectrum (layout above). Used by the CPU path; the shaders mirror it.
 RoiLattice analyze_spectrum(std::span<const std::complex<float>> spectrum, const FftRoiShape& shape,
                             const PeakParams& params);
 
-// CPU reference on FFTW: planned once per shape (FFTW_PATIENT unless `measure` is off: ~2 s the
+// How FftRoiCpu plans its FFT: kPatient searches for the fastest plan (FFTW_PATIENT), kQuick
+// takes FFTW's estimate at once (tests and benchmarks of something else).
+enum class FftPlanning { kPatient, kQuick };
+
+// CPU reference on FFTW: planned once per shape (FFTW_PATIENT unless kQuick: ~2 s the
 // first time on a machine, then read from the FFTW wisdom in runtime/cache_dir.h's directory),
 // the ROIs' columns (distinct x origins) spread over `threads` OpenMP threads. Not thread-safe
 // itself (owns its work buffers).
 class FftRoiCpu {
  public:
   FftRoiCpu(const FftRoiShape& shape, const PeakParams& params = {}, int threads = 1,
-            bool measure = true);
+            FftPlanning planning = FftPlanning::kPatient);
   ~FftRoiCpu();
   FftRoiCpu(FftRoiCpu&&) noexcept;
   FftRoiCpu& operator=(FftRoiCpu&&) noexcept;

@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <mutex>
+#include <numbers>
 #include <string>
 
 #include "kernels/fft_roi/fft_roi.h"
@@ -304,9 +305,10 @@ struct FftRoiCpu::Impl {
   }
 };
 
-FftRoiCpu::FftRoiCpu(const FftRoiShape& shape, const PeakParams& params, int threads, bool measure)
+FftRoiCpu::FftRoiCpu(const FftRoiShape& shape, const PeakParams& params, int threads,
+                     FftPlanning planning)
     : impl_(std::make_unique<Impl>()) {
-  validate(shape, false);
+  validate(shape, FftSizes::kAny);
   if (threads < 1) throw Error("FftRoiCpu: threads must be >= 1, got " + std::to_string(threads));
   Impl& m = *impl_;
   m.shape = shape;
@@ -324,7 +326,7 @@ FftRoiCpu::FftRoiCpu(const FftRoiShape& shape, const PeakParams& params, int thr
     const int i = static_cast<int>(std::floor(x));
     m.lerp_at.push_back(i + kPad - 1);
     m.lerp_f.push_back(static_cast<float>(x - i));
-    const double s = std::sin(3.14159265358979323846 * (u + 0.5) / n);
+    const double s = std::sin(std::numbers::pi * (u + 0.5) / n);
     m.window.push_back(shape.window ? static_cast<float>(s * s) : 1.0f);
   }
   for (int t = 0; t < threads; ++t) {
@@ -334,9 +336,10 @@ FftRoiCpu::FftRoiCpu(const FftRoiShape& shape, const PeakParams& params, int thr
                          std::vector<float>(static_cast<size_t>(shape.height) * n)});
   }
   std::lock_guard lock(planner_mutex());
-  m.plan = measure ? patient_plan(n, m.scratch[0].in.get(), m.scratch[0].out.get())
-                   : fftwf_plan_dft_r2c_2d(n, n, m.scratch[0].in.get(), m.scratch[0].out.get(),
-                                           FFTW_ESTIMATE);
+  m.plan = planning == FftPlanning::kPatient
+               ? patient_plan(n, m.scratch[0].in.get(), m.scratch[0].out.get())
+               : fftwf_plan_dft_r2c_2d(n, n, m.scratch[0].in.get(), m.scratch[0].out.get(),
+                                       FFTW_ESTIMATE);
   if (!m.plan) throw Error("FftRoiCpu: FFTW could not plan a " + std::to_string(n) + "^2 r2c FFT");
 }
 

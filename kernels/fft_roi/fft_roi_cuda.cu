@@ -3,6 +3,7 @@
 // shaders/fft_roi/{extract,peaks}.comp and analyze_spectrum() step by step.
 #include <cufft.h>
 
+#include <numbers>
 #include <string>
 
 #include "kernels/fft_roi/fft_roi.h"
@@ -314,7 +315,7 @@ struct FftRoiCuda::Impl {
 };
 
 FftRoiCuda::FftRoiCuda(const FftRoiShape& shape, const PeakParams& params, int max_rois) {
-  validate(shape, true);
+  validate(shape, FftSizes::kPowerOfTwo);
   if (max_rois < 1) throw Error("FftRoiCuda: max_rois must be >= 1");
   impl_ = std::make_unique<Impl>(shape, params, max_rois);
   impl_->plan_for(max_rois);
@@ -347,7 +348,7 @@ std::vector<RoiLattice> FftRoiCuda::run(const ImageU8& image, std::span<const Ro
   PENSIGHT_CUDA(cudaGetLastError());
   check_cufft(cufftExecR2C(m.plan, m.samples.data(), m.spectrum.data()), "cufftExecR2C");
   const float r_max = m.params.max_nyquist_share * float(m.shape.fft_size / 2);
-  const float c = cosf(m.params.min_angle_deg * 3.14159265f / 180.0f);
+  const float c = cosf(m.params.min_angle_deg * std::numbers::pi_v<float> / 180.0f);
   peaks_kernel<<<count, kThreads>>>({m.spectrum.data(), m.shape.fft_size, m.shape.roi_size,
                                      m.params.min_cycles * m.params.min_cycles, r_max * r_max,
                                      c * c, m.params.subharmonic_ratio, m.params.subbin,

@@ -31,7 +31,7 @@ std::vector<RoiOrigin> roi_grid(int width, int height, const RoiGrid& g) {
   return rois;
 }
 
-void validate(const FftRoiShape& s, bool needs_power_of_two) {
+void validate(const FftRoiShape& s, FftSizes sizes) {
   if (s.width <= 0 || s.height <= 0 || s.roi_size < 16 || s.roi_size > s.width ||
       s.roi_size > s.height) {
     throw Error("fft_roi: ROI size " + std::to_string(s.roi_size) + " does not fit a " +
@@ -39,10 +39,10 @@ void validate(const FftRoiShape& s, bool needs_power_of_two) {
   }
   const bool pow2 = (s.fft_size & (s.fft_size - 1)) == 0;
   if (s.fft_size < 16 || s.fft_size > s.roi_size || s.fft_size > 1024 ||
-      (needs_power_of_two && !pow2)) {
+      (sizes == FftSizes::kPowerOfTwo && !pow2)) {
     throw Error("fft_roi: FFT size " + std::to_string(s.fft_size) + " is unusable for ROIs of " +
                 std::to_string(s.roi_size) + " px; use " +
-                (needs_power_of_two ? "a power of two " : "a size ") +
+                (sizes == FftSizes::kPowerOfTwo ? "a power of two " : "a size ") +
                 "between 16 and min(roi size, 1024), e.g. 256 or 128");
   }
 }

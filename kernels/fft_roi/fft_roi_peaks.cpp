@@ -7,6 +7,7 @@
 
 #include "kernels/fft_roi/fft_roi.h"
 #include "runtime/simd_clones.h"
+#include "runtime/units.h"
 
 namespace pensight::kernels {
 namespace {
@@ -182,7 +183,7 @@ RoiLattice analyze_spectrum(std::span<const std::complex<float>> spectrum, const
   p1 = fundamental(s, band, p1, params.subharmonic_ratio);
 
   // Pass 2: the strongest bin at least min_angle away from p1's direction.
-  const float cos_max = std::cos(params.min_angle_deg * 3.14159265f / 180.0f);
+  const float cos_max = std::cos(static_cast<float>(deg_to_rad(params.min_angle_deg)));
   const float c2 = cos_max * cos_max;
   const float p1_r2 = static_cast<float>(p1.kx * p1.kx + p1.ky * p1.ky);
   auto in_cone = [&](int kx, int ky) {

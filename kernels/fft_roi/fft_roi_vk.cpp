@@ -4,6 +4,7 @@
 
 #include "kernels/fft_roi/fft_roi.h"
 #include "runtime/error.h"
+#include "runtime/units.h"
 
 namespace pensight::kernels {
 namespace {
@@ -20,13 +21,13 @@ uint32_t bits(float v) {
 }
 
 const FftRoiShape& checked(const FftRoiShape& shape) {
-  validate(shape, true);
+  validate(shape, FftSizes::kPowerOfTwo);
   return shape;
 }
 
 std::vector<uint32_t> peak_constants(const FftRoiShape& s, const PeakParams& p) {
   const float r_max = p.max_nyquist_share * static_cast<float>(s.fft_size / 2);
-  const float c = std::cos(p.min_angle_deg * 3.14159265f / 180.0f);
+  const float c = std::cos(static_cast<float>(deg_to_rad(p.min_angle_deg)));
   return {u32(s.fft_size),
           u32(s.roi_size),
           bits(p.min_cycles * p.min_cycles),

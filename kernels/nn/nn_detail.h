@@ -39,7 +39,7 @@ inline Shape4 transpose_strides(const Dims& in, const std::vector<int64_t>& perm
 }
 struct SliceMap {
   Shape4 strides;
-  int64_t offset;
+  int64_t offset = 0;
 };
 inline SliceMap slice_map(const Dims& in, const std::vector<int64_t>& starts,
                           const std::vector<int64_t>& steps) {
@@ -101,8 +101,8 @@ inline int64_t nearest_src(int64_t o, int64_t in, int64_t out) {
                                               (static_cast<float>(in) / static_cast<float>(out)))));
 }
 struct LinearTap {
-  int64_t i0, i1;
-  float f;
+  int64_t i0 = 0, i1 = 0;
+  float f = 0;
 };
 // Resize, linear: source coordinate clamped to [0, in - 1] (as ONNX Runtime and PyTorch do).
 inline LinearTap linear_src(ResizeMode mode, int64_t o, int64_t in, int64_t out) {

@@ -112,7 +112,7 @@ Graph compact_depth_net(ModelSize size, uint64_t seed) {
   return std::move(b.g);
 }
 
-Graph trudepth_net(ModelSize size, float wm, uint64_t seed, bool adabins_head) {
+Graph trudepth_net(ModelSize size, float wm, uint64_t seed, DepthHead head) {
   Builder b(seed);
   const int64_t H = size.height, W = size.width;
   const int image = b.g.add_input("image", {1, 3, H, W});
@@ -142,7 +142,7 @@ Graph trudepth_net(ModelSize size, float wm, uint64_t seed, bool adabins_head) {
     d = b.resize(d, s[2], s[3]);
     d = b.conv(b.concat({d, *it, b.resize(prior, s[2], s[3])}), ch(48, wm), 3);
   }
-  if (!adabins_head) {
+  if (head == DepthHead::kConvSoftplus) {
     const int out = b.resize(b.g.add(Op::kSoftplus, {b.linear_conv(d, 1, 3)}), H, W);
     b.g.mark_output(out);
     b.g.values()[static_cast<size_t>(out)].name = std::string("depth");
@@ -296,7 +296,7 @@ Graph all_ops_net(uint64_t seed) {
       {b.g.add(Op::kFlatten, {pooled_tok}, fl), b.weight({5, 10}, 0.3f), b.weight({5}, 0.1f)}, gm);
   // The offset keeps the output away from ReLU's corner: without it some seeds cancel the Gemm's
   // ~0.1 terms to outputs of ~1e-3, whose relative error measures the cancellation, not the
-  // engine (seed 356: fp32 Vulkan 7e-5, fp16 storage 0.41 relative).
+  // engine (docs/validation-log.md).
   b.g.mark_output(b.g.add(Op::kRelu, {b.g.add(Op::kAdd, {out, b.scalar(0.5f)})}));
   b.g.values()[static_cast<size_t>(b.g.outputs()[0])].name = std::string("y");
   return std::move(b.g);

@@ -22,9 +22,12 @@ Graph compact_depth_net(ModelSize size, uint64_t seed);
 // "image" [1,3,H,W] and "prior" [1,2,H,W]; MobileNetV2 encoder (inverted residuals, ReLU6),
 // bilinear decoder concatenating the resized prior at every scale, AdaBins-style head (patch
 // embedding, one transformer encoder layer, bin widths -> centres, range-attention logits,
-// per-pixel softmax over bins); output "depth" [1,1,H,W]. Without the head the decoder ends in
-// a 3x3 conv + softplus, upsampled (for peers that cannot run the transformer, e.g. OpenCV 4.6).
-Graph trudepth_net(ModelSize size, float width_mult, uint64_t seed, bool adabins_head = true);
+// per-pixel softmax over bins); output "depth" [1,1,H,W]. DepthHead::kConvSoftplus ends the
+// decoder in a 3x3 conv + softplus, upsampled (for peers that cannot run the transformer, e.g.
+// OpenCV 4.6).
+enum class DepthHead { kAdaBins, kConvSoftplus };
+Graph trudepth_net(ModelSize size, float width_mult, uint64_t seed,
+                   DepthHead head = DepthHead::kAdaBins);
 
 // Small random graph that uses every op of the engine at least once (export/import coverage).
 Graph all_ops_net(uint64_t seed);

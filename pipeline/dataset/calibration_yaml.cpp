@@ -1,11 +1,11 @@
 #include "pipeline/dataset/calibration_yaml.h"
 
 #include <cmath>
-#include <numbers>
 #include <sstream>
 
 #include "pipeline/dataset/csv.h"
 #include "pipeline/dataset/strict_yaml.h"
+#include "runtime/units.h"
 
 namespace pensight {
 namespace {
@@ -112,7 +112,7 @@ CameraCalibration read_camera_yaml(const std::filesystem::path& file) {
   c.camera.k2 = d[1];
   c.camera.p1 = d[2];
   c.camera.p2 = d[3];
-  c.T_BS = read_transform(y, "T_BS");
+  c.T_body_camera = read_transform(y, "T_BS");
   y.check_unknown_keys();
   return c;
 }
@@ -129,7 +129,7 @@ std::string camera_yaml(const CameraCalibration& c) {
     << "intrinsics: " << list(intr, 4) << "  # fu, fv, cu, cv\n"
     << "distortion_model: radial-tangential\n"
     << "distortion_coefficients: " << list(dist, 4) << "  # k1, k2, p1, p2\n"
-    << "T_BS: " << matrix_yaml(c.T_BS.matrix()) << "  # camera -> body\n";
+    << "T_BS: " << matrix_yaml(c.T_body_camera.matrix()) << "  # camera -> body\n";
   return s.str();
 }
 
@@ -139,7 +139,7 @@ DvlCalibration read_dvl_yaml(const std::filesystem::path& file) {
   expect_sensor_type(y, "dvl");
   DvlCalibration c;
   c.rate_hz = positive(y, "rate_hz");
-  c.T_BS = read_transform(y, "T_BS");
+  c.T_body_dvl = read_transform(y, "T_BS");
   const Eigen::MatrixXd beams = read_beams(y);
   for (int i = 0; i < 4; ++i) {
     const Eigen::Vector3d b = beams.row(i).transpose();
@@ -156,7 +156,7 @@ std::string dvl_yaml(const DvlCalibration& c) {
   std::ostringstream s;
   s << "sensor_type: dvl\n"
     << "rate_hz: " << format_number(c.rate_hz) << "\n"
-    << "T_BS: " << matrix_yaml(c.T_BS.matrix()) << "  # DVL -> body\n"
+    << "T_BS: " << matrix_yaml(c.T_body_dvl.matrix()) << "  # DVL -> body\n"
     << "beam_directions: " << matrix_yaml(beams) << "  # unit vectors in the DVL frame\n";
   return s.str();
 }
@@ -190,7 +190,7 @@ SceneConfig read_scene_yaml(const std::filesystem::path& file) {
     if (!(*deg >= 30 && *deg <= 150)) {
       y.fail("net_mesh_angle_deg", "must be within 30-150 deg (90: an undeformed square mesh)");
     }
-    s.net_mesh_angle_rad = *deg * std::numbers::pi / 180;
+    s.net_mesh_angle_rad = deg_to_rad(*deg);
   }
   const std::string net_type = y.string("net_type", "cylinder");
   if (net_type == "flat_panel") {
@@ -203,7 +203,7 @@ SceneConfig read_scene_yaml(const std::filesystem::path& file) {
     // horizontal, and it is given to 1 % of unit length (a normal from another tool's fit).
     const double norm = panel.plane_normal.norm();
     if (!(std::abs(norm - 1) <= 0.01) ||
-        !(std::abs(panel.plane_normal.z()) <= std::sin(10 * std::numbers::pi / 180))) {
+        !(std::abs(panel.plane_normal.z()) <= std::sin(deg_to_rad(10)))) {
       y.fail("net_plane_normal",
              "must be a unit vector within 10 deg of the horizontal (a hanging net), e.g. "
              "[1, 0, 0]");
@@ -228,8 +228,7 @@ std::string scene_yaml(const SceneConfig& s) {
                     "pen_radius_m: " + format_number(s.pen_radius_m) + "\n";
   if (s.net_mesh_type) out += std::string("net_mesh_type: ") + to_string(*s.net_mesh_type) + "\n";
   if (s.net_mesh_angle_rad) {
-    out += "net_mesh_angle_deg: " + format_number(*s.net_mesh_angle_rad * 180 / std::numbers::pi) +
-           "\n";
+    out += "net_mesh_angle_deg: " + format_number(rad_to_deg(*s.net_mesh_angle_rad)) + "\n";
   }
   if (s.flat_panel) {
     const auto vec = [](const Eigen::Vector3d& v) {

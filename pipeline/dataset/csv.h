@@ -18,7 +18,7 @@ class CsvTable {
  public:
   // A row of `file` that the table set aside: its line and what was wrong with it.
   struct Rejected {
-    int line;
+    int line = 0;
     std::string message;
   };
 
@@ -41,7 +41,7 @@ class CsvTable {
 
  private:
   struct Row {
-    int line;
+    int line = 0;
     std::vector<std::string> fields;
   };
   [[noreturn]] void fail(size_t row, size_t field, const std::string& message) const;

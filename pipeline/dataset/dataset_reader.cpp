@@ -126,7 +126,7 @@ GroundTruth read_groundtruth(const fs::path& dir) {
   for (size_t r = 0; r < t.rows(); ++r) {
     GroundTruthRow row;
     row.timestamp_ns = t.integer(r, 0);
-    row.p_world_body_m = {t.number(r, 1), t.number(r, 2), t.number(r, 3)};
+    row.p_pen_body_m = {t.number(r, 1), t.number(r, 2), t.number(r, 3)};
     row.roll_rad = t.number(r, 4);
     row.pitch_rad = t.number(r, 5);
     row.yaw_rad = t.number(r, 6);

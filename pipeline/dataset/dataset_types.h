@@ -4,21 +4,19 @@
 #include <Eigen/Geometry>
 #include <array>
 #include <cstdint>
-#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "pipeline/camera.h"
+#include "runtime/units.h"
 
 namespace pensight {
-
-inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // cam0/sensor.yaml.
 struct CameraCalibration {
   PinholeCamera camera;
-  Eigen::Isometry3d T_BS = Eigen::Isometry3d::Identity();  // camera -> body
+  Eigen::Isometry3d T_body_camera = Eigen::Isometry3d::Identity();  // sensor.yaml T_BS
   double rate_hz = 10.0;
 };
 
@@ -56,8 +54,8 @@ struct ImageEntry {
 
 // dvl0/sensor.yaml.
 struct DvlCalibration {
-  Eigen::Isometry3d T_BS = Eigen::Isometry3d::Identity();  // DVL -> body
-  std::array<Eigen::Vector3d, 4> beam_directions_S;        // unit vectors in the DVL frame
+  Eigen::Isometry3d T_body_dvl = Eigen::Isometry3d::Identity();  // sensor.yaml T_BS
+  std::array<Eigen::Vector3d, 4> beam_directions_S;              // unit vectors in the DVL frame
   double rate_hz = 4.0;
 };
 
@@ -75,7 +73,7 @@ struct PressureSample {
   double depth_m = 0;  // positive below the surface
 };
 
-// One line of imu0/attitude.csv: body attitude in the world (pen) frame.
+// One line of imu0/attitude.csv: body attitude in the pen frame P.
 struct AttitudeSample {
   int64_t timestamp_ns = 0;
   double roll_rad = 0, pitch_rad = 0, yaw_rad = 0;
@@ -85,13 +83,13 @@ struct AttitudeSample {
 // the optical axis misses the net).
 struct GroundTruthRow {
   int64_t timestamp_ns = 0;
-  Eigen::Vector3d p_world_body_m = Eigen::Vector3d::Zero();
+  Eigen::Vector3d p_pen_body_m = Eigen::Vector3d::Zero();
   double roll_rad = 0, pitch_rad = 0, yaw_rad = 0;
   double d_net_m = kNaN, psi_net_rad = kNaN, pitch_net_rad = kNaN;
   double net_fraction = 0;  // share of pixels that see net
 };
 
-// Rotation body -> world from the contract's roll, pitch, yaw (Z-Y-X, yaw about +z down).
+// Rotation body -> pen (R_P_B) from the contract's roll, pitch, yaw (Z-Y-X, yaw about +z down).
 inline Eigen::Matrix3d rotation_from_rpy(double roll_rad, double pitch_rad, double yaw_rad) {
   return (Eigen::AngleAxisd(yaw_rad, Eigen::Vector3d::UnitZ()) *
           Eigen::AngleAxisd(pitch_rad, Eigen::Vector3d::UnitY()) *

@@ -5,6 +5,7 @@
 #include "pipeline/dataset/csv.h"
 #include "pipeline/dataset/png_io.h"
 #include "runtime/error.h"
+#include "runtime/units.h"
 
 namespace pensight {
 namespace fs = std::filesystem;
@@ -118,7 +119,7 @@ void DatasetWriter::add_groundtruth(const GroundTruthRow& r, const ImageU16& dep
   write_png(temp_ / "groundtruth0" / "depth" / frame_filename(r.timestamp_ns), depth_mm);
   gt_csv_ << r.timestamp_ns;
   for (const double v :
-       {r.p_world_body_m.x(), r.p_world_body_m.y(), r.p_world_body_m.z(), r.roll_rad, r.pitch_rad,
+       {r.p_pen_body_m.x(), r.p_pen_body_m.y(), r.p_pen_body_m.z(), r.roll_rad, r.pitch_rad,
         r.yaw_rad, r.d_net_m, r.psi_net_rad, r.pitch_net_rad, r.net_fraction}) {
     gt_csv_ << "," << format_number(v);
   }
@@ -136,7 +137,7 @@ void DatasetWriter::add_mesh_truth(const MeshTruthRow& r) {
         open_csv("groundtruth0/mesh.csv", "#timestamp [ns],mesh_type,opening_angle [deg],stretch");
   }
   mesh_csv_ << r.timestamp_ns << "," << to_string(r.mesh_type) << ","
-            << format_number(r.opening_angle_rad * 180 / M_PI) << "," << format_number(r.stretch)
+            << format_number(rad_to_deg(r.opening_angle_rad)) << "," << format_number(r.stretch)
             << "\n";
 }
 

@@ -7,11 +7,10 @@
 #include <vector>
 
 #include "runtime/error.h"
+#include "runtime/units.h"
 
 namespace pensight {
 namespace {
-
-constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
 
 struct Estimate {
   double d_m, psi_rad, pitch_rad;
@@ -21,13 +20,6 @@ Estimate pick(const EstimateRow& r, NetPoseSource source) {
   return source == NetPoseSource::kFft
              ? Estimate{r.d_net_fft_m, r.psi_net_fft_rad, r.pitch_net_fft_rad}
              : Estimate{r.d_net_depth_m, r.psi_net_depth_rad, r.pitch_net_depth_rad};
-}
-
-// Into (-pi, pi].
-double wrap_angle(double a_rad) {
-  constexpr double kPi = 3.14159265358979323846;
-  const double w = std::remainder(a_rad, 2 * kPi);
-  return w <= -kPi ? w + 2 * kPi : w;
 }
 
 std::unordered_map<int64_t, const GroundTruthRow*> truth_by_time(const Dataset& dataset) {
@@ -85,9 +77,9 @@ NetPoseAccuracy score_net_pose(const Dataset& dataset, std::span<const EstimateR
     if (!std::isfinite(e.d_m)) continue;
     ++a.measurable_estimated;
     d_rel.push_back((e.d_m - t.d_net_m) / t.d_net_m);
-    if (std::isfinite(e.psi_rad)) psi_deg.push_back((e.psi_rad - t.psi_net_rad) * kRadToDeg);
+    if (std::isfinite(e.psi_rad)) psi_deg.push_back(rad_to_deg(e.psi_rad - t.psi_net_rad));
     if (std::isfinite(e.pitch_rad)) {
-      pitch_deg.push_back((e.pitch_rad - t.pitch_net_rad) * kRadToDeg);
+      pitch_deg.push_back(rad_to_deg(e.pitch_rad - t.pitch_net_rad));
     }
   }
   a.d_net_rel = error_stats(d_rel);
@@ -138,9 +130,9 @@ GlobalPoseAccuracy score_global_pose(const Dataset& dataset, std::span<const Est
     const auto it = truth.find(r.timestamp_ns);
     if (it == truth.end()) continue;
     const GroundTruthRow& t = *it->second;
-    const Eigen::Vector3d& p = t.p_world_body_m;
+    const Eigen::Vector3d& p = t.p_pen_body_m;
     ++a.frames;
-    if (ref && prev_truth) a.path_m += (p.head<2>() - prev_truth->p_world_body_m.head<2>()).norm();
+    if (ref && prev_truth) a.path_m += (p.head<2>() - prev_truth->p_pen_body_m.head<2>()).norm();
     if (ref) prev_truth = &t;
     if (std::isfinite(r.r_g_m)) {
       ++a.with_r_g;
@@ -158,14 +150,14 @@ GlobalPoseAccuracy score_global_pose(const Dataset& dataset, std::span<const Est
       a.reference_timestamp_ns = r.timestamp_ns;
       prev_truth = &t;
     }
-    const Eigen::Vector3d& p0 = ref_truth->p_world_body_m;
+    const Eigen::Vector3d& p0 = ref_truth->p_pen_body_m;
     const double rho_true = wrap_angle(std::atan2(p.y(), p.x()) - std::atan2(p0.y(), p0.x()));
     const double psi_true = wrap_angle(t.yaw_rad - ref_truth->yaw_rad);
     const double rho_err_rad = wrap_angle(wrap_angle(r.rho_g_rad - ref->rho_g_rad) - rho_true);
-    rho_err.push_back(rho_err_rad * kRadToDeg);
-    t_s.push_back(1e-9 * static_cast<double>(r.timestamp_ns - ref->timestamp_ns));
+    rho_err.push_back(rad_to_deg(rho_err_rad));
+    t_s.push_back(seconds_between(ref->timestamp_ns, r.timestamp_ns));
     arc_m.push_back(rho_err_rad * std::hypot(p.x(), p.y()));
-    psi_err.push_back(wrap_angle(wrap_angle(r.psi_g_rad - ref->psi_g_rad) - psi_true) * kRadToDeg);
+    psi_err.push_back(rad_to_deg(wrap_angle(wrap_angle(r.psi_g_rad - ref->psi_g_rad) - psi_true)));
   }
   a.r_g_m = error_stats(r_err);
   a.z_g_m = error_stats(z_err);

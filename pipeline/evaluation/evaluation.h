@@ -10,6 +10,7 @@
 #include "pipeline/dataset/dataset_reader.h"
 #include "pipeline/dataset/dataset_types.h"
 #include "pipeline/dataset/estimates_csv.h"
+#include "runtime/units.h"
 
 namespace pensight {
 
@@ -18,7 +19,7 @@ struct AccuracyEnvelope {
   double min_net_fraction = 0.5;
   double min_d_net_m = 0.4;
   double max_d_net_m = 2.5;
-  double max_abs_psi_net_rad = 35.0 * 3.14159265358979323846 / 180.0;
+  double max_abs_psi_net_rad = deg_to_rad(35.0);
 };
 
 struct ErrorStats {

@@ -21,7 +21,7 @@ DvlPlane dvl_net_plane(const DvlCalibration& dvl, const std::array<double, 4>& r
   int n = 0;
   for (size_t i = 0; i < 4; ++i) {
     if (!(std::isfinite(range_m[i]) && range_m[i] > 0)) continue;
-    pts[n++] = dvl.T_BS * (range_m[i] * dvl.beam_directions_S[i].normalized());
+    pts[n++] = dvl.T_body_dvl * (range_m[i] * dvl.beam_directions_S[i].normalized());
   }
   plane.beams = n;
   if (n < 3) return plane;
@@ -46,7 +46,7 @@ DvlPlane dvl_net_plane(const DvlCalibration& dvl, const std::array<double, 4>& r
 
 std::array<double, 4> dvl_ranges_to_wall(const DvlCalibration& dvl,
                                          const Eigen::Isometry3d& T_pen_body, const NetWall& wall) {
-  const Eigen::Isometry3d T_pen_dvl = T_pen_body * dvl.T_BS;
+  const Eigen::Isometry3d T_pen_dvl = T_pen_body * dvl.T_body_dvl;
   std::array<double, 4> ranges = {kNaN, kNaN, kNaN, kNaN};
   for (size_t i = 0; i < 4; ++i) {
     const auto t = wall.ray_distance(T_pen_dvl.translation(),

@@ -11,13 +11,13 @@ double DvlSpikeTest::noise_margin_mps() const {
 }
 
 bool DvlSpikeTest::within_bound(int64_t t_ns, const Eigen::Vector3d& v_P) const {
-  const double dt_s = std::abs(1e-9 * static_cast<double>(t_ns - reference_ns_));
+  const double dt_s = std::abs(seconds_between(reference_ns_, t_ns));
   return (v_P - reference_P_mps_).norm() <=
          (o_.max_accel_mps2 + recent_accel_mps2_) * dt_s + noise_margin_mps();
 }
 
 void DvlSpikeTest::set_reference(int64_t t_ns, const Eigen::Vector3d& v_P) {
-  const double dt_s = std::abs(1e-9 * static_cast<double>(t_ns - reference_ns_));
+  const double dt_s = std::abs(seconds_between(reference_ns_, t_ns));
   // The acceleration beyond the noise, from samples close enough in time to show a manoeuvre.
   recent_accel_mps2_ =
       have_reference_ && dt_s > 0 && dt_s <= 1.0
@@ -52,7 +52,7 @@ std::vector<DvlSample> DvlSpikeTest::push(const DvlSample& s, const Eigen::Vecto
 
 void DvlSpikeTest::expire(int64_t t_ns) {
   if (held_.empty()) return;
-  if (1e-9 * static_cast<double>(t_ns - held_.front().sample.timestamp_ns) <= o_.max_hold_s) return;
+  if (seconds_between(held_.front().sample.timestamp_ns, t_ns) <= o_.max_hold_s) return;
   spikes_ += static_cast<int>(held_.size());
   held_.clear();
 }

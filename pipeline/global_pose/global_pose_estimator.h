@@ -18,6 +18,7 @@
 // reported as NaN.
 #include <Eigen/Geometry>
 #include <deque>
+#include <limits>
 #include <optional>
 #include <string>
 #include <variant>
@@ -53,6 +54,26 @@ struct MeasurementNoise {
   ProcessNoise process;
 };
 
+// Standard deviations of the states no measurement sets: at initialisation, at re-initialisation
+// from agreeing fixes, and when a motion sensor re-locks (the states it measures are released).
+// Each is wide against what it stands for, so the first measurement sets the state.
+struct FilterPriors {
+  double position_along_wall_m = 1e-4;  // rho_g is initial_rho_rad at the lock by definition
+  double depth_without_pressure_m = 100;
+  double velocity_without_dvl_mps = 0.5;
+  double psi_rate_radps = 1.0;
+  // The yaw rate at the lock from two attitude samples this far apart, with its sigma.
+  double psi_rate_window_s = 0.1;
+  double psi_rate_from_attitude_radps = 0.1;
+  double attitude_yaw_offset_rad = 3.1622776601683795;  // any offset; the first sample sets it
+  double velocity_after_reinit_mps = 0.3;               // the DVL sets it again
+  // Released on a re-lock: above what a vehicle in a pen changes in one sample interval.
+  double released_velocity_mps = 1.0;
+  double released_heading_rad = 0.2;
+  double released_psi_rate_radps = 1.0;
+  double released_depth_m = 1.0;
+};
+
 struct GlobalPoseEstimatorConfig {
   double pen_radius_m = 12.0;  // scene.yaml; a flat net is a large radius (100 m)
   // scene.yaml net_type flat_panel: the wall is that plane instead of the pen_radius_m cylinder.
@@ -70,6 +91,7 @@ struct GlobalPoseEstimatorConfig {
   // radius_m is overwritten with pen_radius_m, or kFlatPanelFitRadius_m on a flat panel.
   CircleFitOptions circle;
   MeasurementNoise noise;
+  FilterPriors priors;
   double gate_scale = 1.0;  // multiplies the chi-square gates (p = 0.999)
   // After this many rejections in a row a sensor's next sample is applied without the gate, so
   // the filter re-locks after a real jump instead of refusing it forever.
@@ -147,10 +169,13 @@ class GlobalPoseEstimator {
   const GlobalPoseEstimatorConfig& config() const { return cfg_; }
 
  private:
-  enum Kind : int { kAttitude, kDepth, kDvl, kCamera };
+  // Samples with the same timestamp are applied in this order (the buffer sorts by (t, kind)):
+  // the attitude first, as it levels the others; pressure and DVL next, so that the camera frame
+  // last meets the filter with every motion measurement of its instant.
+  enum Kind : int { kAttitude = 0, kDepth = 1, kDvl = 2, kCamera = 3 };
   static constexpr int64_t kNever = std::numeric_limits<int64_t>::min();
   struct Event {
-    int64_t t_ns;
+    int64_t t_ns = 0;
     Kind kind;
     std::variant<AttitudeSample, PressureSample, DvlSample, NetObservation> sample;
   };
@@ -173,7 +198,7 @@ class GlobalPoseEstimator {
     DvlPlane plane;
     // The current run of gated-out lockable vision fixes: time and (r, psi_r) innovation.
     struct RejectedFix {
-      int64_t t_ns;
+      int64_t t_ns = 0;
       Eigen::Vector2d innovation;
     };
     std::vector<RejectedFix> rejected_fixes;
@@ -210,12 +235,12 @@ class GlobalPoseEstimator {
   struct WallPose {
     Eigen::Vector2d xy_m;
     Eigen::Vector2d normal;
-    double psi_rad;
+    double psi_rad = 0;
   };
   std::optional<WallPose> pose_from_fix(const WallFix& fix, double rho_rad) const;
-  // lock_refusal plus the check against a recent DVL net plane, for the state the fix would set
-  // at azimuth rho_rad.
-  std::string lock_refusal_at(const PenFix& fix, double rho_rad, int64_t t_ns) const;
+  // check_lock plus the flat panel's reach and a recent DVL net plane, for the state the fix
+  // would set at azimuth rho_rad.
+  LockCheck check_lock_at(const PenFix& fix, double rho_rad, int64_t t_ns) const;
   // The DVL net plane (distance, heading) a pose would give with the beams of `s`.
   Eigen::Vector2d predicted_plane(const StateVector& x, const DvlSample& s, double roll,
                                   double pitch) const;

@@ -29,7 +29,26 @@ struct LockRule {
   double agree_psi_r_rad = 0.05;
 };
 
-// Why `fix` may not set the position on its own ("" when it may), e.g. "7 inliers < 12".
-std::string lock_refusal(const PenFix& fix, const LockRule& rule);
+// Whether a fix may set the position on its own, and if not, why.
+enum class LockVerdict {
+  kLockable,
+  kNoFit,
+  kFewInliers,
+  kNarrowSpread,
+  kHighResidual,
+  kUncertainDistance,
+  kOblique,
+  kMissesThePanel,         // estimator side: the azimuth's ray misses the flat panel
+  kDisagreesWithDvlPlane,  // estimator side: a recent DVL net plane says otherwise
+};
+
+struct LockCheck {
+  LockVerdict verdict = LockVerdict::kLockable;
+  std::string reason;  // for the log, e.g. "7 inliers < 12"; empty when lockable
+  bool lockable() const { return verdict == LockVerdict::kLockable; }
+};
+
+// The fit's own part of the rule (the estimator adds the flat panel and the DVL plane).
+LockCheck check_lock(const PenFix& fix, const LockRule& rule);
 
 }  // namespace pensight::global_pose

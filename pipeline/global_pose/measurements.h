@@ -28,7 +28,7 @@ struct NetObservation {
 // T_pen_body takes body coordinates to P (translation (r_g cos rho_g, r_g sin rho_g, z_g); rotation
 // R_P_B = Rz(psi_g) Ry(pitch) Rx(roll), roll and pitch from the attitude sensor: interpolated at
 // t_ns by the fused estimator, the latest sample in the published baseline, 0 without one), and
-// T_pen_camera = T_pen_body * T_body_camera (cam0's T_BS). Both are all-NaN
+// T_pen_camera = T_pen_body * T_body_camera (cam0's sensor.yaml T_BS). Both are all-NaN
 // matrices (nan_isometry()) whenever any of r_g, rho_g, z_g or psi_g is NaN: before the lock,
 // while rho_g is not observable, without a pressure sensor.
 struct GlobalPose {

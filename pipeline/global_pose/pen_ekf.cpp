@@ -18,7 +18,7 @@ StateVector PenEkf::propagate(const StateVector& s, double dt) {
 }
 
 void PenEkf::predict_to(int64_t t_new_ns, const ProcessNoise& q) {
-  double remaining = 1e-9 * static_cast<double>(t_new_ns - t_ns);
+  double remaining = seconds_between(t_ns, t_new_ns);
   t_ns = t_new_ns;
   while (remaining != 0.0) {
     const double dt = std::clamp(remaining, -0.05, 0.05);

@@ -5,20 +5,6 @@
 
 namespace pensight::global_pose {
 
-double wrap_angle(double a_rad) {
-  if (!std::isfinite(a_rad)) return a_rad;
-  double w = std::remainder(a_rad, 2 * std::numbers::pi);
-  if (w <= -std::numbers::pi) w += 2 * std::numbers::pi;
-  return w;
-}
-
-Eigen::Matrix3d rotation_pen_body(double roll_rad, double pitch_rad, double yaw_rad) {
-  return (Eigen::AngleAxisd(yaw_rad, Eigen::Vector3d::UnitZ()) *
-          Eigen::AngleAxisd(pitch_rad, Eigen::Vector3d::UnitY()) *
-          Eigen::AngleAxisd(roll_rad, Eigen::Vector3d::UnitX()))
-      .toRotationMatrix();
-}
-
 Eigen::Matrix3d rotation_level_body(double roll_rad, double pitch_rad) {
   return (Eigen::AngleAxisd(pitch_rad, Eigen::Vector3d::UnitY()) *
           Eigen::AngleAxisd(roll_rad, Eigen::Vector3d::UnitX()))
@@ -30,7 +16,7 @@ Eigen::Isometry3d T_pen_body_cylindrical(double r_m, double rho_rad, double z_m,
   for (const double v : {r_m, rho_rad, z_m, psi_rad, roll_rad, pitch_rad})
     if (!std::isfinite(v)) return nan_isometry();
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = rotation_pen_body(roll_rad, pitch_rad, psi_rad);
+  T.linear() = rotation_from_rpy(roll_rad, pitch_rad, psi_rad);
   T.translation() = Eigen::Vector3d(r_m * std::cos(rho_rad), r_m * std::sin(rho_rad), z_m);
   return T;
 }

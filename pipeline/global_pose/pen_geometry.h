@@ -9,13 +9,10 @@
 #include <optional>
 
 #include "pipeline/dataset/dataset_types.h"
+#include "runtime/units.h"
 
 namespace pensight::global_pose {
 
-// Wraps an angle to (-pi, pi].
-double wrap_angle(double a_rad);
-
-Eigen::Matrix3d rotation_pen_body(double roll_rad, double pitch_rad, double yaw_rad);
 // R_L_B: takes body-frame vectors to the levelled frame.
 Eigen::Matrix3d rotation_level_body(double roll_rad, double pitch_rad);
 

@@ -22,18 +22,15 @@ PublishedGlobalPose::PublishedGlobalPose(PublishedGlobalPoseConfig config)
 void PublishedGlobalPose::add(const DvlSample& s) {
   if (!cfg_.has_dvl) return;
   if (!s.valid || !s.velocity_B_mps.allFinite()) {
-    if (invalid_dvl_++ == 0)
+    if (!std::exchange(warned_invalid_dvl_, true))
       log_warning("global pose (published): invalid/NaN DVL velocity skipped");
     return;
   }
   const int64_t prev = std::exchange(last_dvl_ns_, s.timestamp_ns);
   if (!started_ || !fix_.ok || prev < 0) return;
-  const double dt = 1e-9 * static_cast<double>(s.timestamp_ns - prev);
+  const double dt = seconds_between(prev, s.timestamp_ns);
   if (dt <= 0) return;
-  if (dt > cfg_.max_dvl_gap_s) {
-    ++dvl_gaps_;
-    return;
-  }
+  if (dt > cfg_.max_dvl_gap_s) return;
   const Eigen::Vector3d v_L =
       cfg_.level_with_attitude
           ? Eigen::Vector3d(rotation_level_body(roll_rad_, pitch_rad_) * s.velocity_B_mps)

@@ -17,7 +17,7 @@ struct PublishedGlobalPoseConfig {
   bool level_with_attitude = false;
   bool has_dvl = true;
   double initial_rho_rad = 0.0;
-  // A gap between valid DVL samples longer than this is not integrated (counted instead).
+  // A gap between valid DVL samples longer than this is not integrated.
   double max_dvl_gap_s = 1.0;
   CircleFitOptions circle;  // radius_m is overwritten with pen_radius_m
 };
@@ -32,10 +32,6 @@ class PublishedGlobalPose {
   // Runs the fix on one camera frame and returns that frame's estimates row.
   GlobalPose add(const NetObservation& obs);
 
-  const PenFix& last_fix() const { return fix_; }
-  int invalid_dvl_samples() const { return invalid_dvl_; }
-  int dvl_gaps() const { return dvl_gaps_; }
-
  private:
   PublishedGlobalPoseConfig cfg_;
   PenFix fix_;
@@ -44,8 +40,7 @@ class PublishedGlobalPose {
   double depth_m_ = kNaN;
   double roll_rad_ = 0, pitch_rad_ = 0;
   int64_t last_dvl_ns_ = -1;
-  int invalid_dvl_ = 0;
-  int dvl_gaps_ = 0;
+  bool warned_invalid_dvl_ = false;
 };
 
 }  // namespace pensight::global_pose

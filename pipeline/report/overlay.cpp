@@ -3,7 +3,6 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
-#include <numbers>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -13,11 +12,10 @@
 
 #include "pipeline/dataset/atomic_file.h"
 #include "runtime/error.h"
+#include "runtime/units.h"
 
 namespace pensight {
 namespace {
-
-constexpr double kRadToDeg = 180.0 / std::numbers::pi;
 
 // A ROI's part in the frame's pose, which its colour shows (BGR).
 enum class RoiState { kInlier, kOutlier, kNoLattice };
@@ -114,7 +112,7 @@ std::string pose_text(const FftRelativePose& pose) {
   if (!pose.valid()) return "FFT pose NaN: " + pose.reason;
   char buf[160];
   std::snprintf(buf, sizeof buf, "d_net %.3f m   psi_net %.1f deg   pitch_net %.1f deg",
-                pose.d_net_m, pose.psi_net_rad * kRadToDeg, pose.pitch_net_rad * kRadToDeg);
+                pose.d_net_m, rad_to_deg(pose.psi_net_rad), rad_to_deg(pose.pitch_net_rad));
   return buf;
 }
 

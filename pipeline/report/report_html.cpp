@@ -27,12 +27,10 @@
 #include "pipeline/evaluation/evaluation.h"
 #include "pipeline/timing_table.h"
 #include "runtime/error.h"
+#include "runtime/units.h"
 
 namespace pensight {
 namespace {
-
-constexpr double kPi = std::numbers::pi;
-constexpr double kRadToDeg = 180.0 / kPi;
 
 std::string escape(std::string_view s) {
   std::string out;
@@ -98,7 +96,9 @@ void unwrap(std::vector<double>& angles_rad) {
   double last = kNaN, turns = 0;
   for (double& a : angles_rad) {
     if (!std::isfinite(a)) continue;
-    if (std::isfinite(last)) turns += 2 * kPi * std::round((last - (a + turns)) / (2 * kPi));
+    if (std::isfinite(last)) {
+      turns += 2 * std::numbers::pi * std::round((last - (a + turns)) / (2 * std::numbers::pi));
+    }
     a += turns;
     last = a;
   }
@@ -336,7 +336,7 @@ std::vector<double> seconds(const NamedTable& t, int64_t t0_ns) {
   const size_t c = t.column.at("timestamp [ns]");
   for (size_t r = 0; r < t.table->rows(); ++r) {
     try {
-      v.push_back(1e-9 * static_cast<double>(t.table->integer(r, c) - t0_ns));
+      v.push_back(seconds_between(t0_ns, t.table->integer(r, c)));
     } catch (const Error&) {
       v.push_back(kNaN);
     }
@@ -366,7 +366,7 @@ struct Run {
   NamedTable timing;
   const GroundTruth* truth = nullptr;
 
-  double seconds(int64_t t_ns) const { return 1e-9 * static_cast<double>(t_ns - t0_ns); }
+  double seconds(int64_t t_ns) const { return seconds_between(t0_ns, t_ns); }
   std::vector<double> times(std::span<const EstimateRow> r) const {
     std::vector<double> t;
     for (const EstimateRow& e : r) t.push_back(seconds(e.timestamp_ns));
@@ -404,23 +404,23 @@ std::string net_pose_section(const Run& run) {
     t_dvl = seconds(diag, run.t0_ns);
     dvl_d = numbers(diag, "dvl_plane_d [m]");
     dvl_psi = numbers(diag, "dvl_plane_psi [rad]");
-    for (double& v : dvl_psi) v *= kRadToDeg;
+    for (double& v : dvl_psi) v = rad_to_deg(v);
   }
   struct Quantity {
     const char* title;
     const char* unit;
     double EstimateRow::*estimate;
     double GroundTruthRow::*truth;
-    double scale;
+    bool angle;
     const std::vector<double>* dvl;
   };
   const Quantity quantities[] = {
       {"d_net: distance to the net along the optical axis", "m", &EstimateRow::d_net_fft_m,
-       &GroundTruthRow::d_net_m, 1.0, &dvl_d},
+       &GroundTruthRow::d_net_m, false, &dvl_d},
       {"psi_net: heading against the net", "deg", &EstimateRow::psi_net_fft_rad,
-       &GroundTruthRow::psi_net_rad, kRadToDeg, &dvl_psi},
+       &GroundTruthRow::psi_net_rad, true, &dvl_psi},
       {"pitch_net: pitch against the net", "deg", &EstimateRow::pitch_net_fft_rad,
-       &GroundTruthRow::pitch_net_rad, kRadToDeg, nullptr}};
+       &GroundTruthRow::pitch_net_rad, true, nullptr}};
   for (const Quantity& q : quantities) {
     Chart c;
     c.title = q.title;
@@ -428,12 +428,14 @@ std::string net_pose_section(const Run& run) {
     c.y_label = std::string(q.unit);
     c.series.push_back({"estimate (estimates.csv)", kEstimateColour, t,
                         column<EstimateRow>(run.rows, [&](const EstimateRow& r) {
-                          return r.*q.estimate * q.scale;
+                          return q.angle ? rad_to_deg(r.*q.estimate) : r.*q.estimate;
                         })});
     if (dvl && q.dvl) c.series.push_back({"DVL net plane", kDvlColour, t_dvl, *q.dvl, true});
     if (!truth.empty()) {
       std::vector<double> y;
-      for (const GroundTruthRow* g : truth) y.push_back(g->*q.truth * q.scale);
+      for (const GroundTruthRow* g : truth) {
+        y.push_back(q.angle ? rad_to_deg(g->*q.truth) : g->*q.truth);
+      }
       c.series.push_back({"truth", kTruthColour, t_truth, y, true});
     }
     html += svg(c);
@@ -458,7 +460,7 @@ std::string global_pose_section(const Run& run) {
   std::vector<double> t_truth, truth_x, truth_y, truth_r, truth_rho, truth_z, truth_psi;
   for (const GroundTruthRow* g : truth) {
     t_truth.push_back(run.seconds(g->timestamp_ns));
-    const Eigen::Vector3d& p = g->p_world_body_m;
+    const Eigen::Vector3d& p = g->p_pen_body_m;
     truth_r.push_back(std::hypot(p.x(), p.y()));
     truth_rho.push_back(std::atan2(p.y(), p.x()));
     truth_z.push_back(p.z());
@@ -475,7 +477,7 @@ std::string global_pose_section(const Run& run) {
       return g->timestamp_ns == r.timestamp_ns;
     });
     if (it == truth.end()) continue;
-    rho_offset = r.rho_g_rad - std::atan2((*it)->p_world_body_m.y(), (*it)->p_world_body_m.x());
+    rho_offset = r.rho_g_rad - std::atan2((*it)->p_pen_body_m.y(), (*it)->p_pen_body_m.x());
     psi_offset = r.psi_g_rad - (*it)->yaw_rad;
     aligned = true;
     break;
@@ -520,12 +522,12 @@ std::string global_pose_section(const Run& run) {
       std::vector<double> y =
           column<EstimateRow>(tr.rows, [&](const EstimateRow& r) { return r.*q.value; });
       if (q.angle) unwrap(y);
-      for (double& v : y) v *= q.angle ? kRadToDeg : 1.0;
+      for (double& v : y) v = q.angle ? rad_to_deg(v) : v;
       c.series.push_back({tr.name, tr.colour, run.times(tr.rows), std::move(y), tr.dashed});
     }
     if (!truth.empty()) {
       std::vector<double> y = *q.truth;
-      for (double& v : y) v *= q.angle ? kRadToDeg : 1.0;
+      for (double& v : y) v = q.angle ? rad_to_deg(v) : v;
       c.series.push_back({"truth", kTruthColour, t_truth, std::move(y), true});
     }
     html += svg(c);
@@ -566,8 +568,8 @@ std::string global_pose_section(const Run& run) {
   if (run.published.empty()) notes.push_back("published node: " + run.published_problem);
   if (!truth.empty()) {
     notes.push_back(aligned
-                        ? "truth rho and yaw shifted by " + format("%.1f", rho_offset * kRadToDeg) +
-                              " and " + format("%.1f", psi_offset * kRadToDeg) +
+                        ? "truth rho and yaw shifted by " + format("%.1f", rad_to_deg(rho_offset)) +
+                              " and " + format("%.1f", rad_to_deg(psi_offset)) +
                               " deg to agree at the first frame with rho_g and psi_g (the "
                               "pen's azimuth origin is not observable)"
                         : "no frame with rho_g and psi_g: truth azimuth and yaw as recorded");
@@ -588,7 +590,7 @@ std::string evaluation_section(const Run& run) {
       "<pre>" +
       escape(format("measurable: net fraction >= %.2f, ", envelope.min_net_fraction) +
              format("%.1f", envelope.min_d_net_m) + "-" + format("%.1f m, ", envelope.max_d_net_m) +
-             format("|psi_net| <= %.0f deg\n", envelope.max_abs_psi_net_rad * kRadToDeg) +
+             format("|psi_net| <= %.0f deg\n", rad_to_deg(envelope.max_abs_psi_net_rad)) +
              "net pose from FFT:\n" +
              describe(score_net_pose(*run.dataset, run.rows, NetPoseSource::kFft, envelope)) +
              "global pose (all frames; rho_g and psi_g as changes from the first frame with "

@@ -36,9 +36,9 @@ SequenceResult map_sequence(const std::string& file) {
   const int frames = s.num_frames();
   for (int f = 0; f < frames; ++f) {
     const sim::FrameState fs = sim::frame_state(s, f);
-    const ImageF32 depth = sim::truth_depth(s, net, cam, fs.T_world_camera);
+    const ImageF32 depth = sim::truth_depth(s, net, cam, fs.T_pen_camera);
     const auto t0 = std::chrono::steady_clock::now();
-    integrator.integrate(map, depth, fs.T_world_camera);
+    integrator.integrate(map, depth, fs.T_pen_camera);
     const double ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     r.mean_ms += ms / frames;
@@ -47,7 +47,7 @@ SequenceResult map_sequence(const std::string& file) {
       for (int x = 3; x < cam.width_px; x += 7) {
         const float d = depth.at(x, y);
         if (d > 0 && d <= config.max_range_m) {
-          observed.push_back(fs.T_world_camera * (cam.ray(Eigen::Vector2d(x, y)) * d));
+          observed.push_back(fs.T_pen_camera * (cam.ray(Eigen::Vector2d(x, y)) * d));
         }
       }
     }

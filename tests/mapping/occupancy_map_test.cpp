@@ -7,11 +7,10 @@
 #include <vector>
 
 #include "mapping/occupancy_map.h"
+#include "runtime/units.h"
 
 namespace pensight::mapping {
 namespace {
-
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 Eigen::Vector3d centre(const openvdb::Coord& c, double v) {
   return Eigen::Vector3d(c.x(), c.y(), c.z()) * v;

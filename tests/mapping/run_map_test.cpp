@@ -50,8 +50,8 @@ TEST(RunMap, MapAtTheEstimatedPosesLiesOnTheNet) {
     ASSERT_NE(truth, nullptr);
     Eigen::Isometry3d T_pen_body = Eigen::Isometry3d::Identity();
     T_pen_body.linear() = rotation_from_rpy(truth->roll_rad, truth->pitch_rad, truth->yaw_rad);
-    T_pen_body.translation() = truth->p_world_body_m;
-    const Eigen::Isometry3d T_pen_camera = T_pen_body * d.cam0.T_BS;
+    T_pen_body.translation() = truth->p_pen_body_m;
+    const Eigen::Isometry3d T_pen_camera = T_pen_body * d.cam0.T_body_camera;
     const ImageF32 depth = d.load_depth_m(i);
     for (int y = 4; y < depth.height; y += 9) {
       for (int x = 4; x < depth.width; x += 9) {

@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <optional>
 #include <random>
 
@@ -49,14 +50,16 @@ ImageU8 render_net(const PinholeCamera& camera, const NetScene& s) {
   // (cos(k x) by rotation, sin(pi k duty) from a table).
   auto amplitudes = [](double d) {
     std::vector<double> amp;
-    for (int k = 1; k <= 256; ++k) amp.push_back(2 / (M_PI * k) * std::sin(M_PI * k * d));
+    for (int k = 1; k <= 256; ++k) {
+      amp.push_back(2 / (std::numbers::pi * k) * std::sin(std::numbers::pi * k * d));
+    }
     return amp;
   };
   const std::vector<double> twine_amplitude = amplitudes(duty),
                             knot_amplitude = amplitudes(knot_duty);
   auto stripe = [&](double t, double sigma, double d, const std::vector<double>& amplitude) {
-    const double x = 2 * M_PI * (t - 0.5 * d), c1 = std::cos(x), s1 = std::sin(x);
-    const double decay = -2 * M_PI * M_PI * sigma * sigma;
+    const double x = 2 * std::numbers::pi * (t - 0.5 * d), c1 = std::cos(x), s1 = std::sin(x);
+    const double decay = -2 * std::numbers::pi * std::numbers::pi * sigma * sigma;
     double v = d, cs = c1, sn = s1;
     for (int k = 1; k <= 256; ++k) {
       const double att = std::exp(decay * k * k);

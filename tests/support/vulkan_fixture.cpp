@@ -6,17 +6,19 @@
 
 namespace pensight::testing {
 
+vk::ContextOptions test_context_options() {
+  vk::ContextOptions options;
+  options.validation = true;
+  options.sync_validation = true;
+  options.cache_dir = "-";  // tests must not depend on a cache left by an earlier run
+  options.on_validation_error = [](const std::string& message) {
+    ADD_FAILURE() << "Vulkan validation error: " << message;
+  };
+  return options;
+}
+
 Device& test_device() {
-  static Device device([] {
-    vk::ContextOptions options;
-    options.validation = true;
-    options.sync_validation = true;
-    options.cache_dir = "-";  // tests must not depend on a cache left by an earlier run
-    options.on_validation_error = [](const std::string& message) {
-      ADD_FAILURE() << "Vulkan validation error: " << message;
-    };
-    return options;
-  }());
+  static Device device(test_context_options());
   return device;
 }
 

@@ -15,6 +15,8 @@ namespace pensight::testing {
 
 // The test binary's one Device; its Vulkan context has validation on (see VulkanTest).
 Device& test_device();
+// The options of that context, for a test that needs a Device of its own.
+vk::ContextOptions test_context_options();
 
 class VulkanTest : public ::testing::Test {
  protected:

@@ -175,7 +175,7 @@ TEST_F(VulkanTest, OnnxTrudepthNet) {
 // the transformer head, so that OpenCV DNN checks it too.
 TEST_F(VulkanTest, OnnxTrudepthEncoderDecoder) {
   const uint64_t seed = pensight::testing::fresh_seed();
-  check_model(ctx(), trudepth_net({128, 96}, 0.5f, seed, false), seed);
+  check_model(ctx(), trudepth_net({128, 96}, 0.5f, seed, DepthHead::kConvSoftplus), seed);
 }
 
 TEST(Onnx, Fp16WeightsExportPassesTheCheckerAndStaysClose) {

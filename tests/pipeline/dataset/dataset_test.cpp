@@ -18,6 +18,7 @@
 #include "pipeline/dataset/trajectory_tum.h"
 #include "runtime/error.h"
 #include "runtime/log.h"
+#include "runtime/units.h"
 #include "tests/support/vulkan_fixture.h"
 
 namespace pensight {
@@ -46,13 +47,13 @@ class DatasetTest : public ::testing::Test {
     c.cam0.camera.cy_px = 13.25;
     c.cam0.camera.k1 = -0.05;
     c.cam0.camera.p2 = 1e-4;
-    c.cam0.T_BS.linear() = rotation_from_rpy(0.1, -0.2, 1.4);
-    c.cam0.T_BS.translation() = Eigen::Vector3d(0.3, -0.02, 0.1);
+    c.cam0.T_body_camera.linear() = rotation_from_rpy(0.1, -0.2, 1.4);
+    c.cam0.T_body_camera.translation() = Eigen::Vector3d(0.3, -0.02, 0.1);
     DvlCalibration dvl;
     dvl.rate_hz = 4;
-    dvl.T_BS.linear() = rotation_from_rpy(0, 0.5, 0);
+    dvl.T_body_dvl.linear() = rotation_from_rpy(0, 0.5, 0);
     for (size_t i = 0; i < 4; ++i) {
-      const double a = 0.5 + 1.5707963267948966 * static_cast<double>(i);
+      const double a = 0.5 + std::numbers::pi / 2 * static_cast<double>(i);
       dvl.beam_directions_S[i] =
           Eigen::Vector3d(0.5 * std::cos(a), 0.5 * std::sin(a), 1).normalized();
     }
@@ -150,9 +151,9 @@ TEST_F(DatasetTest, RoundTripKeepsEverySensorAndImage) {
   EXPECT_DOUBLE_EQ(d.cam0.camera.cy_px, 13.25);
   EXPECT_DOUBLE_EQ(d.cam0.camera.k1, -0.05);
   EXPECT_DOUBLE_EQ(d.cam0.camera.p2, 1e-4);
-  EXPECT_TRUE(d.cam0.T_BS.isApprox(c.cam0.T_BS, 1e-8));
+  EXPECT_TRUE(d.cam0.T_body_camera.isApprox(c.cam0.T_body_camera, 1e-8));
   ASSERT_TRUE(d.dvl0 && d.pressure0 && d.imu0 && d.groundtruth0);
-  EXPECT_TRUE(d.dvl0->calibration.T_BS.isApprox(c.dvl0->T_BS, 1e-8));
+  EXPECT_TRUE(d.dvl0->calibration.T_body_dvl.isApprox(c.dvl0->T_body_dvl, 1e-8));
   EXPECT_TRUE(d.dvl0->has_beam_ranges);
   ASSERT_EQ(d.frames.size(), 3u);
   for (size_t i = 0; i < 3; ++i) {
@@ -160,7 +161,7 @@ TEST_F(DatasetTest, RoundTripKeepsEverySensorAndImage) {
     EXPECT_EQ(d.load_depth_mm(i).pixels, depths[i].pixels);
     const GroundTruthRow* g = d.truth_for_frame(i);
     ASSERT_NE(g, nullptr);
-    EXPECT_NEAR(g->p_world_body_m.x(), truth[i].p_world_body_m.x(), 1e-8);
+    EXPECT_NEAR(g->p_pen_body_m.x(), truth[i].p_pen_body_m.x(), 1e-8);
     EXPECT_NEAR(g->yaw_rad, truth[i].yaw_rad, 1e-8);
     EXPECT_NEAR(g->d_net_m, truth[i].d_net_m, 1e-8);
     EXPECT_EQ(std::isnan(g->pitch_net_rad), std::isnan(truth[i].pitch_net_rad));
@@ -325,7 +326,7 @@ TEST_F(DatasetFilesTest, KeysOfOtherToolsAreReadWithOneNotePerFile) {
   EXPECT_DOUBLE_EQ(*d.scene.initial_rho_rad, 0.25);
   EXPECT_EQ(d.scene.net_mesh_type, MeshType::kDiamond);
   ASSERT_TRUE(d.scene.net_mesh_angle_rad);
-  EXPECT_NEAR(*d.scene.net_mesh_angle_rad, 95 * M_PI / 180, 1e-12);
+  EXPECT_NEAR(*d.scene.net_mesh_angle_rad, deg_to_rad(95), 1e-12);
   EXPECT_DOUBLE_EQ(d.cam0.camera.fx_px, 23.1);
   EXPECT_EQ(count_of(log.text(), "keys not used by pensight"), 2u) << log.text();
   ASSERT_TRUE(d.scene.flat_panel);
@@ -358,7 +359,7 @@ TEST_F(DatasetTest, DvlBeamsAsListReadLikeTheMatrix) {
     EXPECT_EQ(a.beam_directions_S[i], b.beam_directions_S[i]) << i;
     EXPECT_NEAR((a.beam_directions_S[i] - dvl.beam_directions_S[i]).norm(), 0, 1e-8) << i;
   }
-  EXPECT_EQ(a.T_BS.matrix(), b.T_BS.matrix());
+  EXPECT_EQ(a.T_body_dvl.matrix(), b.T_body_dvl.matrix());
   EXPECT_EQ(a.rate_hz, b.rate_hz);
   EXPECT_EQ(log.text(), list_file.string() + ": keys not used by pensight: T_BD\n");
 }
@@ -561,7 +562,7 @@ TEST_F(DatasetTest, PublishedGlobalPoseCsvRoundTrip) {
 TEST_F(DatasetTest, TrajectoryTumText) {
   const fs::path file = dir_ / kTrajectoryTumFile;
   Eigen::Isometry3d yawed = Eigen::Isometry3d::Identity();
-  yawed.linear() = rotation_from_rpy(0, 0, 200 * std::numbers::pi / 180);
+  yawed.linear() = rotation_from_rpy(0, 0, deg_to_rad(200));
   yawed.translation() = Eigen::Vector3d(1.5, -2.25, 3);
   Eigen::Isometry3d rolled = Eigen::Isometry3d::Identity();
   rolled.linear() = rotation_from_rpy(std::numbers::pi / 2, 0, 0);

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "runtime/error.h"
+#include "runtime/units.h"
 
 namespace pensight {
 namespace {
@@ -48,7 +49,7 @@ TEST(ScoreNetPose, EnvelopeAndGrossErrors) {
        truth(4, 1.0, 0.0, 0.2),                                          // 4: net fills 20%
        truth(5, NAN, NAN, 0.0), truth(6, 1.0, 0.0)};                     // 5: axis misses the net
   const std::vector<EstimateRow> rows = {
-      estimate(1, 1.01, 0.0), estimate(2, 0.98, 0.1 + 0.01745329),
+      estimate(1, 1.01, 0.0), estimate(2, 0.98, 0.1 + deg_to_rad(1)),
       estimate(3, 2.0, 0.0),  estimate(4, 1.0, 0.0),
       estimate(5, 0.7, 0.0),  estimate(6, NAN, NAN),
       estimate(99, 1.0, 0.0)};  // no truth row: not scored
@@ -69,12 +70,10 @@ TEST(ScoreNetPose, NeedsGroundTruth) {
   EXPECT_THROW(score_global_pose(ds, {}), Error);
 }
 
-constexpr double kDeg = 3.14159265358979323846 / 180.0;
-
 GroundTruthRow pose_truth(int64_t t, double r, double rho_rad, double z, double yaw_rad) {
   GroundTruthRow g;
   g.timestamp_ns = t;
-  g.p_world_body_m = {r * std::cos(rho_rad), r * std::sin(rho_rad), z};
+  g.p_pen_body_m = {r * std::cos(rho_rad), r * std::sin(rho_rad), z};
   g.yaw_rad = yaw_rad;
   return g;
 }
@@ -94,18 +93,18 @@ TEST(ScoreGlobalPose, ErrorsAndChangesFromTheFirstFrameWithRhoAndPsi) {
   ds.groundtruth0.emplace();
   // The truth's azimuth and yaw sit near +-pi so that the changes cross the wrap; the estimate's
   // rho origin (0 at its first frame) differs from the truth's, which must not matter.
-  const double rho0 = 179 * kDeg, yaw0 = -179.5 * kDeg;
+  const double rho0 = deg_to_rad(179), yaw0 = -deg_to_rad(179.5);
   ds.groundtruth0->rows = {
       pose_truth(1, 11.2, rho0, 3.0, yaw0),  // no rho/psi estimate: not the reference
       pose_truth(2, 11.2, rho0, 3.0, yaw0),
-      pose_truth(3, 11.2, rho0 + 2 * kDeg, 3.1, yaw0 - 1 * kDeg),
-      pose_truth(4, 11.2, rho0 + 4 * kDeg, 3.2, yaw0 - 2 * kDeg),
-      pose_truth(5, 11.2, rho0 + 6 * kDeg, 3.3, yaw0)};
+      pose_truth(3, 11.2, rho0 + deg_to_rad(2), 3.1, yaw0 - deg_to_rad(1)),
+      pose_truth(4, 11.2, rho0 + deg_to_rad(4), 3.2, yaw0 - deg_to_rad(2)),
+      pose_truth(5, 11.2, rho0 + deg_to_rad(6), 3.3, yaw0)};
   const std::vector<EstimateRow> rows = {
       pose_estimate(1, 11.21, NAN, 3.0, NAN),
-      pose_estimate(2, 11.18, 0.0, 3.01, 0.5),                  // reference
-      pose_estimate(3, 11.2, 2 * kDeg, 3.1, 0.5 - 1.5 * kDeg),  // psi 0.5 deg off
-      pose_estimate(4, NAN, 4.2 * kDeg, NAN, 0.5 - 2 * kDeg),   // rho 0.2 deg off
+      pose_estimate(2, 11.18, 0.0, 3.01, 0.5),                            // reference
+      pose_estimate(3, 11.2, deg_to_rad(2), 3.1, 0.5 - deg_to_rad(1.5)),  // psi 0.5 deg off
+      pose_estimate(4, NAN, deg_to_rad(4.2), NAN, 0.5 - deg_to_rad(2)),   // rho 0.2 deg off
       pose_estimate(5, 11.3, NAN, 3.3, NAN),
       pose_estimate(9, 11.2, 0.0, 3.0, 0.0)};  // no truth row: not scored
   const GlobalPoseAccuracy a = score_global_pose(ds, rows);
@@ -123,9 +122,9 @@ TEST(ScoreGlobalPose, ErrorsAndChangesFromTheFirstFrameWithRhoAndPsi) {
   EXPECT_NE(describe(a).find("psi_g"), std::string::npos);
   // Path from the reference frame: three 2 deg chords at r = 11.2 m; arc errors 0, 0 and
   // 0.2 deg x 11.2 m, all within the last 5 s.
-  const double chord = 2 * 11.2 * std::sin(1 * kDeg);
+  const double chord = 2 * 11.2 * std::sin(deg_to_rad(1));
   EXPECT_NEAR(a.path_m, 3 * chord, 1e-9);
-  EXPECT_NEAR(a.rho_drift_per_m, (0.2 * kDeg * 11.2 / 3) / (3 * chord), 1e-9);
+  EXPECT_NEAR(a.rho_drift_per_m, (deg_to_rad(0.2) * 11.2 / 3) / (3 * chord), 1e-9);
   EXPECT_NE(describe(a).find("rho_g drift"), std::string::npos);
 }
 

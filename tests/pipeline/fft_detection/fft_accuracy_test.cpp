@@ -3,6 +3,7 @@
 
 #include <random>
 
+#include "runtime/units.h"
 #include "tests/pipeline/fft_detection/sweep.h"
 #include "tests/support/vulkan_fixture.h"
 
@@ -93,7 +94,7 @@ TEST(FftAccuracy, OutsideTheEnvelopeNoWrongDistances) {
       s.distance_m = far(rng);
     } else {
       s.distance_m = 1.0;
-      s.psi_rad = (sign(rng) < 0 ? -1 : 1) * oblique(rng) * M_PI / 180;
+      s.psi_rad = deg_to_rad((sign(rng) < 0 ? -1 : 1) * oblique(rng));
     }
     const NetDetection d = detector.detect(testing::render_net(cam, s));
     if (!d.pose.valid()) {
@@ -101,8 +102,8 @@ TEST(FftAccuracy, OutsideTheEnvelopeNoWrongDistances) {
       continue;
     }
     EXPECT_LE(std::abs(d.pose.d_net_m - s.distance_m), 0.2 * s.distance_m)
-        << "d " << s.distance_m << " psi " << s.psi_rad * 180 / M_PI << ": estimate "
-        << d.pose.d_net_m << " m, psi " << d.pose.psi_net_rad * 180 / M_PI << " deg from "
+        << "d " << s.distance_m << " psi " << rad_to_deg(s.psi_rad) << ": estimate "
+        << d.pose.d_net_m << " m, psi " << rad_to_deg(d.pose.psi_net_rad) << " deg from "
         << d.pose.inlier_rois << " of " << d.pose.valid_rois << " valid ROIs";
   }
 }

@@ -6,8 +6,10 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <numbers>
 #include <random>
 
+#include "runtime/units.h"
 #include "tests/support/exact_lattice.h"
 #include "tests/support/vulkan_fixture.h"
 
@@ -15,12 +17,11 @@ namespace pensight {
 namespace {
 
 constexpr double kBar = 0.030;
-constexpr double kDeg = M_PI / 180;
 
 struct Net {
   double a, b, c;  // z = a x + b y + c in C
   MeshType type = MeshType::kSquare;
-  double angle_rad = M_PI / 2;
+  double angle_rad = std::numbers::pi / 2;
   double rotation_rad = 0;  // the lattice in the plane
   Eigen::Vector3d normal() const { return Eigen::Vector3d(-a, -b, 1).normalized(); }
 };
@@ -73,15 +74,15 @@ TEST(MeshModel, RangeOfAnyCellAndOfADiagonalBasis) {
                 std::tan(ang(rng) / 2),
                 d(rng),
                 trial % 2 ? MeshType::kDiamond : MeshType::kSquare,
-                open(rng) * kDeg,
+                deg_to_rad(open(rng)),
                 rot(rng)};
     const kernels::RoiOrigin o{static_cast<int32_t>(ox(rng)), static_cast<int32_t>(oy(rng))};
     const Eigen::Vector2d c(o.x + 149.5, o.y + 149.5);
     Eigen::Vector3d p;
     // The long diagonal (the one a knot pattern's spectrum can hold as strongly as a bar).
-    const Eigen::Vector2i diagonal = trial % 3                ? Eigen::Vector2i(0, 1)
-                                     : n.angle_rad < M_PI / 2 ? Eigen::Vector2i(1, 1)
-                                                              : Eigen::Vector2i(1, -1);
+    const Eigen::Vector2i diagonal = trial % 3                            ? Eigen::Vector2i(0, 1)
+                                     : n.angle_rad < std::numbers::pi / 2 ? Eigen::Vector2i(1, 1)
+                                                                          : Eigen::Vector2i(1, -1);
     const auto lattice = exact_lattice(cam, n, c, &p, {1, 0}, diagonal);
     const Eigen::Vector3d normal = n.normal();
     const RoiNetPoint q = roi_net_point(lattice, o, 300, cam, {kBar, n.angle_rad}, {}, &normal);
@@ -123,9 +124,9 @@ TEST(MeshAngle, MeasuredAgainstThePlaneForBothMeshTypes) {
                 std::tan(ang(rng) / 2),
                 d(rng),
                 is_diamond ? MeshType::kDiamond : MeshType::kSquare,
-                (is_diamond ? diamond(rng) : square(rng)) * kDeg,
+                deg_to_rad(is_diamond ? diamond(rng) : square(rng)),
                 rot(rng)};
-    const auto points = grid(cam, n, M_PI / 2);
+    const auto points = grid(cam, n, std::numbers::pi / 2);
     const std::vector<uint8_t> use(points.size(), 1);
     // The type given, and recognised from the lattice's orientation when not.
     for (const std::optional<MeshType> given :
@@ -133,11 +134,11 @@ TEST(MeshAngle, MeasuredAgainstThePlaneForBothMeshTypes) {
       const MeshAngleMeasurement m = measure_mesh_angle(points, use, n.normal(), cam, given);
       ASSERT_TRUE(m.valid()) << "trial " << trial;
       EXPECT_EQ(m.type, n.type) << "trial " << trial;
-      EXPECT_NEAR(m.opening_angle_rad, n.angle_rad, 0.05 * kDeg) << "trial " << trial;
+      EXPECT_NEAR(m.opening_angle_rad, n.angle_rad, deg_to_rad(0.05)) << "trial " << trial;
     }
   }
   // Too few usable ROIs: no measurement.
-  const auto points = grid(cam, {0, 0, 1}, M_PI / 2);
+  const auto points = grid(cam, {0, 0, 1}, std::numbers::pi / 2);
   std::vector<uint8_t> use(points.size(), 0);
   use[0] = use[1] = use[2] = 1;
   EXPECT_FALSE(measure_mesh_angle(points, use, {0, 0, -1}, cam, std::nullopt).valid());
@@ -150,26 +151,30 @@ MeshAngleMeasurement measurement(double angle_rad, double sigma_rad) {
 TEST(MeshAngle, FilterStartsFromPriorOrFirstFrameAndRestartsOnANewNet) {
   MeshAngleFilter none(std::nullopt);
   EXPECT_FALSE(none.has_estimate());
-  EXPECT_DOUBLE_EQ(none.angle_rad(), M_PI / 2);
-  EXPECT_NEAR(none.update(measurement(100 * kDeg, 0.2 * kDeg)), 100 * kDeg, 1e-12);
+  EXPECT_DOUBLE_EQ(none.angle_rad(), std::numbers::pi / 2);
+  EXPECT_NEAR(none.update(measurement(deg_to_rad(100), deg_to_rad(0.2))), deg_to_rad(100), 1e-12);
   // Noisy frames of one unchanging net average down: 2 deg frames, 30 of them, 0.37 deg; the
   // bound is 4 sigma.
   std::mt19937_64 rng(testing::fresh_seed());
-  std::normal_distribution<double> noise(0, 2 * kDeg);
+  std::normal_distribution<double> noise(0, deg_to_rad(2));
   MeshAngleFilter still(std::nullopt, {.process_sigma_rad = 0});
-  for (int i = 0; i < 30; ++i) still.update(measurement(100 * kDeg + noise(rng), 2 * kDeg));
-  EXPECT_NEAR(still.angle_rad(), 100 * kDeg, 1.5 * kDeg);
+  for (int i = 0; i < 30; ++i) {
+    still.update(measurement(deg_to_rad(100) + noise(rng), deg_to_rad(2)));
+  }
+  EXPECT_NEAR(still.angle_rad(), deg_to_rad(100), deg_to_rad(1.5));
   // One outlier frame is held off; a net that stays different takes over after 3 frames.
-  EXPECT_NEAR(none.update(measurement(80 * kDeg, 0.2 * kDeg)), 100 * kDeg, 1e-12);
-  none.update(measurement(80 * kDeg, 0.2 * kDeg));
-  EXPECT_NEAR(none.update(measurement(80 * kDeg, 0.2 * kDeg)), 80 * kDeg, 1e-12);
+  EXPECT_NEAR(none.update(measurement(deg_to_rad(80), deg_to_rad(0.2))), deg_to_rad(100), 1e-12);
+  none.update(measurement(deg_to_rad(80), deg_to_rad(0.2)));
+  EXPECT_NEAR(none.update(measurement(deg_to_rad(80), deg_to_rad(0.2))), deg_to_rad(80), 1e-12);
   // A prior 10 deg off is corrected by the first frame; refine replaces that frame's measurement.
-  MeshAngleFilter prior(90 * kDeg);
+  MeshAngleFilter prior(deg_to_rad(90));
   EXPECT_TRUE(prior.has_estimate());
-  EXPECT_NEAR(prior.update(measurement(101 * kDeg, 0.3 * kDeg)), 101 * kDeg, 0.1 * kDeg);
-  EXPECT_NEAR(prior.refine(measurement(102 * kDeg, 0.3 * kDeg)), 102 * kDeg, 0.1 * kDeg);
+  EXPECT_NEAR(prior.update(measurement(deg_to_rad(101), deg_to_rad(0.3))), deg_to_rad(101),
+              deg_to_rad(0.1));
+  EXPECT_NEAR(prior.refine(measurement(deg_to_rad(102), deg_to_rad(0.3))), deg_to_rad(102),
+              deg_to_rad(0.1));
   // A frame without a measurement leaves the estimate.
-  EXPECT_NEAR(prior.update({}), 102 * kDeg, 0.1 * kDeg);
+  EXPECT_NEAR(prior.update({}), deg_to_rad(102), deg_to_rad(0.1));
 }
 
 }  // namespace

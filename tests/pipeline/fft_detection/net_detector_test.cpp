@@ -47,10 +47,10 @@ TEST(NetDetector, SparseDepthsAreOnTheNet) {
   EXPECT_EQ(static_cast<int>(d.depths.size()), d.pose.inlier_rois);
   const double a = std::tan(scene.psi_rad), b = std::tan(scene.pitch_rad);
   for (const SparseDepth& s : d.depths) {
-    EXPECT_TRUE(cam.in_image({s.px, s.py}));
-    const Eigen::Vector3d r = cam.ray({s.px, s.py});
+    EXPECT_TRUE(cam.in_image({s.point.x_px, s.point.y_px}));
+    const Eigen::Vector3d r = cam.ray({s.point.x_px, s.point.y_px});
     const double z = scene.distance_m / (1 - a * r.x() - b * r.y());
-    EXPECT_NEAR(s.depth_m, z, 0.03 * z) << s.px << ", " << s.py;
+    EXPECT_NEAR(s.point.depth_m, z, 0.03 * z) << s.point.x_px << ", " << s.point.y_px;
   }
   EXPECT_GE(d.fft_ms, 0);
   EXPECT_GE(d.pose_ms, 0);

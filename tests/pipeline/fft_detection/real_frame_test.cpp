@@ -10,13 +10,13 @@
 #include <vector>
 
 #include "pipeline/dataset/dataset_reader.h"
+#include "pipeline/median.h"
 #include "pipeline/net_detector.h"
+#include "runtime/units.h"
 #include "tests/support/vulkan_fixture.h"
 
 namespace pensight {
 namespace {
-
-constexpr double kDeg = M_PI / 180;
 
 const std::filesystem::path kFrameDir =
     std::filesystem::path(PENSIGHT_SHARED_DIR) / "real" / "solaqua_close";
@@ -26,11 +26,6 @@ NetDetectorConfig config_for(const Dataset& d, Backend backend) {
   c.mesh_type = d.scene.net_mesh_type;
   c.mesh_angle_rad = d.scene.net_mesh_angle_rad;
   return c;
-}
-
-double median(std::vector<double> v) {
-  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
-  return v[v.size() / 2];
 }
 
 TEST(RealFrame, SolaquaCloseGivesAPlausiblePose) {
@@ -44,14 +39,14 @@ TEST(RealFrame, SolaquaCloseGivesAPlausiblePose) {
   std::printf(
       "d_net %.3f m, psi %.2f deg, pitch %.2f deg, opening angle %.2f deg (%s), %d of %d "
       "ROIs inliers, %d reduced\n",
-      det.pose.d_net_m, det.pose.psi_net_rad / kDeg, det.pose.pitch_net_rad / kDeg,
-      det.mesh_angle_rad / kDeg, to_string(det.mesh_type), det.pose.inlier_rois,
+      det.pose.d_net_m, rad_to_deg(det.pose.psi_net_rad), rad_to_deg(det.pose.pitch_net_rad),
+      rad_to_deg(det.mesh_angle_rad), to_string(det.mesh_type), det.pose.inlier_rois,
       det.pose.valid_rois, det.reduced_rois);
   EXPECT_GE(det.pose.d_net_m, 0.15);
   EXPECT_LE(det.pose.d_net_m, 0.8);
-  EXPECT_LT(std::abs(det.pose.psi_net_rad), 40 * kDeg);
-  EXPECT_GE(det.mesh_angle_rad, 90 * kDeg);
-  EXPECT_LE(det.mesh_angle_rad, 115 * kDeg);
+  EXPECT_LT(std::abs(det.pose.psi_net_rad), deg_to_rad(40));
+  EXPECT_GE(det.mesh_angle_rad, deg_to_rad(90));
+  EXPECT_LE(det.mesh_angle_rad, deg_to_rad(115));
   EXPECT_EQ(det.mesh_type, MeshType::kSquare);
   EXPECT_GE(det.pose.inlier_rois, 20);
 
@@ -80,8 +75,8 @@ TEST(RealFrame, SolaquaCloseGivesAPlausiblePose) {
   const NetDetection v = vulkan.detect(image);
   ASSERT_TRUE(v.pose.valid()) << v.pose.reason;
   EXPECT_NEAR(v.pose.d_net_m, det.pose.d_net_m, 0.005 * det.pose.d_net_m);
-  EXPECT_NEAR(v.pose.psi_net_rad, det.pose.psi_net_rad, 0.2 * kDeg);
-  EXPECT_NEAR(v.mesh_angle_rad, det.mesh_angle_rad, 0.2 * kDeg);
+  EXPECT_NEAR(v.pose.psi_net_rad, det.pose.psi_net_rad, deg_to_rad(0.2));
+  EXPECT_NEAR(v.mesh_angle_rad, det.mesh_angle_rad, deg_to_rad(0.2));
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 
 #include <random>
 
+#include "runtime/units.h"
 #include "tests/pipeline/fft_detection/sweep.h"
 #include "tests/support/vulkan_fixture.h"
 
@@ -11,8 +12,6 @@ namespace pensight {
 namespace {
 
 using testing::NetScene;
-
-constexpr double kDeg = M_PI / 180;
 
 struct MeshCase {
   const char* label;
@@ -26,7 +25,7 @@ testing::SweepErrors run_mesh_sweep(const MeshCase& c, int frames, uint64_t seed
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> twine(0.12, 0.3), knot(1.2, 2.0);
   NetScene base{.mesh_type = c.type,
-                .opening_angle_rad = c.angle_deg * kDeg,
+                .opening_angle_rad = deg_to_rad(c.angle_deg),
                 .blur_sigma_px = blur_sigma_px,
                 .noise_sigma = 3};
   base.twine_m = twine(rng) * base.mesh_m;
@@ -89,14 +88,14 @@ TEST(RealNets, OutsideTheEnvelopeNoWrongDistances) {
   for (int i = 0; i < 12; ++i) {
     const bool is_diamond = i % 4 >= 2;
     NetScene s{.mesh_type = is_diamond ? MeshType::kDiamond : MeshType::kSquare,
-               .opening_angle_rad = (is_diamond ? diamond(rng) : square(rng)) * kDeg,
+               .opening_angle_rad = deg_to_rad(is_diamond ? diamond(rng) : square(rng)),
                .noise_sigma = 3,
                .seed = rng()};
     s.twine_m = 0.2 * s.mesh_m;
     if (i % 2) {
       s.distance_m = far(rng);
     } else {
-      s.psi_rad = (sign(rng) < 0 ? -1 : 1) * oblique(rng) * kDeg;
+      s.psi_rad = deg_to_rad((sign(rng) < 0 ? -1 : 1) * oblique(rng));
     }
     const NetDetection d = detector.detect(testing::render_net(cam, s));
     if (!d.pose.valid()) {
@@ -104,8 +103,8 @@ TEST(RealNets, OutsideTheEnvelopeNoWrongDistances) {
       continue;
     }
     EXPECT_LE(std::abs(d.pose.d_net_m - s.distance_m), 0.2 * s.distance_m)
-        << "d " << s.distance_m << " psi " << s.psi_rad / kDeg << " angle "
-        << s.opening_angle_rad / kDeg << ": estimate " << d.pose.d_net_m;
+        << "d " << s.distance_m << " psi " << rad_to_deg(s.psi_rad) << " angle "
+        << rad_to_deg(s.opening_angle_rad) << ": estimate " << d.pose.d_net_m;
   }
 }
 

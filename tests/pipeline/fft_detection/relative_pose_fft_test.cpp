@@ -8,6 +8,7 @@
 #include <random>
 
 #include "kernels/fft_roi/fft_roi.h"
+#include "runtime/units.h"
 #include "tests/support/vulkan_fixture.h"
 
 namespace pensight {
@@ -118,8 +119,8 @@ TEST(RelativePoseFft, RoiTiltsHelpAShortBaseline) {
     err_plane += std::abs(plane.psi_net_rad - 0.25) / 20;
     err_fused += std::abs(fused.psi_net_rad - 0.25) / 20;
   }
-  std::printf("mean psi error: plane %.2f deg, fused %.2f deg\n", err_plane * 180 / M_PI,
-              err_fused * 180 / M_PI);
+  std::printf("mean psi error: plane %.2f deg, fused %.2f deg\n", rad_to_deg(err_plane),
+              rad_to_deg(err_fused));
   EXPECT_LT(err_fused, 0.7 * err_plane);
 }
 
@@ -151,7 +152,7 @@ TEST(RelativePoseFft, RoiTiltsDisagreeingWithThePlaneGiveNan) {
   for (const double off_deg : {4.0, 15.0}) {
     auto pts = grid_points([&](const Eigen::Vector3d& r) { return c / (1 - a * r.x()); });
     const Eigen::Matrix3d turn =
-        Eigen::AngleAxisd(off_deg * M_PI / 180, Eigen::Vector3d::UnitY()).toRotationMatrix();
+        Eigen::AngleAxisd(deg_to_rad(off_deg), Eigen::Vector3d::UnitY()).toRotationMatrix();
     for (RoiNetPoint& p : pts) p.normals_C = {turn * p.normals_C[0], turn * p.normals_C[1]};
     const FftRelativePose pose = relative_pose_fft(pts);
     if (off_deg < 8) {

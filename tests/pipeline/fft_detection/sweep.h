@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "pipeline/net_detector.h"
+#include "runtime/units.h"
 #include "tests/support/net_image.h"
 
 namespace pensight::testing {
@@ -40,9 +41,9 @@ inline std::vector<NetScene> sweep_scenes(int count, uint64_t seed, const NetSce
   for (int i = 0; i < count; ++i) {
     NetScene s = base;
     s.distance_m = std::exp(logd(rng));
-    s.psi_rad = psi(rng) * M_PI / 180;
-    s.pitch_rad = pitch(rng) * M_PI / 180;
-    s.twine_rotation_rad = rot(rng) * M_PI / 180;
+    s.psi_rad = deg_to_rad(psi(rng));
+    s.pitch_rad = deg_to_rad(pitch(rng));
+    s.twine_rotation_rad = deg_to_rad(rot(rng));
     s.seed = rng();
     scenes.push_back(s);
   }
@@ -62,25 +63,25 @@ inline SweepErrors run_sweep(const std::vector<ImageU8>& frames,
       e.reasons.push_back(d.pose.reason);
       if (verbose)
         std::printf("  d %.2f psi %5.1f: NaN (%s), angle %.2f (frame %.2f)\n", s.distance_m,
-                    s.psi_rad * 180 / M_PI, d.pose.reason.c_str(), d.mesh_angle_rad * 180 / M_PI,
-                    d.mesh_angle_frame.opening_angle_rad * 180 / M_PI);
+                    rad_to_deg(s.psi_rad), d.pose.reason.c_str(), rad_to_deg(d.mesh_angle_rad),
+                    rad_to_deg(d.mesh_angle_frame.opening_angle_rad));
       continue;
     }
     e.d_rel.push_back(std::abs(d.pose.d_net_m - s.distance_m) / s.distance_m);
-    e.psi_deg.push_back(std::abs(d.pose.psi_net_rad - s.psi_rad) * 180 / M_PI);
-    e.pitch_deg.push_back(std::abs(d.pose.pitch_net_rad - s.pitch_rad) * 180 / M_PI);
+    e.psi_deg.push_back(rad_to_deg(std::abs(d.pose.psi_net_rad - s.psi_rad)));
+    e.pitch_deg.push_back(rad_to_deg(std::abs(d.pose.pitch_net_rad - s.pitch_rad)));
     if (!std::isnan(d.mesh_angle_rad)) {
-      e.angle_deg.push_back(std::abs(d.mesh_angle_rad - s.opening_angle_rad) * 180 / M_PI);
+      e.angle_deg.push_back(rad_to_deg(std::abs(d.mesh_angle_rad - s.opening_angle_rad)));
     }
     if (verbose) {
       std::printf(
           "  d %.2f psi %5.1f pitch %5.1f -> d %.3f (%+.2f%%) psi %+.2f pitch %+.2f, %d/%d, "
           "angle %.2f (frame %.2f)\n",
-          s.distance_m, s.psi_rad * 180 / M_PI, s.pitch_rad * 180 / M_PI, d.pose.d_net_m,
+          s.distance_m, rad_to_deg(s.psi_rad), rad_to_deg(s.pitch_rad), d.pose.d_net_m,
           100 * (d.pose.d_net_m - s.distance_m) / s.distance_m,
-          (d.pose.psi_net_rad - s.psi_rad) * 180 / M_PI,
-          (d.pose.pitch_net_rad - s.pitch_rad) * 180 / M_PI, d.pose.inlier_rois, d.pose.valid_rois,
-          d.mesh_angle_rad * 180 / M_PI, d.mesh_angle_frame.opening_angle_rad * 180 / M_PI);
+          rad_to_deg(d.pose.psi_net_rad - s.psi_rad),
+          rad_to_deg(d.pose.pitch_net_rad - s.pitch_rad), d.pose.inlier_rois, d.pose.valid_rois,
+          rad_to_deg(d.mesh_angle_rad), rad_to_deg(d.mesh_angle_frame.opening_angle_rad));
     }
   }
   return e;

@@ -19,8 +19,8 @@ std::array<double, 4> ranges_to_plane(const DvlCalibration& dvl, const Eigen::Ve
                                       double d) {
   std::array<double, 4> r{};
   for (size_t i = 0; i < 4; ++i) {
-    const Eigen::Vector3d o = dvl.T_BS.translation();
-    const Eigen::Vector3d u = dvl.T_BS.linear() * dvl.beam_directions_S[i].normalized();
+    const Eigen::Vector3d o = dvl.T_body_dvl.translation();
+    const Eigen::Vector3d u = dvl.T_body_dvl.linear() * dvl.beam_directions_S[i].normalized();
     r[i] = (d - n.dot(o)) / n.dot(u);
   }
   return r;

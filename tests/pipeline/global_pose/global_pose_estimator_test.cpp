@@ -202,7 +202,7 @@ TEST(GlobalPoseEstimator, DvlSpikeIsRejectedAndRecoversWithin2s) {
   const double t_spike = 60.0;
   int n_spiked = 0;
   for (auto& s : spiked.dvl) {
-    const double t = 1e-9 * static_cast<double>(s.timestamp_ns - sim::kStartNs);
+    const double t = seconds_between(sim::kStartNs, s.timestamp_ns);
     if (t >= t_spike && t < t_spike + 0.5) {
       s.velocity_B_mps += Eigen::Vector3d(0.8, 1.8, 0.3);
       ++n_spiked;
@@ -257,7 +257,7 @@ TEST(GlobalPoseEstimator, AlongNetOver15sAndEverySpikeRejected) {
         {4.0, 0.25, {0, 0.5, 0}}, {8.0, 0.5, {-0.8, 0, 0}}, {12.0, 0.25, {0, 0, 0.3}}};
     int n_spiked = 0;
     for (auto& s : seq.dvl) {
-      const double t = 1e-9 * static_cast<double>(s.timestamp_ns - sim::kStartNs);
+      const double t = seconds_between(sim::kStartNs, s.timestamp_ns);
       for (const Spike& k : spikes) {
         if (t >= k.t_s && t < k.t_s + k.duration_s) {
           s.velocity_B_mps += k.v;
@@ -366,7 +366,7 @@ TEST(GlobalPoseEstimator, WithoutDvlAndAttitudeRhoIsNaN) {
     const GlobalPose g = est.estimate(obs.t_ns);
     if (!std::isfinite(g.r_g_m)) return;
     if (r_m.empty()) t_lock_ns = obs.t_ns;
-    const bool unaided = 1e-9 * static_cast<double>(obs.t_ns - t_lock_ns) > cfg.max_unaided_s;
+    const bool unaided = seconds_between(t_lock_ns, obs.t_ns) > cfg.max_unaided_s;
     if (unaided && (std::isfinite(g.rho_g_rad) || std::isfinite(g.psi_g_rad))) ++unaided_with_rho;
     r_m.push_back(std::abs(g.r_g_m - truth.r_m()));
     if (std::isfinite(g.z_g_m)) z_m.push_back(std::abs(g.z_g_m - truth.p_P.z()));
@@ -407,9 +407,9 @@ Eigen::Vector3d yaw_pitch_roll(const Eigen::Matrix3d& R) {
 
 // The 6-DoF pose is the estimate itself: translation (r_g cos rho_g, r_g sin rho_g, z_g), yaw
 // psi_g, roll and pitch the attitude sensor's at the frame time (interpolated as the estimator
-// levels its sensors, AttitudeSeries), and T_pen_camera adds cam0's T_BS. Both are rounding away
-// from these (1e-9). The first frames see no net: before the lock both poses are all NaN. Without
-// a pressure sensor z_g is NaN and so are the poses.
+// levels its sensors, AttitudeSeries), and T_pen_camera adds cam0's T_body_camera. Both are
+// rounding away from these (1e-9). The first frames see no net: before the lock both poses are all
+// NaN. Without a pressure sensor z_g is NaN and so are the poses.
 TEST(GlobalPoseEstimator, BodyAndCameraPoseInThePen) {
   sim::Trajectory traj;
   traj.duration_s = 6;
@@ -554,7 +554,7 @@ TEST(GlobalPoseEstimator, OutOfOrderAndDuplicateSamples) {
   };
   std::vector<Arrival> arrivals;
   std::uniform_real_distribution<double> latency(0.0, 0.3);
-  auto t_of = [](int64_t t_ns) { return 1e-9 * static_cast<double>(t_ns - sim::kStartNs); };
+  auto t_of = [](int64_t t_ns) { return seconds_between(sim::kStartNs, t_ns); };
   for (size_t i = 0; i < seq.dvl.size(); ++i)
     arrivals.push_back({t_of(seq.dvl[i].timestamp_ns) + latency(rng), 0, i});
   for (size_t i = 0; i < seq.depth.size(); ++i)

@@ -8,7 +8,7 @@ namespace pensight::global_pose::sim {
 
 Eigen::Isometry3d Pose::T_pen_body() const {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = rotation_pen_body(roll_rad, pitch_rad, yaw_rad);
+  T.linear() = rotation_from_rpy(roll_rad, pitch_rad, yaw_rad);
   T.translation() = p_P;
   return T;
 }
@@ -23,8 +23,8 @@ Eigen::Isometry3d forward_camera() {
 
 DvlCalibration forward_dvl() {
   DvlCalibration dvl;
-  dvl.T_BS.linear() = forward_camera().linear();
-  dvl.T_BS.translation() = Eigen::Vector3d(0.4, 0.0, 0.2);
+  dvl.T_body_dvl.linear() = forward_camera().linear();
+  dvl.T_body_dvl.translation() = Eigen::Vector3d(0.4, 0.0, 0.2);
   const double off = 22.5 * std::numbers::pi / 180.0;
   for (int i = 0; i < 4; ++i) {
     const double az = std::numbers::pi / 4 + i * std::numbers::pi / 2;
@@ -85,7 +85,7 @@ Eigen::Vector3d Trajectory::body_velocity(double t_s) const {
   const double h = 1e-4;
   const Eigen::Vector3d v_P = (at(t_s + h).p_P - at(t_s - h).p_P) / (2 * h);
   const Pose p = at(t_s);
-  return rotation_pen_body(p.roll_rad, p.pitch_rad, p.yaw_rad).transpose() * v_P;
+  return rotation_from_rpy(p.roll_rad, p.pitch_rad, p.yaw_rad).transpose() * v_P;
 }
 
 namespace {

@@ -86,7 +86,7 @@ TEST(GlobalPoseRendered, SweepFromOpenWater) {
     const bool in_envelope = t->d_net_m >= env.min_d_net_m && t->d_net_m <= env.max_d_net_m &&
                              std::abs(t->psi_net_rad) <= env.max_abs_psi_net_rad;
     envelope += in_envelope ? 1 : 0;
-    const double r_true = t->p_world_body_m.head<2>().norm();
+    const double r_true = t->p_pen_body_m.head<2>().norm();
     if (!std::isfinite(run.rows[i].r_g_m)) {
       envelope_without += in_envelope ? 1 : 0;
       continue;

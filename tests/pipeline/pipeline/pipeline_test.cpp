@@ -8,6 +8,7 @@
 #include <cmath>
 #include <future>
 #include <mutex>
+#include <optional>
 #include <random>
 #include <thread>
 
@@ -151,8 +152,7 @@ size_t expect_trajectory_matches(const Dataset& d, const std::vector<EstimateRow
     EXPECT_GE(p.q.w(), 0);
     EXPECT_NEAR(p.q.norm(), 1, 1e-8);
     const Eigen::Matrix3d R = p.q.normalized().toRotationMatrix();
-    EXPECT_NEAR(global_pose::wrap_angle(std::atan2(R(1, 0), R(0, 0)) - r.psi_g_rad), 0, 1e-6)
-        << "frame " << i;
+    EXPECT_NEAR(wrap_angle(std::atan2(R(1, 0), R(0, 0)) - r.psi_g_rad), 0, 1e-6) << "frame " << i;
     const GroundTruthRow* t = d.truth_for_frame(i);
     if (!t) {
       ADD_FAILURE() << "no truth for frame " << i;
@@ -368,6 +368,51 @@ TEST(Pipeline, ThrowingCallbackDoesNotStopDelivery) {
   for (const CameraFrame& f : s.frames) p.push(CameraFrame{f.timestamp_ns, f.image});
   p.finish();
   EXPECT_EQ(calls.load(), 3);
+}
+
+// A lost device ends the run: the frames before it have their results, then push() or finish()
+// throws DeviceLostError naming the frame and the call, and no later frame gets a row of NaN.
+TEST(Pipeline, LostDeviceEndsTheRunWithAClearError) {
+  std::mt19937_64 rng(testing::fresh_seed());
+  const PinholeCamera cam;
+  const Sequence s = sequence(cam, 5, rng);
+  // How many queue submissions the detector's set-up and each frame make is the runtime's
+  // business: lose the device after k of them, for growing k, until the loss falls after the
+  // first frame's result.
+  for (int k = 1; k <= 100; ++k) {
+    vk::ContextOptions options = testing::test_context_options();
+    options.lose_device_after_submits = k;
+    Device device(options);
+    Collector got;
+    PipelineConfig c = config_for(cam);
+    c.detector.backend = Backend::kVulkan;
+    c.on_frame = [&](const FrameResult& r) { got.add(r); };
+    std::optional<Pipeline> p;
+    try {
+      p.emplace(c, device);
+    } catch (const DeviceLostError&) {
+      continue;  // lost while building the stages
+    }
+    std::string error;
+    try {
+      for (const CameraFrame& f : s.frames) p->push(CameraFrame{f.timestamp_ns, f.image});
+      p->finish();
+    } catch (const DeviceLostError& e) {
+      error = e.what();
+    }
+    ASSERT_FALSE(error.empty()) << "no loss after " << k << " submissions";
+    if (got.results.empty()) continue;  // lost at the first frame
+    ASSERT_LT(got.results.size(), s.frames.size());
+    for (const FrameResult& r : got.results) EXPECT_TRUE(r.error.empty()) << r.error;
+    const int64_t lost_at = s.frames[got.results.size()].timestamp_ns;
+    EXPECT_NE(error.find("device was lost at the frame at t = " + std::to_string(lost_at)),
+              std::string::npos)
+        << error;
+    EXPECT_NE(error.find("VK_ERROR_DEVICE_LOST"), std::string::npos) << error;
+    EXPECT_THROW(p->finish(), DeviceLostError);
+    return;
+  }
+  FAIL() << "the device was never lost after the first frame";
 }
 
 TEST(Pipeline, MisuseGivesClearErrors) {

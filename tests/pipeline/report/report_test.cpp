@@ -20,6 +20,7 @@
 #include "pipeline/report/report_html.h"
 #include "pipeline/timing_table.h"
 #include "runtime/error.h"
+#include "runtime/units.h"
 #include "tests/support/net_image.h"
 #include "tests/support/vulkan_fixture.h"
 
@@ -27,7 +28,6 @@ namespace pensight {
 namespace {
 namespace fs = std::filesystem;
 
-constexpr double kDeg = 3.14159265358979323846 / 180.0;
 constexpr int64_t kFrameNs = 100'000'000;  // 10 Hz
 constexpr int64_t kStartNs = 1'700'000'000'000'000'000;
 
@@ -64,7 +64,7 @@ class ReportTest : public ::testing::Test {
     for (int i = 0; i < frames; ++i) {
       testing::NetScene scene;
       scene.distance_m = 0.8 + 0.15 * i;
-      scene.psi_rad = (-20.0 + 10.0 * i) * kDeg;
+      scene.psi_rad = deg_to_rad(-20.0 + 10.0 * i);
       scene.seed = static_cast<uint64_t>(i + 1);
       if (i % 3 == 2) scene.edge_m = 0.1;
       const ImageU8 frame = i == frames - 1
@@ -94,7 +94,7 @@ class ReportTest : public ::testing::Test {
       GroundTruthRow g;
       g.timestamp_ns = t;
       const double rho = rho0 + 0.02 * s, r = 11.0 - 0.05 * std::sin(s);
-      g.p_world_body_m = {r * std::cos(rho), r * std::sin(rho), 3.0 + 0.1 * s};
+      g.p_pen_body_m = {r * std::cos(rho), r * std::sin(rho), 3.0 + 0.1 * s};
       g.yaw_rad = rho + 0.1 * std::sin(0.5 * s);
       g.d_net_m = 12.0 - r;
       g.psi_net_rad = 0.1 * std::sin(0.5 * s);
@@ -108,13 +108,13 @@ class ReportTest : public ::testing::Test {
       e.valid_rois = nan_frame ? 3 : 27;
       if (!nan_frame) {
         e.d_net_fft_m = g.d_net_m * (1 + 0.01 * std::sin(3.0 * s));
-        e.psi_net_fft_rad = g.psi_net_rad + 0.5 * kDeg * std::sin(2.0 * s);
-        e.pitch_net_fft_rad = g.pitch_net_rad - 0.3 * kDeg;
+        e.psi_net_fft_rad = g.psi_net_rad + deg_to_rad(0.5) * std::sin(2.0 * s);
+        e.pitch_net_fft_rad = g.pitch_net_rad - deg_to_rad(0.3);
       }
       e.r_g_m = r + 0.01;
       e.rho_g_rad = rho - rho0 + 0.001 * s;
-      e.z_g_m = g.p_world_body_m.z() + 0.005;
-      e.psi_g_rad = g.yaw_rad - rho0 + 0.2 * kDeg;
+      e.z_g_m = g.p_pen_body_m.z() + 0.005;
+      e.psi_g_rad = g.yaw_rad - rho0 + deg_to_rad(0.2);
       estimates.write(e);
       EstimateRow p = e;
       p.rho_g_rad = rho - rho0 + 0.01 * s;
@@ -159,7 +159,15 @@ TEST_F(ReportTest, OverlayIsAColourPngOfTheFrameWithTheRoiGrid) {
   const auto rois = kernels::roi_grid(cam.width_px, cam.height_px, {});
   NetDetection d;
   d.points.resize(rois.size());
-  d.pose = {1.2, 0.1, 0.0, 20, 10, 0.003, std::vector<uint8_t>(rois.size(), 0), ""};
+  d.pose = {FftPoseStatus::kValid,
+            1.2,
+            0.1,
+            0.0,
+            20,
+            10,
+            0.003,
+            std::vector<uint8_t>(rois.size(), 0),
+            ""};
   for (size_t i = 0; i < rois.size(); ++i) {
     RoiNetPoint& p = d.points[i];
     p.centre_px = {rois[i].x + 149.5, rois[i].y + 149.5};

@@ -13,6 +13,7 @@
 
 #include "pipeline/dataset/dataset_reader.h"
 #include "runtime/error.h"
+#include "runtime/units.h"
 #include "sim/generate.h"
 #include "sim/sensors.h"
 #include "sim/trajectory.h"
@@ -141,9 +142,9 @@ TEST_F(GenerateTest, SensorsFollowTheTrajectory) {
   const DvlCalibration calib = dvl_calibration(s.dvl);
   int ranges = 0;
   for (const DvlSample& d : simulate_dvl(s, net)) {
-    const double t = static_cast<double>(d.timestamp_ns - s.start_time_ns) * 1e-9;
+    const double t = seconds_between(s.start_time_ns, d.timestamp_ns);
     const BodyState b = body_state(s, t);
-    const Eigen::Isometry3d T = b.T_world_body * calib.T_BS;
+    const Eigen::Isometry3d T = b.T_pen_body * calib.T_body_dvl;
     for (size_t k = 0; k < 4; ++k) {
       if (std::isnan(d.beam_range_m[k])) continue;
       ++ranges;
@@ -153,7 +154,7 @@ TEST_F(GenerateTest, SensorsFollowTheTrajectory) {
       EXPECT_NEAR(net.clearance(end), 0.0, 1e-3) << "beam " << k << " at " << t << " s";
     }
     if (d.valid) {
-      const Eigen::Vector3d v = b.T_world_body.linear().transpose() * b.velocity_world_mps;
+      const Eigen::Vector3d v = b.T_pen_body.linear().transpose() * b.velocity_pen_mps;
       EXPECT_LT((d.velocity_B_mps - v).norm(), 1e-9);
     }
   }
@@ -172,8 +173,8 @@ TEST_F(GenerateTest, SensorsFollowTheTrajectory) {
   double bias = 0;
   const auto p = simulate_pressure(s);
   for (const PressureSample& q : p) {
-    const double t = static_cast<double>(q.timestamp_ns - s.start_time_ns) * 1e-9;
-    bias += q.depth_m - body_state(s, t).T_world_body.translation().z();
+    const double t = seconds_between(s.start_time_ns, q.timestamp_ns);
+    bias += q.depth_m - body_state(s, t).T_pen_body.translation().z();
   }
   EXPECT_NEAR(bias / static_cast<double>(p.size()), s.pressure.bias_m,
               4 * s.pressure.noise_m / std::sqrt(static_cast<double>(p.size())));
@@ -196,10 +197,10 @@ TEST_F(GenerateTest, DvlScaleErrorOffsetAndInjectedSpike) {
   for (const DvlSample& d : simulate_dvl(s, net)) {
     if (!d.valid) continue;
     ++valid;
-    const double t = static_cast<double>(d.timestamp_ns - s.start_time_ns) * 1e-9;
+    const double t = seconds_between(s.start_time_ns, d.timestamp_ns);
     const BodyState b = body_state(s, t);
     Eigen::Vector3d v =
-        1.01 * (b.T_world_body.linear().transpose() * b.velocity_world_mps) + s.dvl.bias_B_mps;
+        1.01 * (b.T_pen_body.linear().transpose() * b.velocity_pen_mps) + s.dvl.bias_B_mps;
     if (t >= 3.0 - 1e-6 && t < 3.5 - 1e-6) {
       v += Eigen::Vector3d(0, 2.0, 0);
       ++spiked;

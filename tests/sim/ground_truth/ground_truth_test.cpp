@@ -6,6 +6,7 @@
 
 #include <Eigen/Dense>
 #include <cmath>
+#include <numbers>
 
 #include "sim/ground_truth.h"
 #include "sim/render_cpu.h"
@@ -25,8 +26,8 @@ Eigen::Vector2d measured_periods_px(const ImageU8& img) {
   mean /= static_cast<double>(img.pixels.size());
   for (int y = 0; y < img.height; ++y) {
     for (int x = 0; x < img.width; ++x) {
-      const double wx = 0.5 - 0.5 * std::cos(2 * M_PI * (x + 0.5) / img.width);
-      const double wy = 0.5 - 0.5 * std::cos(2 * M_PI * (y + 0.5) / img.height);
+      const double wx = 0.5 - 0.5 * std::cos(2 * std::numbers::pi * (x + 0.5) / img.width);
+      const double wy = 0.5 - 0.5 * std::cos(2 * std::numbers::pi * (y + 0.5) / img.height);
       in[static_cast<size_t>(y) * kPad + x] = static_cast<float>((img.at(x, y) - mean) * wx * wy);
     }
   }
@@ -63,7 +64,7 @@ TEST(GroundTruth, NetPeriodInImageMatchesFocalTimesMeshOverDistance) {
     const NetGeometry net(s.pen, s.net);
     const FrameState f = frame_state(s, 0);
     const RenderedFrame r = render_cpu(s, net, f);  // with noise and marine snow
-    const double d_net = net_relative(s, net, f.T_world_camera).d_net_m;
+    const double d_net = net_relative(s, net, f.T_pen_camera).d_net_m;
     ASSERT_NEAR(d_net, camera_distance, 1e-9);
     const double expected = 462.0 * s.net.mesh_m / d_net;
     const Eigen::Vector2d got = measured_periods_px(r.image);
@@ -128,7 +129,7 @@ TEST(GroundTruth, NetAnglesAgreeWithPlaneFittedToDepth) {
     const NetGeometry net(s.pen, s.net);
     const FrameState f = frame_state(s, 0);
     const RenderedFrame r = render_cpu(s, net, f);
-    const NetRelative truth = net_relative(s, net, f.T_world_camera);
+    const NetRelative truth = net_relative(s, net, f.T_pen_camera);
     const PlaneFit fit = fit_plane(s, r.depth_m, c.half_window);
     SCOPED_TRACE(std::string(c.pen) + " heading " + std::to_string(c.pose.heading_rad));
     EXPECT_NEAR(truth.psi_net_rad, fit.psi, c.tol_rad);
@@ -143,7 +144,7 @@ TEST(GroundTruth, SignsFollowTheContract) {
       "{shape: plane, radius_m: 100, width_m: 8, top_m: 0.2, height_m: 6, wall_gap_m: 1}";
   auto rel = [&](const testing::Pose& p) {
     const Scenario s = testing::one_pose(p, 180, 135, tank);
-    return net_relative(s, NetGeometry(s.pen, s.net), frame_state(s, 0).T_world_camera);
+    return net_relative(s, NetGeometry(s.pen, s.net), frame_state(s, 0).T_pen_camera);
   };
   const NetRelative right = rel({.net_distance_m = 1.3, .heading_rad = 0.3, .depth_m = 3});
   EXPECT_NEAR(right.psi_net_rad, 0.3, 1e-9);

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "sim/net_geometry.h"
 #include "sim/net_mesh.h"
@@ -35,7 +36,8 @@ TEST(NetLattice, TwinePhaseContinuesAcrossAzimuthPi) {
     EXPECT_NEAR(net.lattice_scale(), 1.0, 1e-3);
     // Two points 2 * delta * R apart on the wall, one each side of the seam.
     const double delta = 0.001;
-    const NetHit a = hit_at(net, M_PI - delta), b = hit_at(net, -M_PI + delta);
+    const NetHit a = hit_at(net, std::numbers::pi - delta),
+                 b = hit_at(net, -std::numbers::pi + delta);
     const Eigen::Vector2d step(b.u_m - a.u_m - 2 * delta * pen.radius_m * net.lattice_scale(),
                                b.v_m - a.v_m);
     // Both twine families, in twine spacings: the jump is a whole number of them.
@@ -49,7 +51,7 @@ TEST(NetLattice, TwinePhaseContinuesAcrossAzimuthPi) {
 TEST(NetLattice, BulgeAcrossTheSeamIsContinuous) {
   PenConfig pen;
   NetConfig cfg;
-  const double half = M_PI * pen.radius_m;
+  const double half = std::numbers::pi * pen.radius_m;
   cfg.bulges = {{half - 0.2, 4.0, 0.1, 0.5}};  // centred 0.2 m before the seam
   const NetGeometry net(pen, cfg);
   // 0.3 m past the seam is 0.5 m from the centre, the same as 0.7 m before the seam.
@@ -79,8 +81,8 @@ TEST(NetLattice, MeshIsEvenAcrossAzimuthPiInTheImage) {
   // Facing the wall squarely at azimuth pi (along = pi R), camera 0.4 m from the net: the seam
   // runs down the middle of the image. The old code shifted the twines there by 0.27 mesh.
   const double camera_distance = 0.4;
-  Scenario s =
-      testing::one_pose({.net_distance_m = camera_distance + 0.3, .along_m = M_PI * 12}, 360, 270);
+  Scenario s = testing::one_pose(
+      {.net_distance_m = camera_distance + 0.3, .along_m = std::numbers::pi * 12}, 360, 270);
   s.camera.samples_per_axis = 1;
   const NetGeometry net(s.pen, s.net);
   const RenderedFrame r =

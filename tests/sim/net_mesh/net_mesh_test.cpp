@@ -6,7 +6,9 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <numbers>
 
+#include "runtime/units.h"
 #include "sim/frame_state.h"
 #include "sim/ground_truth.h"
 #include "sim/net_mesh.h"
@@ -16,7 +18,6 @@
 namespace pensight::sim {
 namespace {
 
-constexpr double kDeg = M_PI / 180;
 const char* kTank =
     "{shape: plane, radius_m: 100, width_m: 4.9, top_m: 0.5, height_m: 1.5, wall_gap_m: 0}";
 
@@ -42,7 +43,7 @@ TEST(NetMesh, TruthAtTheAxisIsTheConfiguredMeshWithoutVariation) {
       // The wall's lattice is stretched along u by lattice_scale() to close the ring: up to
       // half a closing step (36.5 mm for the diamond) in 75 m, 2.4e-4, which turns the diamond's
       // bars by 1.2e-4 rad (measured); the limit leaves a factor 2.5.
-      EXPECT_NEAR(row.opening_angle_rad, angle * kDeg, 3e-4) << pen;
+      EXPECT_NEAR(row.opening_angle_rad, deg_to_rad(angle), 3e-4) << pen;
       EXPECT_NEAR(row.stretch, 0, 5e-4) << pen;
     }
   }
@@ -65,8 +66,8 @@ TEST(NetMesh, DeformationSpansTheConfiguredVariation) {
   double worst_angle = 0, worst_stretch = 0;
   for (double u = 0; u < 12; u += 0.05) {
     for (double v = 0; v < 12; v += 0.05) {
-      const LocalMesh m = lattice.local_mesh(u, v, false, 1);
-      worst_angle = std::max(worst_angle, std::abs(m.opening_angle_rad / kDeg - 75));
+      const LocalMesh m = lattice.local_mesh(u, v, NetPart::kPlane, 1);
+      worst_angle = std::max(worst_angle, std::abs(rad_to_deg(m.opening_angle_rad) - 75));
       worst_stretch = std::max(worst_stretch, std::abs(m.stretch));
     }
   }
@@ -85,13 +86,13 @@ TEST(NetMesh, DeformationFadesBeforeTheAzimuthSeam) {
   NetConfig cfg;
   cfg.opening_angle_variation_deg = 3;
   cfg.stretch_variation = 0.03;
-  const double around = 2 * M_PI * 12;
+  const double around = 2 * std::numbers::pi * 12;
   const NetLattice lattice(cfg, around, 4);
   Eigen::Vector2d a, b;
   Eigen::Matrix2d Ja, Jb;
   // Either side of u = +-around / 2 the displacement is zero, so the lattice closes.
-  lattice.deform(around / 2 - 1e-9, 3.3, true, a, Ja);
-  lattice.deform(-around / 2 + 1e-9, 3.3, true, b, Jb);
+  lattice.deform(around / 2 - 1e-9, 3.3, NetPart::kWall, a, Ja);
+  lattice.deform(-around / 2 + 1e-9, 3.3, NetPart::kWall, b, Jb);
   EXPECT_NEAR(a.x(), around / 2, 1e-8);
   EXPECT_NEAR(b.x(), -around / 2, 1e-8);
   EXPECT_NEAR(a.y(), 3.3, 1e-8);
@@ -102,8 +103,8 @@ TEST(NetMesh, DeformationFadesBeforeTheAzimuthSeam) {
 double dft_magnitude(const std::vector<double>& img, int n, const Eigen::Vector2d& k) {
   std::vector<std::complex<double>> ex(static_cast<size_t>(n)), ey(static_cast<size_t>(n));
   for (int i = 0; i < n; ++i) {
-    ex[static_cast<size_t>(i)] = std::polar(1.0, -2 * M_PI * k.x() * i);
-    ey[static_cast<size_t>(i)] = std::polar(1.0, -2 * M_PI * k.y() * i);
+    ex[static_cast<size_t>(i)] = std::polar(1.0, -2 * std::numbers::pi * k.x() * i);
+    ey[static_cast<size_t>(i)] = std::polar(1.0, -2 * std::numbers::pi * k.y() * i);
   }
   std::complex<double> sum = 0;
   for (int y = 0; y < n; ++y) {
@@ -133,8 +134,8 @@ Eigen::Vector2d strongest_near(const std::vector<double>& img, int n,
       }
     }
   };
-  search(best_angle, 0.5 * kDeg, best_f, 0.01, 10);
-  search(best_angle, 0.05 * kDeg, best_f, 0.001, 10);
+  search(best_angle, deg_to_rad(0.5), best_f, 0.01, 10);
+  search(best_angle, deg_to_rad(0.05), best_f, 0.001, 10);
   return best_f * Eigen::Vector2d(std::cos(best_angle), std::sin(best_angle));
 }
 
@@ -159,8 +160,8 @@ TEST(NetMesh, RenderedLatticeHasTheConfiguredOpeningAngle) {
     mean /= n * n;
     for (int y = 0; y < n; ++y) {
       for (int x = 0; x < n; ++x) {
-        const double w = (0.5 - 0.5 * std::cos(2 * M_PI * (x + 0.5) / n)) *
-                         (0.5 - 0.5 * std::cos(2 * M_PI * (y + 0.5) / n));
+        const double w = (0.5 - 0.5 * std::cos(2 * std::numbers::pi * (x + 0.5) / n)) *
+                         (0.5 - 0.5 * std::cos(2 * std::numbers::pi * (y + 0.5) / n));
         img[static_cast<size_t>(y * n + x)] = (r.image.at(x0 + x, y0 + y) - mean) * w;
       }
     }
@@ -169,7 +170,7 @@ TEST(NetMesh, RenderedLatticeHasTheConfiguredOpeningAngle) {
     const Eigen::Vector2d ka = strongest_near(img, n, lattice.normal_a() / period_px);
     const Eigen::Vector2d kb = strongest_near(img, n, lattice.normal_b() / period_px);
     // The twine normals meet at 180 deg - theta.
-    const double measured = 180 - std::acos(ka.normalized().dot(kb.normalized())) / kDeg;
+    const double measured = 180 - rad_to_deg(std::acos(ka.normalized().dot(kb.normalized())));
     std::printf("  %s %.0f deg: measured %.2f deg, spacing %.2f / %.2f px (expected %.2f)\n",
                 to_string(type), angle, measured, 1 / ka.norm(), 1 / kb.norm(), period_px);
     EXPECT_NEAR(measured, angle, 1.0);

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 #include <random>
 
 #include "runtime/vk_buffer.h"
@@ -113,8 +114,8 @@ TEST_F(VulkanTest, RenderMatchesCpuWithBulgesFishSnowAndDistortion) {
 
 TEST_F(VulkanTest, RenderMatchesCpuAcrossAzimuthPi) {
   // The lattice, fouling and a bulge continue across the seam of the along coordinate.
-  Scenario s = testing::one_pose({.net_distance_m = 0.8, .along_m = M_PI * 12});
-  s.net.bulges = {{M_PI * 12 - 0.1, 4.0, 0.1, 0.4}};
+  Scenario s = testing::one_pose({.net_distance_m = 0.8, .along_m = std::numbers::pi * 12});
+  s.net.bulges = {{std::numbers::pi * 12 - 0.1, 4.0, 0.1, 0.4}};
   expect_match(ctx(), s);
 }
 
@@ -135,7 +136,7 @@ TEST_F(VulkanTest, RenderMatchesCpuShearedSquareMeshWithRoundKnots) {
 TEST_F(VulkanTest, RenderMatchesCpuDeformedDiamondMesh) {
   // Opening angle 75 deg +-3 deg, stretch +-3 %; also across azimuth pi, where the
   // deformation fades out.
-  for (const double along : {0.0, M_PI * 12 - 1.0}) {
+  for (const double along : {0.0, std::numbers::pi * 12 - 1.0}) {
     Scenario s = testing::one_pose({.net_distance_m = 1.0, .along_m = along});
     s.net.mesh_type = MeshType::kDiamond;
     s.net.opening_angle_deg = 75;

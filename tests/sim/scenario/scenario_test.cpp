@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "runtime/error.h"
+#include "runtime/units.h"
 #include "sim/scenario.h"
 #include "sim/trajectory.h"
 #include "tests/sim/sim_test_scenes.h"
@@ -86,7 +87,7 @@ TEST(Scenario, NetMeshKeysParse) {
   const SceneConfig scene = s.scene_config();
   EXPECT_EQ(scene.net_mesh_type, MeshType::kDiamond);
   ASSERT_TRUE(scene.net_mesh_angle_rad);
-  EXPECT_NEAR(*scene.net_mesh_angle_rad, 75 * M_PI / 180, 1e-15);
+  EXPECT_NEAR(*scene.net_mesh_angle_rad, deg_to_rad(75), 1e-15);
 }
 
 TEST(Scenario, BadNetMeshValuesAreRefused) {
@@ -120,8 +121,8 @@ TEST(Scenario, MinimalScenarioGetsDefaults) {
   EXPECT_DOUBLE_EQ(s.camera.calibration.camera.fx_px, 462.0);
   EXPECT_EQ(s.light.lamps.size(), 2u);
   const BodyState b = body_state(s, 1.0);
-  EXPECT_NEAR(b.T_world_body.translation().x(), 12 - 1.25, 1e-12);
-  EXPECT_NEAR(b.velocity_world_mps.x(), -0.25, 1e-9);
+  EXPECT_NEAR(b.T_pen_body.translation().x(), 12 - 1.25, 1e-12);
+  EXPECT_NEAR(b.velocity_pen_mps.x(), -0.25, 1e-9);
 }
 
 // The sweep reverses distance and heading at its waypoints: the body velocity must change
@@ -138,12 +139,12 @@ TEST(Scenario, TrajectoryVelocityIsContinuousWithoutOvershoot) {
   for (size_t k = 1; k + 1 < s.waypoints.size(); ++k) {
     SCOPED_TRACE("waypoint " + std::to_string(k));
     const double t = s.waypoints[k].t_s - t0;
-    const Eigen::Vector3d before = body_state(s, t - 1e-3).velocity_world_mps;
-    const Eigen::Vector3d after = body_state(s, t + 1e-3).velocity_world_mps;
+    const Eigen::Vector3d before = body_state(s, t - 1e-3).velocity_pen_mps;
+    const Eigen::Vector3d after = body_state(s, t + 1e-3).velocity_pen_mps;
     EXPECT_LT((after - before).norm(), 0.02);
   }
   for (double t = 0; t <= s.waypoints.back().t_s - t0; t += 0.01) {
-    const Eigen::Vector3d p = body_state(s, t).T_world_body.translation();
+    const Eigen::Vector3d p = body_state(s, t).T_pen_body.translation();
     const double net_distance_m = s.pen.radius_m - std::hypot(p.x(), p.y());
     EXPECT_GE(net_distance_m, lo - 1e-9);
     EXPECT_LE(net_distance_m, hi + 1e-9);
