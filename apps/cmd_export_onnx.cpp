@@ -1,7 +1,7 @@
 // pensight export-onnx MODEL --out FILE [--fp16]: writes a TensorRT-ready ONNX file (opset 17,
 // static shapes, BN folded, initializers embedded). MODEL is an ONNX file (re-written through
 // our importer) or a built-in architecture: builtin:compact or builtin:trudepth (320x240,
-// random weights; for engine tests and TensorRT smoke tests).
+// random weights; for engine tests and TensorRT smoke tests), or builtin:all-ops (every op).
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <string>
@@ -17,9 +17,11 @@ namespace {
 nn::Graph load(const std::string& model) {
   if (model == "builtin:compact") return nn::compact_depth_net({320, 240}, 1);
   if (model == "builtin:trudepth") return nn::trudepth_net({320, 240}, 0.5f, 1);
+  // Every op of the engine in a few kilobytes: for checking another runtime, and a fuzz seed.
+  if (model == "builtin:all-ops") return nn::all_ops_net(1);
   if (model.starts_with("builtin:")) {
     throw Error("export-onnx: unknown built-in model '" + model +
-                "'; use builtin:compact or builtin:trudepth");
+                "'; use builtin:compact, builtin:trudepth or builtin:all-ops");
   }
   return nn::import_onnx(model);
 }
@@ -31,7 +33,9 @@ int cmd_export_onnx(const Args& args) {
                "pensight export-onnx");
   std::string model, out;
   nn::OnnxExportOptions options;
-  cli.add_option("MODEL", model, "a .onnx file, builtin:compact or builtin:trudepth")->required();
+  cli.add_option("MODEL", model,
+                 "a .onnx file, builtin:compact, builtin:trudepth or builtin:all-ops")
+      ->required();
   cli.add_option("--out", out, "ONNX file to write")->required();
   cli.add_flag("--fp16", options.fp16_weights, "store the weights as fp16");
   try {

@@ -2,11 +2,15 @@
 
 #include <openvdb/io/Stream.h>
 #include <openvdb/tools/VolumeToMesh.h>
+#include <zlib.h>
 
+#include <algorithm>
 #include <cstring>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 #include <string>
+#include <string_view>
 
 #include "pipeline/dataset/atomic_file.h"
 #include "runtime/error.h"
@@ -29,6 +33,25 @@ constexpr MetaKey kMetaKeys[] = {
     {"pensight_max_range_m", &MapConfig::max_range_m},
     {"pensight_free_margin_m", &MapConfig::free_margin_m},
 };
+
+// map.vdb ends with a trailer after the OpenVDB data: kTrailerTag, the CRC-32 of every byte
+// before the trailer (little-endian), kTrailerVersion. OpenVDB readers stop at the end of the
+// grids, so the file stays a plain .vdb for other tools. The CRC is checked before OpenVDB parses
+// anything: its decoder (10.0) trusts the block sizes inside the file and writes past its buffers
+// on a damaged one (docs/reliability.md).
+constexpr char kTrailerTag[8] = {'p', 'e', 'n', 's', 'i', 'g', 'h', 't'};
+constexpr char kTrailerVersion[4] = {'m', 'a', 'p', '1'};
+constexpr size_t kTrailerSize = sizeof kTrailerTag + 4 + sizeof kTrailerVersion;
+
+uint32_t crc32_of(std::string_view bytes) {
+  uLong crc = crc32(0L, Z_NULL, 0);
+  for (size_t at = 0; at < bytes.size();) {
+    const auto n = static_cast<uInt>(std::min<size_t>(bytes.size() - at, 1u << 30));
+    crc = crc32(crc, reinterpret_cast<const Bytef*>(bytes.data() + at), n);
+    at += n;
+  }
+  return static_cast<uint32_t>(crc);
+}
 
 template <class T>
 void put(std::string& out, T value) {
@@ -118,6 +141,17 @@ void write_map_vdb(const OccupancyMap& map, const std::filesystem::path& file) {
     openvdb::io::File out(temp.string());
     out.write({grid});
     out.close();
+    std::string bytes;
+    {
+      std::ifstream in(temp, std::ios::binary);
+      bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    }
+    std::string trailer(kTrailerTag, sizeof kTrailerTag);
+    put(trailer, crc32_of(bytes));
+    trailer.append(kTrailerVersion, sizeof kTrailerVersion);
+    std::ofstream append(temp, std::ios::binary | std::ios::app);
+    append.write(trailer.data(), static_cast<std::streamsize>(trailer.size()));
+    if (!append.flush()) throw openvdb::IoError("writing the checksum trailer failed");
   } catch (const openvdb::Exception& e) {
     std::filesystem::remove(temp);
     throw Error("cannot write map '" + file.string() + "': " + e.what());
@@ -136,11 +170,32 @@ OccupancyMap read_map_vdb(const std::filesystem::path& file) {
     throw Error("map '" + file.string() +
                 "': no such file (give the map.vdb that pensight map wrote)");
   }
-  // Read through a stream that throws on a short read: OpenVDB's own file reader takes the size
-  // of a compressed block from the bytes where a truncated file ends and allocates that much.
+  std::string bytes;
+  {
+    std::ifstream in(file, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  const std::string_view data(bytes.data(),
+                              bytes.size() < kTrailerSize ? 0 : bytes.size() - kTrailerSize);
+  const std::string_view trailer = std::string_view(bytes).substr(data.size());
+  if (trailer.size() != kTrailerSize ||
+      trailer.substr(0, sizeof kTrailerTag) != std::string_view(kTrailerTag, sizeof kTrailerTag) ||
+      trailer.substr(12) != std::string_view(kTrailerVersion, sizeof kTrailerVersion)) {
+    throw Error("map '" + file.string() +
+                "': no pensight checksum trailer (a truncated file, or not written by pensight "
+                "map; re-run pensight map to write it)");
+  }
+  uint32_t stored = 0;
+  std::memcpy(&stored, trailer.data() + sizeof kTrailerTag, 4);
+  if (stored != crc32_of(data)) {
+    throw Error("map '" + file.string() +
+                "': checksum mismatch (the file is damaged; re-run pensight map to write it)");
+  }
+  // Parse through a stream that throws on a short read: OpenVDB's own file reader takes the size
+  // of a compressed block from the bytes where a file ends and allocates that much.
   openvdb::GridBase::Ptr base;
   try {
-    std::ifstream in(file, std::ios::binary);
+    std::istringstream in(std::string(data), std::ios::binary);
     in.exceptions(std::ios::failbit | std::ios::badbit);
     openvdb::io::Stream stream(in, false);
     for (const openvdb::GridBase::Ptr& g : *stream.getGrids()) {

@@ -1,8 +1,11 @@
 #!/usr/bin/env bash
 # Builds pensight (installing its packages if needed) and runs every test on lavapipe with the
 # Khronos validation layer on, then the installed-package example (scripts/example.sh).
-# --sanitize: the tests with AddressSanitizer + UBSan (build-asan/). --tsan: the tests labelled
-# `threads` with ThreadSanitizer (build-tsan/).
+# --sanitize: the tests with AddressSanitizer + UBSan (build-asan/), except the rendered accuracy
+# tests (label `accuracy`): their code (renderer, FFT detector, estimators) runs under ASan in the
+# shorter rendered tests, and their long sequences would take a third of the CI budget there.
+# --tsan: the tests labelled `threads` with ThreadSanitizer (build-tsan/). --fuzz: the fuzz targets
+# (build-fuzz/, clang): each replays its seed corpus and crash regressions, then fuzzes for 60 s.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 mode="${1:-}"
@@ -16,6 +19,15 @@ if [ "$mode" = "--sanitize" ]; then
   # Mesa's llvmpipe keeps JIT and thread allocations until exit; leaks are not checked here.
   export ASAN_OPTIONS="detect_leaks=0:abort_on_error=1"
   export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
+  ctest_args=(-LE accuracy)
+elif [ "$mode" = "--fuzz" ]; then
+  scripts/fuzz.sh --build
+  export ASAN_OPTIONS="detect_leaks=0:abort_on_error=1"
+  ctest --test-dir build-fuzz --output-on-failure -j2 -L fuzz
+  mkdir -p .cache/fuzz
+  scripts/fuzz.sh --list | xargs -P 2 -I '{}' sh -c 'scripts/fuzz.sh {} 60 >.cache/fuzz/{}.log 2>&1 ||
+    { tail -n 40 .cache/fuzz/{}.log; echo "fuzz: {} failed; its crash input is in .cache/fuzz/crashes/{}/"; exit 255; }'
+  exit 0
 elif [ "$mode" = "--tsan" ]; then
   export PENSIGHT_BUILD_DIR=build-tsan
   # A race needs threads that share data, so only the tests labelled `threads` are built and run;

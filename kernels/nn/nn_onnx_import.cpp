@@ -75,6 +75,24 @@ std::vector<double> tensor_values(const onnx::TensorProto& t) {
   return v;
 }
 
+// A constant's dims and values agree: every dim >= 0, as many values as the dims' product (a
+// scalar, with no dims, has one). Checked before any use, so no shape from the file indexes past
+// its data.
+void check_constant(const std::string& name, const Dims& dims, const std::vector<double>& values) {
+  bool agree = true;
+  size_t count = 1;
+  for (const int64_t d : dims) {
+    const auto u = static_cast<size_t>(d);
+    agree = agree && d >= 0 && (u == 0 || count <= values.size() / u);
+    if (!agree) break;
+    count *= u;
+  }
+  if (!agree || count != values.size()) {
+    throw Error("onnx: constant '" + name + "' has " + std::to_string(values.size()) +
+                " values for its dims; the file is damaged or not an ONNX model");
+  }
+}
+
 class Reader {
  public:
   Reader(const onnx::ModelProto& m, std::string what) : m_(m), what_(std::move(what)) {}
@@ -86,7 +104,9 @@ class Reader {
     const auto& gp = m_.graph();
     for (const auto& t : gp.initializer()) {
       Dims shape(t.dims().begin(), t.dims().end());
-      consts_[t.name()] = {shape, tensor_values(t)};
+      std::vector<double> values = tensor_values(t);
+      check_constant(t.name(), shape, values);
+      consts_[t.name()] = {shape, std::move(values)};
     }
     for (const auto& in : gp.input()) {
       if (consts_.count(in.name())) continue;
@@ -144,6 +164,17 @@ class Reader {
     }
     return c->second.second;
   }
+  // A shape or index value of a constant input as an integer (exact in a double to 2^53).
+  int64_t integer(const onnx::NodeProto& n, double x, const char* what) {
+    if (!(std::abs(x) <= 9007199254740992.0) || x != std::floor(x))
+      fail(n, std::string(what) + " must be whole numbers");
+    return static_cast<int64_t>(x);
+  }
+  double first_value(const onnx::NodeProto& n, int i, const char* what) {
+    const auto& v = const_input(n, i, what);
+    if (v.empty()) fail(n, std::string(what) + " is empty");
+    return v[0];
+  }
   static const onnx::AttributeProto* attr(const onnx::NodeProto& n, const char* name) {
     for (const auto& a : n.attribute())
       if (a.name() == name) return &a;
@@ -165,6 +196,20 @@ class Reader {
     const auto* a = attr(n, name);
     return a ? std::vector<int64_t>(a->ints().begin(), a->ints().end()) : std::vector<int64_t>{};
   }
+  // A 2-D op's spatial attribute: absent (empty) or `count` values in [lo, 65536] as int.
+  std::vector<int> spatial_ints(const onnx::NodeProto& n, const char* name, size_t count, int lo) {
+    const std::vector<int64_t> v = attr_ints(n, name);
+    if (v.empty()) return {};
+    if (v.size() != count)
+      fail(n, std::string(name) + " must have " + std::to_string(count) + " values",
+           "only 2-D (NCHW) convolution and pooling are supported");
+    std::vector<int> out;
+    for (const int64_t x : v) {
+      if (x < lo || x > 65536) fail(n, std::string(name) + " value out of range");
+      out.push_back(static_cast<int>(x));
+    }
+    return out;
+  }
 
   // Conv -> BatchNormalization with constant weights and the Conv output read only by the BN:
   // the BN parameters go into new Conv weights and bias, and the BN becomes an alias.
@@ -176,7 +221,8 @@ class Reader {
     for (const auto& o : gp.output()) ++readers[o.name()];
     std::map<std::string, const onnx::NodeProto*> conv_of;
     for (const auto& n : gp.node()) {
-      if (n.op_type() == "Conv" && n.input_size() >= 2 && consts_.count(n.input(1)))
+      if (n.op_type() == "Conv" && n.input_size() >= 2 && n.output_size() >= 1 &&
+          consts_.count(n.input(1)))
         conv_of[n.output(0)] = &n;
     }
     for (const auto& bn : gp.node()) {
@@ -193,11 +239,16 @@ class Reader {
       const auto& mean = consts_.at(bn.input(3)).second;
       const auto& var = consts_.at(bn.input(4)).second;
       const double eps = attr_f(bn, "epsilon", 1e-5f);
+      if (w.first.empty() || w.first[0] <= 0) continue;  // the Conv node reports its weight
       const size_t cout = static_cast<size_t>(w.first[0]);
+      const bool sizes_agree =
+          scale.size() == cout && shift.size() == cout && mean.size() == cout && var.size() == cout;
+      if (!sizes_agree || conv.output_size() < 1 || bn.output_size() < 1) continue;
       const size_t per = w.second.size() / cout;
       std::vector<double> bias(cout, 0.0);
       if (conv.input_size() > 2 && consts_.count(conv.input(2)))
         bias = consts_.at(conv.input(2)).second;
+      if (bias.size() != cout) continue;
       for (size_t o = 0; o < cout; ++o) {
         const double s = scale[o] / std::sqrt(var[o] + eps);
         for (size_t k = 0; k < per; ++k) w.second[o * per + k] *= s;
@@ -217,7 +268,10 @@ class Reader {
       fail(n, "custom domain '" + n.domain() + "'", std::string("supported ops: ") + kSupported);
     if (n.output_size() < 1) fail(n, "has no output");
     const std::string out = n.output(0);
-    auto in = [&](int i) { return id(n.input(i), "input"); };
+    auto in = [&](int i) {
+      if (i >= n.input_size()) fail(n, "missing input " + std::to_string(i + 1));
+      return id(n.input(i), "input");
+    };
     auto emit = [&](Op o, std::vector<int> inputs, Attrs a) {
       try {
         ids_[out] = g_.add(o, std::move(inputs), std::move(a), n.name().empty() ? out : n.name());
@@ -229,12 +283,15 @@ class Reader {
     if (op == "Constant") {
       const auto* v = attr(n, "value");
       if (!v) fail(n, "only the 'value' form is supported");
-      consts_[out] = {Dims(v->t().dims().begin(), v->t().dims().end()), tensor_values(v->t())};
+      Dims shape(v->t().dims().begin(), v->t().dims().end());
+      std::vector<double> values = tensor_values(v->t());
+      check_constant(out, shape, values);
+      consts_[out] = {shape, std::move(values)};
       return;
     }
     if (op == "Identity" || op == "Dropout" ||
         (op == "Cast" && attr_i(n, "to", 1) == onnx::TensorProto::FLOAT)) {
-      if (consts_.count(n.input(0)))
+      if (n.input_size() > 0 && consts_.count(n.input(0)))
         consts_[out] = consts_.at(n.input(0));
       else
         ids_[out] = in(0);
@@ -251,6 +308,8 @@ class Reader {
       const auto& mean = const_input(n, 3, "mean");
       const auto& var = const_input(n, 4, "var");
       const double eps = attr_f(n, "epsilon", 1e-5f);
+      if (shift.size() != scale.size() || mean.size() != scale.size() || var.size() != scale.size())
+        fail(n, "scale, bias, mean and var must have one value per channel");
       const auto c = static_cast<int64_t>(scale.size());
       Tensor s{{1, c, 1, 1}, {}}, b{{1, c, 1, 1}, {}};
       for (size_t i = 0; i < scale.size(); ++i) {
@@ -271,14 +330,16 @@ class Reader {
     if (op == "Conv" || op == "ConvTranspose") {
       if (attr_s(n, "auto_pad", "NOTSET") != "NOTSET")
         fail(n, "auto_pad is not supported", "export with explicit pads");
-      const auto pads = attr_ints(n, "pads"), strides = attr_ints(n, "strides"),
-                 dil = attr_ints(n, "dilations");
-      if (!pads.empty()) a.pads = {int(pads[0]), int(pads[1]), int(pads[2]), int(pads[3])};
-      if (!strides.empty()) a.stride = {int(strides[0]), int(strides[1])};
-      if (!dil.empty()) a.dilation = {int(dil[0]), int(dil[1])};
-      a.group = static_cast<int>(attr_i(n, "group", 1));
-      const auto op_pad = attr_ints(n, "output_padding");
-      if (!op_pad.empty()) a.output_padding = {int(op_pad[0]), int(op_pad[1])};
+      const auto pads = spatial_ints(n, "pads", 4, 0), strides = spatial_ints(n, "strides", 2, 1),
+                 dil = spatial_ints(n, "dilations", 2, 1);
+      if (!pads.empty()) a.pads = {pads[0], pads[1], pads[2], pads[3]};
+      if (!strides.empty()) a.stride = {strides[0], strides[1]};
+      if (!dil.empty()) a.dilation = {dil[0], dil[1]};
+      const int64_t group = attr_i(n, "group", 1);
+      if (group < 1 || group > 65536) fail(n, "group out of range");
+      a.group = static_cast<int>(group);
+      const auto op_pad = spatial_ints(n, "output_padding", 2, 0);
+      if (!op_pad.empty()) a.output_padding = {op_pad[0], op_pad[1]};
       if (!attr_ints(n, "output_shape").empty())
         fail(n, "output_shape is not supported", "give pads instead");
       std::vector<int> inputs;
@@ -312,13 +373,13 @@ class Reader {
       a.alpha = attr_f(n, "alpha", 0.01f);
       emit(Op::kLeakyRelu, {in(0)}, a);
     } else if (op == "Clip") {
-      a.alpha = opset_ < 11 ? attr_f(n, "min", -INFINITY)
-                            : (n.input_size() > 1 && !n.input(1).empty()
-                                   ? float(const_input(n, 1, "min")[0])
-                                   : -INFINITY);
+      a.alpha = opset_ < 11
+                    ? attr_f(n, "min", -INFINITY)
+                    : (n.input_size() > 1 && !n.input(1).empty() ? float(first_value(n, 1, "min"))
+                                                                 : -INFINITY);
       a.beta = opset_ < 11
                    ? attr_f(n, "max", INFINITY)
-                   : (n.input_size() > 2 && !n.input(2).empty() ? float(const_input(n, 2, "max")[0])
+                   : (n.input_size() > 2 && !n.input(2).empty() ? float(first_value(n, 2, "max"))
                                                                 : INFINITY);
       emit(Op::kClip, {in(0)}, a);
     } else if (op == "Concat") {
@@ -346,12 +407,13 @@ class Reader {
       if (xs.size() != 4) fail(n, "input must be 4-D");
       if (n.input_size() > 3 && !n.input(3).empty()) {
         const auto& sz = const_input(n, 3, "sizes");
-        a.sizes = {static_cast<int64_t>(sz.at(2)), static_cast<int64_t>(sz.at(3))};
+        if (sz.size() != 4) fail(n, "sizes must have 4 values (N, C, H, W)");
+        a.sizes = {integer(n, sz[2], "sizes"), integer(n, sz[3], "sizes")};
       } else {
         const auto& sc = const_input(n, 2, "scales");
         if (sc.size() != 4 || sc[0] != 1 || sc[1] != 1) fail(n, "only H/W scaling is supported");
-        a.sizes = {static_cast<int64_t>(std::floor(double(xs[2]) * sc[2])),
-                   static_cast<int64_t>(std::floor(double(xs[3]) * sc[3]))};
+        a.sizes = {integer(n, std::floor(double(xs[2]) * sc[2]), "scaled sizes"),
+                   integer(n, std::floor(double(xs[3]) * sc[3]), "scaled sizes")};
       }
       emit(Op::kResize, {in(0)}, a);
     } else if (op == "MaxPool" || op == "AveragePool") {
@@ -361,12 +423,12 @@ class Reader {
         fail(n, "auto_pad is not supported", "export with explicit pads");
       for (int64_t d : attr_ints(n, "dilations"))
         if (d != 1) fail(n, "dilated pooling is not supported");
-      const auto k = attr_ints(n, "kernel_shape"), s = attr_ints(n, "strides"),
-                 p = attr_ints(n, "pads");
+      const auto k = spatial_ints(n, "kernel_shape", 2, 1), s = spatial_ints(n, "strides", 2, 1),
+                 p = spatial_ints(n, "pads", 4, 0);
       if (k.size() != 2) fail(n, "only 2-D pooling is supported");
-      a.kernel = {int(k[0]), int(k[1])};
-      if (!s.empty()) a.stride = {int(s[0]), int(s[1])};
-      if (!p.empty()) a.pads = {int(p[0]), int(p[1]), int(p[2]), int(p[3])};
+      a.kernel = {k[0], k[1]};
+      if (!s.empty()) a.stride = {s[0], s[1]};
+      if (!p.empty()) a.pads = {p[0], p[1], p[2], p[3]};
       a.count_include_pad = attr_i(n, "count_include_pad", 0) != 0;
       if (n.output_size() > 1 && !n.output(1).empty())
         fail(n, "the Indices output is not supported");
@@ -381,7 +443,10 @@ class Reader {
       emit(Op::kGemm, inputs, a);
     } else if (op == "Softmax") {
       const int rank = static_cast<int>(g_.value(in(0)).shape.size());
-      a.axis = static_cast<int>(attr_i(n, "axis", opset_ >= 13 ? -1 : 1));
+      const int64_t axis = attr_i(n, "axis", opset_ >= 13 ? -1 : 1);
+      a.axis = axis < -rank || axis >= rank ? rank : static_cast<int>(axis);
+      if (rank == 0) fail(n, "input must have at least one dimension");
+      if (a.axis == rank) fail(n, "axis out of range");
       if (opset_ < 13 && (a.axis + rank) % rank != rank - 1)
         fail(n, "opset < 13 Softmax over several axes", "re-export with opset >= 13");
       emit(Op::kSoftmax, {in(0)}, a);
@@ -389,7 +454,7 @@ class Reader {
       a.ints = attr_ints(n, "perm");
       emit(Op::kTranspose, {in(0)}, a);
     } else if (op == "Reshape") {
-      for (double v : const_input(n, 1, "shape")) a.ints.push_back(static_cast<int64_t>(v));
+      for (double v : const_input(n, 1, "shape")) a.ints.push_back(integer(n, v, "shape"));
       emit(Op::kReshape, {in(0)}, a);
     } else if (op == "Flatten") {
       a.axis = static_cast<int>(attr_i(n, "axis", 1));
@@ -399,9 +464,7 @@ class Reader {
         std::vector<int64_t> v;
         if (n.input_size() > i && !n.input(i).empty())
           for (double x : const_input(n, i, what))
-            v.push_back(x >= 9.2e18    ? INT64_MAX
-                        : x <= -9.2e18 ? INT64_MIN
-                                       : static_cast<int64_t>(x));
+            v.push_back(x >= 9.2e18 ? INT64_MAX : x <= -9.2e18 ? INT64_MIN : integer(n, x, what));
         return v;
       };
       if (opset_ < 10) {
@@ -418,7 +481,7 @@ class Reader {
     } else if (op == "ReduceMean") {
       a.axes = attr_ints(n, "axes");
       if (n.input_size() > 1 && !n.input(1).empty())
-        for (double x : const_input(n, 1, "axes")) a.axes.push_back(static_cast<int64_t>(x));
+        for (double x : const_input(n, 1, "axes")) a.axes.push_back(integer(n, x, "axes"));
       a.keepdims = attr_i(n, "keepdims", 1) != 0;
       emit(Op::kReduceMean, {in(0)}, a);
     } else if (op == "LayerNormalization") {

@@ -190,7 +190,11 @@ std::optional<std::vector<YamlMap>> YamlMap::optional_map_list(const std::string
 
 void YamlMap::check_unknown_keys() const {
   for (const auto& kv : node_) {
-    const std::string key = kv.first.as<std::string>();
+    if (!kv.first.IsScalar()) {
+      throw Error(file_ + ": " + (prefix_.empty() ? "top level" : "key '" + prefix_ + "'") +
+                  ": a key that is a list or a mapping; keys are plain names");
+    }
+    const std::string key = kv.first.Scalar();
     if (used_->count(key) != 0) continue;
     if (state_->unknown == UnknownKeys::kNote) {
       state_->unknown_found.push_back(key_path(key));

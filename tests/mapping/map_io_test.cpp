@@ -126,7 +126,12 @@ TEST(MapIoTest, BadFilesNameTheFile) {
     const std::string message = error_of(file);
     EXPECT_NE(message.find(file.string()), std::string::npos) << message;
   }
-  EXPECT_NE(error_of(dir / "density.vdb").find("occupancy"), std::string::npos);
+  EXPECT_NE(error_of(dir / "density.vdb").find("not written by pensight map"), std::string::npos);
+  // One flipped byte inside the grid data is caught by the checksum before OpenVDB parses it.
+  std::string flipped = good;
+  flipped[good.size() / 2] = static_cast<char>(flipped[good.size() / 2] ^ 0x10);
+  write_bytes(dir / "flipped.vdb", flipped);
+  EXPECT_NE(error_of(dir / "flipped.vdb").find("checksum mismatch"), std::string::npos);
   fs::remove_all(dir);
 }
 

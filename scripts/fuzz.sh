@@ -1,0 +1,57 @@
+#!/usr/bin/env bash
+# Runs one libFuzzer target (fuzz/fuzz_TARGET.cpp) for SECONDS (default 60), or for RUNS inputs
+# with --runs RUNS, building the fuzz build (build-fuzz/: clang, ASan+UBSan) first. New inputs that
+# reach new code collect in .cache/fuzz/TARGET/ (kept between runs); a crash is written to
+# .cache/fuzz/crashes/TARGET/ and the script fails. `scripts/fuzz.sh --list` names the targets,
+# `--build` only builds, `--merge TARGET` folds .cache/fuzz/TARGET/ into the committed seed corpus
+# fuzz/corpus/TARGET/ (only the inputs that add coverage).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+build_dir=build-fuzz
+
+build() {
+  PENSIGHT_BUILD_DIR=$build_dir PENSIGHT_BUILD_TARGET=pensight_fuzzers CC=clang-14 CXX=clang++-14 \
+    scripts/setup.sh -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPENSIGHT_FUZZ=ON -DPENSIGHT_CUDA=OFF \
+    -DPENSIGHT_BUILD_BENCH=OFF
+}
+targets() {
+  sed -n 's/^foreach(name \(.*\))$/\1/p; s/^  pensight_add_fuzzer(\([a-z_]*\))$/\1/p' fuzz/CMakeLists.txt |
+    tr ' ' '\n'
+}
+
+case "${1:-}" in
+  "" | -h | --help) sed -n '2,8p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+  --list) targets; exit 0 ;;
+  --build) build; exit 0 ;;
+esac
+
+merge=0
+if [ "$1" = "--merge" ]; then merge=1; shift; fi
+target="$1"
+if ! targets | grep -qx "$target"; then
+  echo "fuzz: no target '$target'; the targets are: $(targets | tr '\n' ' ')" >&2
+  exit 2
+fi
+build >/dev/null
+binary=$build_dir/fuzz/fuzz_$target
+mkdir -p .cache/fuzz
+corpus=.cache/fuzz/$target
+seeds=fuzz/corpus/$target
+mkdir -p "$corpus" ".cache/fuzz/crashes/$target"
+if [ "$merge" = 1 ]; then
+  "$binary" -merge=1 "$seeds" "$corpus" 2>&1 | tail -2
+  exit 0
+fi
+
+limit=(-max_total_time="${2:-60}")
+if [ "${2:-}" = "--runs" ]; then limit=(-runs="$3"); fi
+dict=()
+case "$target" in
+  *yaml | map_config) dict=(-dict=fuzz/dict/yaml.dict) ;;
+  onnx) dict=(-dict=fuzz/dict/onnx.dict) ;;
+esac
+# Leaks are not findings here: llvmpipe, OpenCV and OpenVDB keep allocations until exit.
+export ASAN_OPTIONS="detect_leaks=0:abort_on_error=1"
+export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
+"$binary" "${limit[@]}" "${dict[@]}" -rss_limit_mb=2048 -malloc_limit_mb=1024 -print_final_stats=1 \
+  -artifact_prefix=".cache/fuzz/crashes/$target/" "$corpus" "$seeds"
