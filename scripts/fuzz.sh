@@ -32,7 +32,8 @@ if ! targets | grep -qx "$target"; then
   echo "fuzz: no target '$target'; the targets are: $(targets | tr '\n' ' ')" >&2
   exit 2
 fi
-build >/dev/null
+# PENSIGHT_FUZZ_BUILT=1: the caller has just built (parallel runs must not configure at once).
+if [ "${PENSIGHT_FUZZ_BUILT:-}" != 1 ]; then build >/dev/null; fi
 binary=$build_dir/fuzz/fuzz_$target
 mkdir -p .cache/fuzz
 corpus=.cache/fuzz/$target

@@ -22,6 +22,7 @@ if [ "$mode" = "--sanitize" ]; then
   ctest_args=(-LE accuracy)
 elif [ "$mode" = "--fuzz" ]; then
   scripts/fuzz.sh --build
+  export PENSIGHT_FUZZ_BUILT=1
   export ASAN_OPTIONS="detect_leaks=0:abort_on_error=1"
   ctest --test-dir build-fuzz --output-on-failure -j2 -L fuzz
   mkdir -p .cache/fuzz

@@ -42,7 +42,7 @@ Eigen::Vector3d vec3(const YamlMap& y, const std::string& key, const Eigen::Vect
 CameraConfig parse_camera(const YamlMap& y) {
   CameraConfig c;
   PinholeCamera& k = c.calibration.camera;
-  c.calibration.rate_hz = positive(y, "rate_hz", 10);
+  c.calibration.rate_hz = ranged(y, "rate_hz", 10, 0.1, 1000);
   if (y.has("resolution")) {
     const auto r = y.numbers("resolution", 2);
     if (r[0] < 8 || r[1] < 8 || r[0] > 8192 || r[1] > 8192 || r[0] != std::round(r[0]) ||
@@ -335,6 +335,7 @@ std::vector<Waypoint> lawnmower(const YamlMap& y) {
   const double speed = positive(y, "speed_mps", 0.3);
   const double along0 = y.number("along_m", 0);
   if (!(bottom >= top)) y.fail("depth_to_m", "must not be above depth_from_m");
+  if (!((bottom - top) / spacing <= 1000)) y.fail("row_spacing_m", "more than 1000 rows");
   y.check_unknown_keys();
   const int rows = static_cast<int>(std::floor((bottom - top) / spacing + 1e-9)) + 1;
   std::vector<Waypoint> out;
@@ -449,7 +450,10 @@ Scenario parse_scenario(const std::string& text, const std::string& file_name) {
   if (s.waypoints.empty()) y.fail("trajectory", "needs at least one waypoint");
   const double last = s.waypoints.back().t_s;
   s.duration_s = y.number("duration_s", last - s.waypoints.front().t_s);
-  if (!(s.duration_s >= 0)) y.fail("duration_s", "must not be negative");
+  // Six hours: 216 000 frames at 10 Hz, and a bound on what the trajectory checks walk through.
+  if (!(s.duration_s >= 0 && s.duration_s <= 21600)) {
+    y.fail("duration_s", "must be between 0 and 21600 s (6 h; from the waypoints when absent)");
+  }
   y.check_unknown_keys();
   validate(s);
   return s;

@@ -91,8 +91,9 @@ CameraCalibration read_camera_yaml(const std::filesystem::path& file) {
   CameraCalibration c;
   c.rate_hz = positive(y, "rate_hz");
   const auto res = y.numbers("resolution", 2);
-  if (res[0] < 1 || res[1] < 1 || res[0] != std::round(res[0]) || res[1] != std::round(res[1])) {
-    y.fail("resolution", "expected [width, height] in whole pixels");
+  if (!(res[0] >= 1 && res[1] >= 1 && res[0] <= 16384 && res[1] <= 16384) ||
+      res[0] != std::round(res[0]) || res[1] != std::round(res[1])) {
+    y.fail("resolution", "expected [width, height] in whole pixels, each 1 to 16384");
   }
   c.camera.width_px = static_cast<int>(res[0]);
   c.camera.height_px = static_cast<int>(res[1]);

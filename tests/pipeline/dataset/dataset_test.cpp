@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <iterator>
 #include <numbers>
 #include <opencv2/imgcodecs.hpp>
 #include <random>
@@ -15,6 +16,7 @@
 #include "pipeline/dataset/dataset_writer.h"
 #include "pipeline/dataset/estimates_csv.h"
 #include "pipeline/dataset/global_pose_csv.h"
+#include "pipeline/dataset/png_io.h"
 #include "pipeline/dataset/trajectory_tum.h"
 #include "runtime/error.h"
 #include "runtime/log.h"
@@ -466,6 +468,27 @@ TEST_F(DatasetFilesTest, WrongImageSizeIsRefusedOnLoad) {
   EXPECT_NE(error_of([&] { d.load_frame(1); }).find("30x20"), std::string::npos);
   fs::remove(root_ / "cam0" / "data" / d.frames[0].filename);
   EXPECT_NE(error_of([&] { d.load_frame(0); }).find("not found"), std::string::npos);
+}
+
+// A damaged header claiming gigapixels is refused before the decoder allocates them.
+TEST_F(DatasetFilesTest, PngClaimingAHugeSizeIsRefusedBeforeDecoding) {
+  const Dataset d = read_dataset(root_);
+  const fs::path file = root_ / "cam0" / "data" / d.frames[0].filename;
+  std::string bytes;
+  {
+    std::ifstream in(file, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  ASSERT_GT(bytes.size(), 24u);
+  for (const size_t at : {size_t{16}, size_t{20}}) bytes.replace(at, 4, "\x00\x01\x86\xa0", 4);
+  {
+    std::ofstream out(file, std::ios::binary | std::ios::trunc);
+    out << bytes;
+  }
+  EXPECT_NE(error_of([&] { read_png_grey8(file); }).find("100000x100000, larger than"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] { d.load_frame(0); }).find("100000x100000 but sensor.yaml says 36x27"),
+            std::string::npos);
 }
 
 TEST_F(DatasetFilesTest, ColourAndSixteenBitFramesBecomeGrey8) {

@@ -190,6 +190,14 @@ TEST(Scenario, ImpossibleValuesAreRefused) {
   EXPECT_NE(e.find("water.current_mps"), std::string::npos) << e;
   e = error_of(std::string(kMinimal) + "water: {current_mps: [0.1, 0]}\n");
   EXPECT_NE(e.find("water.current_mps"), std::string::npos) << e;
+  // Sizes that would make the loaders loop or allocate without bound.
+  e = error_of(std::string(kMinimal) + "duration_s: 1e9\n");
+  EXPECT_NE(e.find("'duration_s': must be between 0 and 21600 s"), std::string::npos) << e;
+  e = error_of(std::string(kMinimal) + "camera: {rate_hz: 1e9}\n");
+  EXPECT_NE(e.find("camera.rate_hz"), std::string::npos) << e;
+  e = error_of(
+      "trajectory:\n  lawnmower: {net_distances_m: [1.0], depth_from_m: 2, depth_to_m: 1e9}\n");
+  EXPECT_NE(e.find("more than 1000 rows"), std::string::npos) << e;
 }
 
 TEST(Scenario, DvlErrorsAndSpikesParse) {
