@@ -23,30 +23,33 @@ cv::Mat read_any(const std::filesystem::path& file, int expect_width, int expect
   if (!std::filesystem::is_regular_file(file)) {
     throw Error("image '" + file.string() + "' not found: check the file names in data.csv");
   }
-  // A PNG's size is in its header: a wrong or absurd size is refused before the decoder allocates
-  // what the header claims (a damaged file can claim gigapixels).
+  // Only PNG (dataset-format.md): OpenCV would also decode BMP, TIFF, JPEG 2000 ... and allocate
+  // whatever size their headers claim. A PNG's size is in its header, so a wrong or absurd size
+  // is refused before the decoder allocates what the header claims.
   std::ifstream in(file, std::ios::binary);
   std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   constexpr std::string_view kPngSignature("\x89PNG\r\n\x1a\n", 8);
-  if (bytes.size() >= 24 && std::string_view(bytes).substr(0, 8) == kPngSignature) {
-    const auto be32 = [&](size_t at) {
-      uint32_t v = 0;
-      for (size_t i = 0; i < 4; ++i) v = (v << 8) | static_cast<uint8_t>(bytes[at + i]);
-      return v;
-    };
-    const uint64_t w = be32(16), h = be32(20);
-    const bool wrong_size = expect_width > 0 && (w != static_cast<uint64_t>(expect_width) ||
-                                                 h != static_cast<uint64_t>(expect_height));
-    if (wrong_size || w * h > kMaxImagePixels) {
-      throw Error(
-          "image '" + file.string() + "' is " + std::to_string(w) + "x" + std::to_string(h) +
-          (wrong_size ? " but sensor.yaml says " + std::to_string(expect_width) + "x" +
-                            std::to_string(expect_height) + ": fix the resolution or the image"
-                      : ", larger than pensight reads (64 megapixels)"));
-    }
+  if (bytes.size() < 24 || std::string_view(bytes).substr(0, 8) != kPngSignature) {
+    throw Error("image '" + file.string() +
+                "' is not a PNG file (frames and depth images are PNG, dataset-format.md)");
+  }
+  const auto be32 = [&](size_t at) {
+    uint32_t v = 0;
+    for (size_t i = 0; i < 4; ++i) v = (v << 8) | static_cast<uint8_t>(bytes[at + i]);
+    return v;
+  };
+  const uint64_t w = be32(16), h = be32(20);
+  const bool wrong_size = expect_width > 0 && (w != static_cast<uint64_t>(expect_width) ||
+                                               h != static_cast<uint64_t>(expect_height));
+  if (wrong_size || w * h > kMaxImagePixels || bytes.size() > kMaxImagePixels * 8) {
+    throw Error("image '" + file.string() + "' is " + std::to_string(w) + "x" + std::to_string(h) +
+                (wrong_size
+                     ? " but sensor.yaml says " + std::to_string(expect_width) + "x" +
+                           std::to_string(expect_height) + ": fix the resolution or the image"
+                     : ", larger than pensight reads (64 megapixels)"));
   }
   const cv::Mat raw(1, static_cast<int>(bytes.size()), CV_8UC1, bytes.data());
-  cv::Mat m = bytes.empty() ? cv::Mat() : cv::imdecode(raw, cv::IMREAD_UNCHANGED);
+  cv::Mat m = cv::imdecode(raw, cv::IMREAD_UNCHANGED);
   if (m.empty()) throw Error("cannot decode image '" + file.string() + "': not a valid PNG");
   if (expect_width > 0 && (m.cols != expect_width || m.rows != expect_height)) {
     throw Error("image '" + file.string() + "' is " + std::to_string(m.cols) + "x" +

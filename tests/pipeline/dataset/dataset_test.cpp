@@ -489,6 +489,14 @@ TEST_F(DatasetFilesTest, PngClaimingAHugeSizeIsRefusedBeforeDecoding) {
             std::string::npos);
   EXPECT_NE(error_of([&] { d.load_frame(0); }).find("100000x100000 but sensor.yaml says 36x27"),
             std::string::npos);
+  // Other formats OpenCV could decode (a BMP here) are not read: dataset images are PNG.
+  std::vector<uchar> bmp;
+  cv::imencode(".bmp", cv::Mat(27, 36, CV_8UC1, cv::Scalar(9)), bmp);
+  {
+    std::ofstream out(file, std::ios::binary | std::ios::trunc);
+    out.write(reinterpret_cast<const char*>(bmp.data()), static_cast<std::streamsize>(bmp.size()));
+  }
+  EXPECT_NE(error_of([&] { d.load_frame(0); }).find("is not a PNG file"), std::string::npos);
 }
 
 TEST_F(DatasetFilesTest, ColourAndSixteenBitFramesBecomeGrey8) {
