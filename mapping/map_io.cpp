@@ -11,6 +11,7 @@
 #include <sstream>
 #include <string>
 #include <string_view>
+#include <utility>
 
 #include "pipeline/dataset/atomic_file.h"
 #include "runtime/error.h"
@@ -195,7 +196,8 @@ OccupancyMap read_map_vdb(const std::filesystem::path& file) {
   // of a compressed block from the bytes where a file ends and allocates that much.
   openvdb::GridBase::Ptr base;
   try {
-    std::istringstream in(std::string(data), std::ios::binary);
+    bytes.resize(data.size());  // the grids without the trailer, moved into the stream
+    std::istringstream in(std::move(bytes), std::ios::binary);
     in.exceptions(std::ios::failbit | std::ios::badbit);
     openvdb::io::Stream stream(in, false);
     for (const openvdb::GridBase::Ptr& g : *stream.getGrids()) {
