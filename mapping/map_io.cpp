@@ -7,7 +7,7 @@
 #include <algorithm>
 #include <cstring>
 #include <fstream>
-#include <iterator>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <string_view>
@@ -15,6 +15,7 @@
 
 #include "pipeline/dataset/atomic_file.h"
 #include "runtime/error.h"
+#include "runtime/file_bytes.h"
 
 namespace pensight::mapping {
 namespace {
@@ -142,13 +143,10 @@ void write_map_vdb(const OccupancyMap& map, const std::filesystem::path& file) {
     openvdb::io::File out(temp.string());
     out.write({grid});
     out.close();
-    std::string bytes;
-    {
-      std::ifstream in(temp, std::ios::binary);
-      bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-    }
+    const std::optional<std::string> bytes = read_file_bytes(temp);
+    if (!bytes) throw openvdb::IoError("reading back the written grids failed");
     std::string trailer(kTrailerTag, sizeof kTrailerTag);
-    put(trailer, crc32_of(bytes));
+    put(trailer, crc32_of(*bytes));
     trailer.append(kTrailerVersion, sizeof kTrailerVersion);
     std::ofstream append(temp, std::ios::binary | std::ios::app);
     append.write(trailer.data(), static_cast<std::streamsize>(trailer.size()));
@@ -171,11 +169,7 @@ OccupancyMap read_map_vdb(const std::filesystem::path& file) {
     throw Error("map '" + file.string() +
                 "': no such file (give the map.vdb that pensight map wrote)");
   }
-  std::string bytes;
-  {
-    std::ifstream in(file, std::ios::binary);
-    bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-  }
+  std::string bytes = read_file_bytes(file).value_or("");
   const std::string_view data(bytes.data(),
                               bytes.size() < kTrailerSize ? 0 : bytes.size() - kTrailerSize);
   const std::string_view trailer = std::string_view(bytes).substr(data.size());

@@ -4,7 +4,6 @@
 
 #include <cstdlib>
 #include <fstream>
-#include <sstream>
 
 namespace pensight {
 namespace {
@@ -25,14 +24,6 @@ std::filesystem::path cache_dir() {
     return std::filesystem::path(home) / ".cache" / "pensight";
   }
   return {};
-}
-
-std::string read_cache_file(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return {};
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
-  return in ? bytes.str() : std::string();
 }
 
 void write_cache_file(const std::filesystem::path& path, std::string_view bytes) {

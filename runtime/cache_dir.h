@@ -10,8 +10,6 @@ namespace pensight {
 
 std::filesystem::path cache_dir();
 
-// The whole file, or "" when it is missing or unreadable (a cache miss, not an error).
-std::string read_cache_file(const std::filesystem::path& path);
 // Writes to a temporary name and renames it onto path, so a concurrent reader never sees a
 // truncated file; creates the directory. Failures (read-only home) are ignored: the cache is
 // an optimisation.

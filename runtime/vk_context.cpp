@@ -11,6 +11,7 @@
 
 #include "runtime/cache_dir.h"
 #include "runtime/error.h"
+#include "runtime/file_bytes.h"
 #include "runtime/log.h"
 #include "runtime/vk_detail.h"
 
@@ -259,10 +260,8 @@ std::filesystem::path cache_file(const std::filesystem::path& dir, VkPhysicalDev
   return dir / name.str();
 }
 
-std::vector<char> read_cache(const std::filesystem::path& path, VkPhysicalDevice pd) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return {};
-  std::vector<char> data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+std::string read_cache(const std::filesystem::path& path, VkPhysicalDevice pd) {
+  const std::string data = read_file_bytes(path).value_or("");  // missing: a cold cache
   VkPhysicalDeviceProperties p;
   vkGetPhysicalDeviceProperties(pd, &p);
   VkPipelineCacheHeaderVersionOne header;
@@ -384,7 +383,7 @@ Context::Context(ContextOptions options) : impl_(std::make_unique<Impl>()) {
   volkLoadDeviceTable(&d.vk, d.device);
   d.vk.vkGetDeviceQueue(d.device, d.queue_family, 0, &d.queue);
 
-  std::vector<char> cache_data;
+  std::string cache_data;
   if (options.cache_dir != "-" && !options.cache_dir.empty()) {
     d.cache_path = cache_file(options.cache_dir, d.physical);
     cache_data = read_cache(d.cache_path, d.physical);

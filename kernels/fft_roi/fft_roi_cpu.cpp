@@ -13,6 +13,7 @@
 #include "kernels/fft_roi/fft_roi.h"
 #include "runtime/cache_dir.h"
 #include "runtime/error.h"
+#include "runtime/file_bytes.h"
 #include "runtime/simd_clones.h"
 
 namespace pensight::kernels {
@@ -33,7 +34,7 @@ fftwf_plan patient_plan(int n, float* in, fftwf_complex* out) {
   const std::filesystem::path file =
       dir.empty() || dir == "-" ? std::filesystem::path() : dir / "fftw3f.wisdom";
   if (!imported && !file.empty()) {
-    const std::string wisdom = read_cache_file(file);
+    const std::string wisdom = read_file_bytes(file).value_or("");  // missing: a cache miss
     if (!wisdom.empty()) fftwf_import_wisdom_from_string(wisdom.c_str());
   }
   imported = true;

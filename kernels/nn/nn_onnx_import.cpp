@@ -2,13 +2,13 @@
 
 #include <Eigen/Core>
 #include <cmath>
-#include <fstream>
 #include <map>
+#include <optional>
 #include <set>
-#include <sstream>
 
 #include "kernels/nn/nn_onnx.h"
 #include "runtime/error.h"
+#include "runtime/file_bytes.h"
 
 namespace pensight::nn {
 namespace {
@@ -523,11 +523,9 @@ Graph import_onnx_bytes(const std::string& bytes, const std::string& what) {
 }
 
 Graph import_onnx(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw Error("onnx: cannot open '" + file.string() + "' (check the path)");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return import_onnx_bytes(ss.str(), "'" + file.string() + "'");
+  std::optional<std::string> bytes = read_file_bytes(file);
+  if (!bytes) throw Error("onnx: cannot open '" + file.string() + "' (check the path)");
+  return import_onnx_bytes(*bytes, "'" + file.string() + "'");
 }
 
 }  // namespace pensight::nn

@@ -5,13 +5,12 @@
 #include <opencv2/imgproc.hpp>
 
 #include <cstdint>
-#include <fstream>
-#include <iterator>
 #include <string>
 #include <string_view>
 
 #include "pipeline/dataset/atomic_file.h"
 #include "runtime/error.h"
+#include "runtime/file_bytes.h"
 
 namespace pensight {
 namespace {
@@ -26,8 +25,7 @@ cv::Mat read_any(const std::filesystem::path& file, int expect_width, int expect
   // Only PNG (dataset-format.md): OpenCV would also decode BMP, TIFF, JPEG 2000 ... and allocate
   // whatever size their headers claim. A PNG's size is in its header, so a wrong or absurd size
   // is refused before the decoder allocates what the header claims.
-  std::ifstream in(file, std::ios::binary);
-  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string bytes = read_file_bytes(file).value_or("");  // cv::Mat wraps it, non-const
   constexpr std::string_view kPngSignature("\x89PNG\r\n\x1a\n", 8);
   if (bytes.size() < 24 || std::string_view(bytes).substr(0, 8) != kPngSignature) {
     throw Error("image '" + file.string() +

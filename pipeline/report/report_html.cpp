@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <initializer_list>
 #include <iterator>
 #include <limits>
@@ -27,6 +26,7 @@
 #include "pipeline/evaluation/evaluation.h"
 #include "pipeline/timing_table.h"
 #include "runtime/error.h"
+#include "runtime/file_bytes.h"
 #include "runtime/units.h"
 
 namespace pensight {
@@ -708,8 +708,7 @@ std::string timing_section(const Run& run) {
 // PNG and ~0.1 MB as JPEG with its lines and text still legible. A PNG OpenCV cannot decode is
 // embedded as it is, so the page's self-check reports it as a broken image.
 std::pair<std::string, std::string> embeddable(const std::filesystem::path& png) {
-  std::ifstream in(png, std::ios::binary);
-  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string bytes = read_file_bytes(png).value_or("");
   const cv::Mat image = cv::imdecode(
       cv::Mat(1, static_cast<int>(bytes.size()), CV_8UC1, const_cast<char*>(bytes.data())),
       cv::IMREAD_COLOR);
