@@ -1,18 +1,16 @@
 #!/usr/bin/env bash
 # Runs one libFuzzer target (fuzz/fuzz_TARGET.cpp) for SECONDS (default 60), or for RUNS inputs
-# with --runs RUNS, building the fuzz build (build-fuzz/: clang, ASan+UBSan) first. New inputs that
+# with --runs RUNS, building it first (scripts/build-asan.sh: build-asan/). New inputs that
 # reach new code collect in .cache/fuzz/TARGET/ (kept between runs); a crash is written to
 # .cache/fuzz/crashes/TARGET/ and the script fails. `scripts/fuzz.sh --list` names the targets,
 # `--build` only builds, `--merge TARGET` folds .cache/fuzz/TARGET/ into the committed seed corpus
 # fuzz/corpus/TARGET/ (only the inputs that add coverage).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-build_dir=build-fuzz
+build_dir=build-asan
 
 build() {
-  PENSIGHT_BUILD_DIR=$build_dir PENSIGHT_BUILD_TARGET=pensight_fuzzers CC=clang-14 CXX=clang++-14 \
-    scripts/setup.sh -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPENSIGHT_FUZZ=ON -DPENSIGHT_CUDA=OFF \
-    -DPENSIGHT_BUILD_BENCH=OFF
+  scripts/build-asan.sh pensight_fuzzers
 }
 targets() {
   sed -n 's/^foreach(name \(.*\))$/\1/p; s/^  pensight_add_fuzzer(\([a-z_]*\))$/\1/p' fuzz/CMakeLists.txt |

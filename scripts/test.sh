@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
 # Builds pensight (installing its packages if needed) and runs every test on lavapipe with the
 # Khronos validation layer on, then the installed-package example (scripts/example.sh).
-# --sanitize: the tests with AddressSanitizer + UBSan (build-asan/), except the rendered accuracy
-# tests (label `accuracy`): their code (renderer, FFT detector, estimators) runs under ASan in the
-# shorter rendered tests, and their long sequences would take a third of the CI budget there.
-# --tsan: the tests labelled `threads` with ThreadSanitizer (build-tsan/). --fuzz: the fuzz targets
-# (build-fuzz/, clang): each replays its seed corpus and crash regressions, then fuzzes for 60 s.
+# --sanitize: the tests with AddressSanitizer + UBSan (scripts/build-asan.sh: build-asan/, clang),
+# except the rendered accuracy tests (label `accuracy`): their code (renderer, FFT detector,
+# estimators) runs under ASan in the shorter rendered tests, and their long sequences would take a
+# third of the CI budget there. --tsan: the tests labelled `threads` with ThreadSanitizer
+# (build-tsan/). --fuzz: the fuzz targets (same build-asan/): each replays its seed corpus and
+# crash regressions, then fuzzes for 60 s.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 mode="${1:-}"
@@ -13,18 +14,16 @@ ctest_args=()
 
 if [ "$mode" = "--sanitize" ]; then
   export PENSIGHT_BUILD_DIR=build-asan
-  # CUDA's runtime and ASan's shadow memory do not mix; the sanitizer build is CPU + Vulkan.
-  scripts/setup.sh -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPENSIGHT_SANITIZE=ON -DPENSIGHT_CUDA=OFF \
-    -DPENSIGHT_BUILD_BENCH=OFF
+  scripts/build-asan.sh
   # Mesa's llvmpipe keeps JIT and thread allocations until exit; leaks are not checked here.
   export ASAN_OPTIONS="detect_leaks=0:abort_on_error=1"
   export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
-  ctest_args=(-LE accuracy)
+  ctest_args=(-LE "accuracy|fuzz")
 elif [ "$mode" = "--fuzz" ]; then
   scripts/fuzz.sh --build
   export PENSIGHT_FUZZ_BUILT=1
   export ASAN_OPTIONS="detect_leaks=0:abort_on_error=1"
-  ctest --test-dir build-fuzz --output-on-failure -j2 -L fuzz
+  ctest --test-dir build-asan --output-on-failure -j2 -L fuzz
   mkdir -p .cache/fuzz
   scripts/fuzz.sh --list | xargs -P 2 -I '{}' sh -c 'scripts/fuzz.sh {} 60 >.cache/fuzz/{}.log 2>&1 ||
     { tail -n 40 .cache/fuzz/{}.log; echo "fuzz: {} failed; its crash input is in .cache/fuzz/crashes/{}/"; exit 255; }'
