@@ -100,8 +100,10 @@ std::vector<Tensor> run_ort(const fs::path& dir, const std::string& bytes, const
 }
 
 // Export, check, re-import; CPU reference of the re-imported graph, Vulkan and OpenCV DNN all
-// against the CPU reference of the original graph. fp16 storage is held to fp16_bound.
-void check_model(const vk::Context& ctx, const Graph& g, uint64_t seed, double fp16_bound = 2e-2) {
+// against the CPU reference of the original graph. Vulkan fp32 is held to fp32_bound (its sums
+// run in another order), fp16 storage to fp16_bound.
+void check_model(const vk::Context& ctx, const Graph& g, uint64_t seed, double fp16_bound = 2e-2,
+                 double fp32_bound = 1e-5) {
   std::mt19937_64 rng(seed);
   const auto inputs = random_inputs(g, rng);
   const auto want = run_cpu(g, inputs);
@@ -114,7 +116,9 @@ void check_model(const vk::Context& ctx, const Graph& g, uint64_t seed, double f
   const auto vk_out = model.run(inputs);
   for (size_t i = 0; i < want.size(); ++i) {
     EXPECT_LT(relative_l2(again[i], want[i]), 1e-6);
-    EXPECT_LT(relative_l2(vk_out[i], want[i]), 1e-5);
+    const double e = relative_l2(vk_out[i], want[i]);
+    std::printf("Vulkan fp32 vs fp32 reference: relative L2 %.2e\n", e);
+    EXPECT_LT(e, fp32_bound);
   }
   if (ctx.info().fp16_storage) {
     VkModel half(ctx, back, {.fp16_storage = true});
@@ -166,9 +170,11 @@ TEST_F(VulkanTest, OnnxCompactDepthNet) {
 // With random weights the transformer head's fp16 error is heavy-tailed: over 160 seeds the
 // relative L2 was 3.1e-3 median, 6.7e-3 p90, 1.5e-2 p99, 1.7e-2 worst; CI drew 2.8e-2 (seed
 // 2547249134) against the shared 2e-2. A broken fp16 path (packing, layout) is off by O(1).
+// The transformer head amplifies rounding: Vulkan fp32 against the reference reads 9e-7 typically
+// and up to 1.0e-5 on this network, at most 7e-7 without the head (docs/validation-log.md); 3e-5.
 TEST_F(VulkanTest, OnnxTrudepthNet) {
   const uint64_t seed = pensight::testing::fresh_seed();
-  check_model(ctx(), trudepth_net({128, 96}, 0.5f, seed), seed, 8e-2);
+  check_model(ctx(), trudepth_net({128, 96}, 0.5f, seed), seed, 8e-2, 3e-5);
 }
 
 // The TRUDepth encoder-decoder (MobileNetV2, ReLU6, residuals, prior at every scale) without
