@@ -13,6 +13,7 @@
 #include <string_view>
 #include <utility>
 
+#include "mapping/vdb_layout.h"
 #include "pipeline/dataset/atomic_file.h"
 #include "runtime/error.h"
 #include "runtime/file_bytes.h"
@@ -40,7 +41,8 @@ constexpr MetaKey kMetaKeys[] = {
 // before the trailer (little-endian), kTrailerVersion. OpenVDB readers stop at the end of the
 // grids, so the file stays a plain .vdb for other tools. The CRC is checked before OpenVDB parses
 // anything: its decoder (10.0) trusts the block sizes inside the file and writes past its buffers
-// on a damaged one (docs/reliability.md).
+// on a damaged one (docs/reliability.md); a crafted one with a correct CRC is refused by its
+// layout (vdb_layout.h).
 constexpr char kTrailerTag[8] = {'p', 'e', 'n', 's', 'i', 'g', 'h', 't'};
 constexpr char kTrailerVersion[4] = {'m', 'a', 'p', '1'};
 constexpr size_t kTrailerSize = sizeof kTrailerTag + 4 + sizeof kTrailerVersion;
@@ -141,6 +143,7 @@ void write_map_vdb(const OccupancyMap& map, const std::filesystem::path& file) {
   const std::filesystem::path temp = temporary_sibling(file);
   try {
     openvdb::io::File out(temp.string());
+    out.setCompression(openvdb::io::COMPRESS_ACTIVE_MASK);  // no zip or blosc: vdb_layout.h
     out.write({grid});
     out.close();
     const std::optional<std::string> bytes = read_file_bytes(temp);
@@ -185,6 +188,11 @@ OccupancyMap read_map_vdb(const std::filesystem::path& file) {
   if (stored != crc32_of(data)) {
     throw Error("map '" + file.string() +
                 "': checksum mismatch (the file is damaged; re-run pensight map to write it)");
+  }
+  try {
+    check_vdb_layout(data);
+  } catch (const Error& e) {
+    throw Error("map '" + file.string() + "': " + e.what());
   }
   // Parse through a stream that throws on a short read: OpenVDB's own file reader takes the size
   // of a compressed block from the bytes where a file ends and allocates that much.
