@@ -11,6 +11,7 @@
 
 #include "mapping/map_io.h"
 #include "runtime/error.h"
+#include "runtime/file_bytes.h"
 
 namespace pensight::mapping {
 namespace {
@@ -26,8 +27,7 @@ fs::path fresh_dir(const std::string& name) {
 }
 
 std::string read_bytes(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  return read_file_bytes(file).value_or("");
 }
 
 void write_bytes(const fs::path& file, const std::string& bytes) {
