@@ -230,15 +230,7 @@ NetDetection NetDetector::detect(const ImageU8& image, int64_t timestamp_ns) {
   d.mesh_type = d.mesh_angle_frame.valid() ? d.mesh_angle_frame.type
                                            : m.config.mesh_type.value_or(MeshType::kSquare);
   for (const RoiNetPoint& p : d.points) d.reduced_rois += p.reduced ? 1 : 0;
-  if (d.pose.valid()) {
-    for (size_t i = 0; i < d.points.size(); ++i) {
-      if (!d.pose.inlier[i]) continue;
-      const RoiNetPoint& p = d.points[i];
-      d.depths.push_back({{static_cast<float>(p.centre_px.x()), static_cast<float>(p.centre_px.y()),
-                           static_cast<float>(p.p_C.z())},
-                          static_cast<float>(p.quality)});
-    }
-  }
+  d.depths = roi_surface_priors(d.points, d.pose, m.config.grid.size_px, m.camera, m.config.priors);
   d.pose_ms = sw.elapsed_ms();
   return d;
 }

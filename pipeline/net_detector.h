@@ -11,6 +11,7 @@
 
 #include "kernels/fft_roi/fft_roi.h"
 #include "pipeline/camera.h"
+#include "pipeline/depth_priors.h"
 #include "pipeline/mesh_angle.h"
 #include "pipeline/net_geometry.h"
 #include "pipeline/relative_pose_fft.h"
@@ -30,7 +31,8 @@ struct NetDetectorConfig {
   kernels::PeakParams peaks;
   NetPointParams points;
   RelativePoseFftParams pose;
-  double mesh_m = 0.030;  // bar length, from scene.yaml net_mesh_size_m
+  DepthPriorParams priors;  // NetDetection::depths
+  double mesh_m = 0.030;    // bar length, from scene.yaml net_mesh_size_m
   // scene.yaml's optional net_mesh_type and net_mesh_angle_deg: a prior; estimated when absent.
   std::optional<MeshType> mesh_type;
   std::optional<double> mesh_angle_rad;
@@ -46,7 +48,9 @@ struct NetDetection {
   int64_t timestamp_ns = 0;                   // the frame's, passed through
   std::vector<kernels::RoiLattice> lattices;  // per ROI, grid order
   std::vector<RoiNetPoint> points;            // per ROI, grid order
-  std::vector<SparseDepth> depths;            // ROIs that support the pose (empty when NaN)
+  // Priors for depth completion on the inlier ROIs' local surfaces (depth_priors.h); empty
+  // when the pose is NaN.
+  std::vector<SparseDepth> depths;
   FftRelativePose pose;
   // The net's opening angle (mesh_angle.h) the points were modelled with: smoothed over frames;
   // NaN until a frame has measured it (or the scene gave it).

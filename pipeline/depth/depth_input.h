@@ -1,0 +1,29 @@
+#pragma once
+// The depth network's inputs from a camera frame: the image area-resized to the network's
+// resolution and the sparse priors moved into its pixel coordinates. The training data
+// (sim/depth_training.h) and the depth stage go through these same functions, so the network
+// sees at run time exactly the quantisation and geometry it was trained on.
+#include <span>
+#include <vector>
+
+#include "kernels/sparse_prior/sparse_prior.h"
+#include "pipeline/net_geometry.h"
+#include "runtime/image.h"
+
+namespace pensight {
+
+// The network input resolution pensight's models use (720x540 scaled by 4/9).
+inline constexpr int kDepthNetWidth = 320, kDepthNetHeight = 240;
+
+// Area-average resize (each output pixel the mean of the input pixels it covers), rounded to
+// 8 bits. Throws pensight::Error for an empty image or a non-positive size.
+ImageU8 resize_area(const ImageU8& image, int width, int height);
+
+// Sparse depths from camera pixels (centres at integers) into a width x height image of the same
+// view: x' = (x + 0.5) * width / camera_width - 0.5, likewise y; depth and order unchanged. At
+// most kMaxSparsePoints are kept, highest quality first when there are more.
+std::vector<kernels::SparsePoint> network_points(std::span<const SparseDepth> depths,
+                                                 int camera_width, int camera_height, int width,
+                                                 int height);
+
+}  // namespace pensight

@@ -1,0 +1,66 @@
+// The network's inputs: area resize against a direct box average, and priors moved into the
+// network's pixels (a camera pixel centre lands on the same scene point), capped by quality.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "pipeline/depth/depth_input.h"
+#include "runtime/error.h"
+#include "tests/support/vulkan_fixture.h"
+
+namespace pensight {
+namespace {
+
+TEST(DepthInput, ResizeAreaIsTheBoxMean) {
+  std::mt19937_64 rng(testing::fresh_seed());
+  ImageU8 image(720, 540);
+  for (auto& p : image.pixels) p = static_cast<uint8_t>(rng() % 256);
+  const ImageU8 small = resize_area(image, 320, 240);
+  ASSERT_EQ(small.width, 320);
+  ASSERT_EQ(small.height, 240);
+  // 720 / 320 = 2.25: output pixel (x, y) covers input [2.25 x, 2.25 (x + 1)), weights by overlap.
+  auto box = [&](int x, int y) {
+    double sum = 0, weight = 0;
+    for (int v = 0; v < 540; ++v) {
+      const double wy =
+          std::max(0.0, std::min(v + 1.0, 2.25 * (y + 1)) - std::max(v * 1.0, 2.25 * y));
+      if (wy == 0) continue;
+      for (int u = 0; u < 720; ++u) {
+        const double wx =
+            std::max(0.0, std::min(u + 1.0, 2.25 * (x + 1)) - std::max(u * 1.0, 2.25 * x));
+        sum += wx * wy * image.at(u, v);
+        weight += wx * wy;
+      }
+    }
+    return sum / weight;
+  };
+  for (int i = 0; i < 50; ++i) {
+    const int x = static_cast<int>(rng() % 320), y = static_cast<int>(rng() % 240);
+    EXPECT_NEAR(small.at(x, y), box(x, y), 1.0) << x << ", " << y;
+  }
+  EXPECT_THROW(resize_area(ImageU8(), 320, 240), Error);
+  EXPECT_THROW(resize_area(image, 0, 240), Error);
+}
+
+TEST(DepthInput, NetworkPointsScaleAboutPixelCentresAndKeepTheBest) {
+  std::vector<SparseDepth> depths = {
+      {{0, 0, 1.0f}, 0.5f}, {{719, 539, 2.0f}, 0.2f}, {{359.5f, 269.5f, 3.0f}, 0.1f}};
+  const auto pts = network_points(depths, 720, 540, 320, 240);
+  ASSERT_EQ(pts.size(), 3u);
+  EXPECT_NEAR(pts[0].x_px, 0.5 * 320 / 720 - 0.5, 1e-6);
+  EXPECT_NEAR(pts[1].y_px, 539.5 * 240 / 540 - 0.5, 1e-4);
+  EXPECT_NEAR(pts[2].x_px, 159.5, 1e-4);  // the image centre stays the centre
+  EXPECT_EQ(pts[2].depth_m, 3.0f);
+
+  std::vector<SparseDepth> many(kernels::kMaxSparsePoints + 10);
+  for (size_t i = 0; i < many.size(); ++i) {
+    many[i] = {{static_cast<float>(i % 720), 10, static_cast<float>(i)},
+               i < 10 ? 0.0f : 1.0f};  // the first ten are the worst
+  }
+  const auto kept = network_points(many, 720, 540, 320, 240);
+  ASSERT_EQ(kept.size(), static_cast<size_t>(kernels::kMaxSparsePoints));
+  EXPECT_EQ(kept.front().depth_m, 10.0f);  // order kept, the ten worst dropped
+}
+
+}  // namespace
+}  // namespace pensight

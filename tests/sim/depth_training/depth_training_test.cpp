@@ -1,0 +1,95 @@
+// The depth network's training data: random scenes that validate, samples whose FFT priors agree
+// with the rendered ground truth, and the folder layout scripts/train_depth.py reads.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <cmath>
+#include <fstream>
+#include <random>
+#include <sstream>
+
+#include "runtime/error.h"
+#include "sim/depth_training.h"
+#include "tests/support/vulkan_fixture.h"
+
+namespace pensight::sim {
+namespace {
+namespace fs = std::filesystem;
+
+TEST(DepthTraining, RandomScenesValidateAndVary) {
+  std::mt19937_64 rng(testing::fresh_seed());
+  int planes = 0, diamonds = 0, with_fish = 0;
+  double nearest = 1e9, farthest = 0;
+  for (int i = 0; i < 300; ++i) {
+    const Scenario s = random_depth_scene(rng());  // validate() runs inside
+    ASSERT_EQ(s.num_frames(), 1);
+    planes += s.pen.shape == NetShape::kPlane;
+    diamonds += s.net.mesh_type == MeshType::kDiamond;
+    with_fish += !s.fish.empty();
+    const double d = s.waypoints[0].net_distance_m - 0.3;
+    nearest = std::min(nearest, d);
+    farthest = std::max(farthest, d);
+  }
+  EXPECT_GT(planes, 15);
+  EXPECT_GT(diamonds, 80);
+  EXPECT_GT(with_fish, 30);
+  EXPECT_LT(nearest, 0.4);
+  EXPECT_GT(farthest, 3.5);
+}
+
+// The priors are the detector's, so they carry its noise; but on the rendered net they must lie
+// within a few per cent of the truth at their own pixel (the FFT range error is ~1 %).
+TEST(DepthTraining, SamplePriorsMatchTheRenderedDepth) {
+  std::mt19937_64 rng(testing::fresh_seed());
+  int samples_with_priors = 0;
+  for (int attempt = 0; attempt < 12 && samples_with_priors < 2; ++attempt) {
+    const DepthSample s = make_depth_sample(rng(), 320, 240);
+    ASSERT_EQ(s.image.width, 320);
+    ASSERT_EQ(s.depth_mm.height, 240);
+    if (s.points.empty()) continue;
+    ++samples_with_priors;
+    int close = 0, compared = 0;
+    for (const SparseDepth& p : s.points) {
+      const int x = static_cast<int>(std::floor(p.point.x_px + 0.5));
+      const int y = static_cast<int>(std::floor(p.point.y_px + 0.5));
+      ASSERT_TRUE(x >= 0 && y >= 0 && x < 320 && y < 240) << p.point.x_px << ", " << p.point.y_px;
+      const double truth_m = s.depth_mm.at(x, y) * 1e-3;
+      if (truth_m == 0) continue;  // a fish or the water at that pixel
+      ++compared;
+      close += std::abs(p.point.depth_m - truth_m) < 0.05 * truth_m;
+    }
+    ASSERT_GT(compared, 0);
+    EXPECT_GE(close, 0.8 * compared) << close << " of " << compared;
+  }
+  EXPECT_EQ(samples_with_priors, 2);
+}
+
+TEST(DepthTraining, FolderLayoutAndRefusals) {
+  const fs::path dir =
+      fs::temp_directory_path() / ("pensight_depth_training_test_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  write_depth_data(dir / "data", {.samples = 3, .seed = testing::fresh_seed(), .threads = 2});
+  const size_t pixels = 320 * 240;
+  EXPECT_EQ(fs::file_size(dir / "data" / "image.u8"), 3 * pixels);
+  EXPECT_EQ(fs::file_size(dir / "data" / "depth_mm.u16"), 3 * pixels * 2);
+  EXPECT_EQ(fs::file_size(dir / "data" / "points.f32"), 3u * 1024 * 4 * 4);
+  EXPECT_EQ(fs::file_size(dir / "data" / "num_points.i32"), 3u * 4);
+  std::ifstream meta(dir / "data" / "depth_data.txt");
+  std::stringstream text;
+  text << meta.rdbuf();
+  EXPECT_NE(text.str().find("samples: 3\n"), std::string::npos) << text.str();
+  // Rewriting replaces the earlier data; a folder of something else is never replaced.
+  write_depth_data(dir / "data", {.samples = 1, .threads = 1});
+  EXPECT_EQ(fs::file_size(dir / "data" / "image.u8"), pixels);
+  fs::create_directories(dir / "other");
+  std::ofstream(dir / "other" / "keep.txt") << "x";
+  EXPECT_THROW(write_depth_data(dir / "other", {.samples = 1}), Error);
+  EXPECT_TRUE(fs::exists(dir / "other" / "keep.txt"));
+  EXPECT_THROW(write_depth_data(dir / "zero", {.samples = 0}), Error);
+  EXPECT_FALSE(fs::exists(dir / "zero"));
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace pensight::sim
