@@ -67,10 +67,6 @@ struct VulkanStage {
 constexpr int kMeshAngleRounds = 3;
 constexpr double kMeshAngleSettled_rad = 0.0035;  // 0.2 deg: a range change below 0.2 %
 
-bool is_real_gpu(vk::DeviceKind kind) {
-  return kind == vk::DeviceKind::kDiscrete || kind == vk::DeviceKind::kIntegrated;
-}
-
 }  // namespace
 
 struct NetDetector::Impl {
@@ -139,7 +135,7 @@ struct NetDetector::Impl {
     if (PENSIGHT_HAS_CUDA && device.cuda_available()) return make_cuda();
     // No Vulkan loader or device (nullptr) is not an error here: the CPU path is the answer.
     vk::Context* ctx = device.try_vulkan();
-    if (ctx && is_real_gpu(ctx->info().kind)) return make_vulkan(*ctx);
+    if (ctx && vk::is_real_gpu(ctx->info().kind)) return make_vulkan(*ctx);
     make_cpu();
   }
 };

@@ -18,6 +18,10 @@ class Pipeline;
 
 enum class DeviceKind { kDiscrete, kIntegrated, kVirtual, kCpu, kOther };
 const char* to_string(DeviceKind kind);
+// A GPU of its own (not a CPU driver such as lavapipe): what the automatic backends choose.
+inline bool is_real_gpu(DeviceKind kind) {
+  return kind == DeviceKind::kDiscrete || kind == DeviceKind::kIntegrated;
+}
 
 struct DeviceInfo {
   uint32_t index = 0;  // position in the Vulkan enumeration

@@ -1,0 +1,278 @@
+#include "pipeline/depth/depth_estimator.h"
+
+#include <algorithm>
+#include <opencv2/core.hpp>
+#include <opencv2/dnn.hpp>
+#include <opencv2/imgproc.hpp>
+#include <optional>
+#include <thread>
+#include <vector>
+
+#include "kernels/nn/nn.h"
+#include "kernels/nn/nn_onnx.h"
+#include "kernels/sparse_prior/sparse_prior.h"
+#include "pipeline/depth/depth_input.h"
+#include "runtime/error.h"
+#include "runtime/file_bytes.h"
+#include "runtime/timing.h"
+#include "runtime/vk_buffer.h"
+#include "runtime/vk_context.h"
+#include "runtime/vk_stream.h"
+
+namespace pensight {
+
+const char* to_string(DepthBackend backend) {
+  switch (backend) {
+    case DepthBackend::kAuto:
+      return "auto";
+    case DepthBackend::kOpenCv:
+      return "opencv";
+    case DepthBackend::kEngineCpu:
+      return "engine-cpu";
+    case DepthBackend::kVulkan:
+      return "vulkan";
+  }
+  return "unknown";
+}
+
+DepthBackend parse_depth_backend(const std::string& name) {
+  for (DepthBackend b : {DepthBackend::kAuto, DepthBackend::kOpenCv, DepthBackend::kEngineCpu,
+                         DepthBackend::kVulkan}) {
+    if (name == to_string(b)) return b;
+  }
+  throw Error("unknown depth backend '" + name + "'; use auto, opencv, engine-cpu or vulkan");
+}
+
+namespace {
+
+// Checks the model against the contract and returns its H x W.
+std::pair<int, int> contract_size(const nn::Graph& g, const std::string& file) {
+  auto fail = [&](const std::string& what) {
+    throw Error(file + " is not a depth network: " + what +
+                " (expected inputs image [1,1,H,W] and prior [1,2,H,W], output depth [1,1,H,W]; "
+                "see models/README.md)");
+  };
+  if (g.inputs().size() != 2 || g.outputs().size() != 1) {
+    fail(std::to_string(g.inputs().size()) + " inputs and " + std::to_string(g.outputs().size()) +
+         " outputs");
+  }
+  const nn::Value& image = g.value(g.inputs()[0]);
+  const nn::Value& prior = g.value(g.inputs()[1]);
+  const nn::Value& depth = g.value(g.outputs()[0]);
+  if (image.name != "image" || prior.name != "prior") {
+    fail("inputs named '" + image.name + "' and '" + prior.name + "'");
+  }
+  auto is = [](const nn::Dims& d, int64_t c, int64_t h, int64_t w) {
+    return d.size() == 4 && d[0] == 1 && d[1] == c && d[2] == h && d[3] == w;
+  };
+  if (image.shape.size() != 4) fail("image has rank " + std::to_string(image.shape.size()));
+  const int64_t h = image.shape[2], w = image.shape[3];
+  if (!is(image.shape, 1, h, w) || !is(prior.shape, 2, h, w) || !is(depth.shape, 1, h, w) ||
+      h < 16 || w < 16) {
+    fail("shapes do not match");
+  }
+  return {static_cast<int>(w), static_cast<int>(h)};
+}
+
+cv::Mat as_mat(std::vector<float>& data, std::initializer_list<int> dims) {
+  std::vector<int> d(dims);
+  return cv::Mat(static_cast<int>(d.size()), d.data(), CV_32F, data.data());
+}
+
+// The Vulkan path: S1/S2 recorded straight into the network's prior input, then the graph.
+struct VulkanNet {
+  nn::VkModel model;
+  kernels::SparsePriorVk prior;
+  vk::TypedBuffer<kernels::SparsePoint> points;
+  vk::TypedBuffer<kernels::SparsePriorParams> params;
+  vk::CommandStream stream;
+
+  VulkanNet(vk::Context& ctx, const nn::Graph& g, const kernels::SparsePriorShape& shape)
+      : model(ctx, g, {.fp16_storage = false}),
+        prior(ctx, shape),
+        points(ctx, kernels::kMaxSparsePoints),
+        params(ctx, 1),
+        stream(ctx) {
+    prior.record(stream, points.raw(), params, model.input_buffer(1));
+    model.record(stream);
+  }
+};
+
+}  // namespace
+
+struct DepthEstimator::Impl {
+  PinholeCamera camera;
+  DepthEstimatorConfig config;
+  nn::Graph graph;
+  kernels::SparsePriorShape shape;
+  DepthBackend backend = DepthBackend::kEngineCpu;
+  int threads = 1;
+  std::optional<cv::dnn::Net> opencv;
+  std::unique_ptr<VulkanNet> vulkan;
+  std::string device_name;
+  std::optional<PixelRays> rays;  // of the camera scaled to the network's grid
+
+  // Network output (H x W, metres) for one frame.
+  std::vector<float> run(const ImageU8& small, std::span<const kernels::SparsePoint> points) {
+    const size_t n = static_cast<size_t>(shape.width) * shape.height;
+    std::vector<float> image(n);
+    std::transform(small.pixels.begin(), small.pixels.end(), image.begin(),
+                   [](uint8_t v) { return v / 255.0f; });
+    if (vulkan) {
+      vulkan->model.input_buffer(0).upload(image.data(), n * sizeof(float));
+      vulkan->points.upload(points);
+      vulkan->params.fill({static_cast<uint32_t>(points.size())});
+      vulkan->stream.submit_and_wait();
+      std::vector<float> out(n);
+      vulkan->model.output_buffer(0).download(out.data(), n * sizeof(float));
+      return out;
+    }
+    std::vector<float> prior(2 * n);
+    kernels::sparse_prior_cpu(shape, points, prior);
+    if (opencv) {
+      opencv->setInput(as_mat(image, {1, 1, shape.height, shape.width}), "image");
+      opencv->setInput(as_mat(prior, {1, 2, shape.height, shape.width}), "prior");
+      const cv::Mat out = opencv->forward("depth");
+      const cv::Mat flat = out.isContinuous() ? out : out.clone();
+      return std::vector<float>(flat.ptr<float>(), flat.ptr<float>() + n);
+    }
+    const nn::Tensor inputs[] = {{{1, 1, shape.height, shape.width}, std::move(image)},
+                                 {{1, 2, shape.height, shape.width}, std::move(prior)}};
+    return std::move(nn::run_cpu(graph, inputs)[0].data);
+  }
+};
+
+DepthEstimator::DepthEstimator(const PinholeCamera& camera, const DepthEstimatorConfig& config,
+                               Device& device)
+    : impl_(std::make_unique<Impl>()) {
+  Impl& m = *impl_;
+  m.camera = camera;
+  m.config = config;
+  const std::string file = config.model.string();
+  const std::optional<std::string> bytes = read_file_bytes(config.model);
+  if (!bytes) {
+    throw Error("cannot read the depth model " + file +
+                ": check the path (models/README.md lists the shipped models) or run with "
+                "--no-depth");
+  }
+  m.graph = nn::import_onnx_bytes(*bytes, file);
+  const auto [w, h] = contract_size(m.graph, file);
+  m.shape = {w, h, config.sigma_px};
+  if (static_cast<int64_t>(w) * camera.height_px != static_cast<int64_t>(h) * camera.width_px) {
+    throw Error(file + " takes " + std::to_string(w) + "x" + std::to_string(h) +
+                " images, not of the camera's aspect (" + std::to_string(camera.width_px) + "x" +
+                std::to_string(camera.height_px) + "): export the model for this camera");
+  }
+  m.rays.emplace(camera.scaled(static_cast<double>(w) / camera.width_px));
+  m.threads = config.cpu_threads > 0
+                  ? config.cpu_threads
+                  : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+
+  auto make_opencv = [&]() -> bool {
+    try {
+      const std::string compatible = nn::opencv_dnn_compatible(*bytes);
+      m.opencv = cv::dnn::readNetFromONNX(compatible.data(), compatible.size());
+      cv::setNumThreads(m.threads);
+      m.backend = DepthBackend::kOpenCv;
+      return true;
+    } catch (const cv::Exception& e) {
+      if (config.backend == DepthBackend::kOpenCv) {
+        throw Error("OpenCV DNN cannot read " + file + " (" + e.msg +
+                    "); use --depth-backend engine-cpu");
+      }
+      return false;
+    }
+  };
+  auto make_vulkan = [&](vk::Context& ctx) {
+    m.vulkan = std::make_unique<VulkanNet>(ctx, m.graph, m.shape);
+    m.device_name = ctx.info().name;
+    m.backend = DepthBackend::kVulkan;
+  };
+  switch (config.backend) {
+    case DepthBackend::kOpenCv:
+      make_opencv();
+      break;
+    case DepthBackend::kEngineCpu:
+      m.backend = DepthBackend::kEngineCpu;
+      break;
+    case DepthBackend::kVulkan:
+      make_vulkan(device.vulkan());
+      break;
+    case DepthBackend::kAuto: {
+      vk::Context* ctx = device.try_vulkan();
+      if (ctx && vk::is_real_gpu(ctx->info().kind)) {
+        make_vulkan(*ctx);
+      } else if (!make_opencv()) {
+        m.backend = DepthBackend::kEngineCpu;
+      }
+      break;
+    }
+  }
+}
+
+DepthEstimator::~DepthEstimator() = default;
+DepthEstimator::DepthEstimator(DepthEstimator&&) noexcept = default;
+DepthEstimator& DepthEstimator::operator=(DepthEstimator&&) noexcept = default;
+
+DepthBackend DepthEstimator::backend() const {
+  return impl_->backend;
+}
+
+double DepthEstimator::gflop() const {
+  return impl_->graph.flops() * 1e-9;
+}
+
+std::string DepthEstimator::description() const {
+  const Impl& m = *impl_;
+  char flops[32];
+  std::snprintf(flops, sizeof flops, "%.2f GFLOP", gflop());
+  std::string where;
+  switch (m.backend) {
+    case DepthBackend::kVulkan:
+      where = "vulkan (" + m.device_name + ")";
+      break;
+    case DepthBackend::kOpenCv:
+      where = "opencv dnn (" + std::to_string(m.threads) + " threads)";
+      break;
+    default:
+      where = "engine cpu";
+      break;
+  }
+  return where + ", " + std::to_string(m.shape.width) + "x" + std::to_string(m.shape.height) +
+         ", " + flops;
+}
+
+DenseDepth DepthEstimator::estimate(const ImageU8& image, std::span<const SparseDepth> priors) {
+  Impl& m = *impl_;
+  if (image.width != m.camera.width_px || image.height != m.camera.height_px) {
+    throw Error("depth stage: the image is " + std::to_string(image.width) + "x" +
+                std::to_string(image.height) + " but the camera " +
+                std::to_string(m.camera.width_px) + "x" + std::to_string(m.camera.height_px));
+  }
+  DenseDepth out;
+  if (priors.empty()) {
+    out.reason = "no sparse depths (the FFT pose is NaN)";
+    out.pose.reason = out.reason;
+    return out;
+  }
+  Stopwatch sw;
+  const ImageU8 small = resize_area(image, m.shape.width, m.shape.height);
+  const std::vector<kernels::SparsePoint> points =
+      network_points(priors, image.width, image.height, m.shape.width, m.shape.height);
+  kernels::validate(m.shape, points);
+  std::vector<float> net = m.run(small, points);
+  // The pose comes from the network's own grid (every pixel it estimated, none interpolated).
+  ImageF32 small_depth(m.shape.width, m.shape.height);
+  small_depth.pixels = std::move(net);
+  out.depth_m = ImageF32(image.width, image.height);
+  const cv::Mat src(small_depth.height, small_depth.width, CV_32F, small_depth.pixels.data());
+  cv::Mat dst(out.depth_m.height, out.depth_m.width, CV_32F, out.depth_m.pixels.data());
+  cv::resize(src, dst, dst.size(), 0, 0, cv::INTER_LINEAR);
+  out.network_ms = sw.elapsed_ms();
+  sw.restart();
+  out.pose = depth_plane_pose(small_depth, *m.rays, m.config.plane);
+  out.pose_ms = sw.elapsed_ms();
+  return out;
+}
+
+}  // namespace pensight

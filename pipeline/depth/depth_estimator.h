@@ -1,0 +1,74 @@
+#pragma once
+// The dense-depth stage: a frame's image and the FFT detector's sparse priors -> a depth-completion
+// network (image + S1 + S2 -> metric z-depth, TRUDepth's input form) -> depth at the camera's
+// resolution and the net-relative pose from it (depth_plane.h). Built once per camera and model
+// (the network is loaded, planned and, on Vulkan, recorded in the constructor); estimate() is
+// called per frame.
+//
+// Model contract (models/README.md): inputs "image" [1,1,H,W] (grey / 255) and "prior" [1,2,H,W]
+// (S1 in metres, S2; sparse_prior.h), output "depth" [1,1,H,W] in metres. H x W is the model's;
+// the image is area-resized to it and the priors moved into its pixels (depth_input.h).
+//
+// Backends: OpenCV DNN (Debian's, the fastest correct CPU path, measured in docs/dense_depth.md),
+// the engine's CPU reference executor, or the engine's Vulkan executor with S1/S2 computed on the
+// device straight into the network's input. kAuto: Vulkan on a real GPU, else OpenCV DNN, else
+// the engine's CPU executor (a model OpenCV cannot read).
+#include <filesystem>
+#include <memory>
+#include <span>
+#include <string>
+
+#include "pipeline/camera.h"
+#include "pipeline/depth/depth_plane.h"
+#include "pipeline/net_geometry.h"
+#include "runtime/device.h"
+#include "runtime/image.h"
+
+namespace pensight {
+
+enum class DepthBackend { kAuto, kOpenCv, kEngineCpu, kVulkan };
+const char* to_string(DepthBackend backend);  // "auto" | "opencv" | "engine-cpu" | "vulkan"
+// Throws pensight::Error listing the choices for any other name.
+DepthBackend parse_depth_backend(const std::string& name);
+
+struct DepthEstimatorConfig {
+  std::filesystem::path model;  // ONNX file
+  DepthBackend backend = DepthBackend::kAuto;
+  int cpu_threads = 0;  // 0: all hardware threads
+  float sigma_px = 10;  // S2's radius in network pixels, as in training
+  DepthPlaneParams plane;
+};
+
+struct DenseDepth {
+  ImageF32 depth_m;  // camera resolution; empty when `reason` is set
+  DepthPlanePose pose;
+  std::string reason;     // why this frame has no dense depth (no priors); empty when it has
+  double network_ms = 0;  // priors + network + resize (wall clock)
+  double pose_ms = 0;
+};
+
+class DepthEstimator {
+ public:
+  // Throws pensight::Error naming the file: missing or unreadable model, or one that is not a
+  // depth network (inputs/outputs other than the contract's); an explicitly requested backend
+  // that is not available.
+  DepthEstimator(const PinholeCamera& camera, const DepthEstimatorConfig& config, Device& device);
+  ~DepthEstimator();
+  DepthEstimator(DepthEstimator&&) noexcept;
+  DepthEstimator& operator=(DepthEstimator&&) noexcept;
+
+  DepthBackend backend() const;     // never kAuto
+  std::string description() const;  // e.g. "opencv dnn (2 threads), 320x240, 1.1 GFLOP"
+  double gflop() const;             // the network's multiply-adds x 2 per frame
+
+  // Throws pensight::Error when the image size differs from the camera's. No priors: no depth,
+  // with the reason.
+  DenseDepth estimate(const ImageU8& image, std::span<const SparseDepth> priors);
+
+  struct Impl;
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace pensight

@@ -1,0 +1,160 @@
+// The depth stage: its three backends give one answer on a model of the contract; the pose from
+// dense depth recovers a rendered plane; bad models, sizes and frames without priors get a clear
+// error or a reason, never a crash.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+#include "kernels/nn/nn_models.h"
+#include "kernels/nn/nn_onnx.h"
+#include "pipeline/depth/depth_estimator.h"
+#include "pipeline/net_detector.h"
+#include "runtime/error.h"
+#include "tests/support/net_image.h"
+#include "tests/support/vulkan_fixture.h"
+
+namespace pensight {
+namespace {
+namespace fs = std::filesystem;
+
+class DepthEstimatorTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ =
+        fs::temp_directory_path() / ("pensight_depth_estimator_test_" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  fs::path write(const nn::Graph& g, const std::string& name) {
+    const fs::path file = dir_ / name;
+    nn::export_onnx(g, file);
+    return file;
+  }
+
+  // The model that passes S1 through: depth = the nearest prior's depth (a 1x1 conv over
+  // image, S1, S2 with weights 0, 1, 0).
+  fs::path s1_model(int w, int h) {
+    nn::Graph g;
+    const int image = g.add_input("image", {1, 1, h, w});
+    const int prior = g.add_input("prior", {1, 2, h, w});
+    nn::Attrs cat;
+    cat.axis = 1;
+    const int x = g.add(nn::Op::kConcat, {image, prior}, cat);
+    const int weights = g.add_constant("pick_s1", {{1, 3, 1, 1}, {0.f, 1.f, 0.f}});
+    const int depth = g.add(nn::Op::kConv, {x, weights});
+    g.values()[static_cast<size_t>(depth)].name = "depth";
+    g.mark_output(depth);
+    return write(g, "s1.onnx");
+  }
+
+  fs::path dir_;
+};
+
+// A rendered plane and its FFT priors.
+struct Frame {
+  ImageU8 image;
+  std::vector<SparseDepth> priors;
+  testing::NetScene scene;
+};
+
+Frame plane_frame(const PinholeCamera& cam, uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<> u(-1, 1);
+  Frame f;
+  f.scene = {.distance_m = 1.0 + 0.5 * u(rng),
+             .psi_rad = 0.35 * u(rng),
+             .pitch_rad = 0.2 * u(rng),
+             .seed = rng()};
+  f.image = testing::render_net(cam, f.scene);
+  NetDetector detector(cam, {.backend = Backend::kCpu, .cpu_threads = 2}, testing::test_device());
+  f.priors = detector.detect(f.image).depths;
+  return f;
+}
+
+TEST_F(DepthEstimatorTest, BackendsAgreeOnTheContract) {
+  const PinholeCamera cam;
+  // A random network of the contract at 64x48 (the camera's aspect), small enough for lavapipe.
+  const fs::path model = write(nn::compact_depth_net({64, 48}, testing::fresh_seed()), "net.onnx");
+  const Frame f = plane_frame(cam, testing::fresh_seed());
+  ASSERT_FALSE(f.priors.empty());
+  std::vector<ImageF32> outputs;
+  for (const DepthBackend b :
+       {DepthBackend::kEngineCpu, DepthBackend::kOpenCv, DepthBackend::kVulkan}) {
+    DepthEstimator estimator(cam, {.model = model, .backend = b}, testing::test_device());
+    EXPECT_EQ(estimator.backend(), b) << estimator.description();
+    const DenseDepth d = estimator.estimate(f.image, f.priors);
+    ASSERT_TRUE(d.reason.empty()) << d.reason;
+    ASSERT_EQ(d.depth_m.width, cam.width_px);
+    outputs.push_back(d.depth_m);
+  }
+  for (size_t k = 1; k < outputs.size(); ++k) {
+    double num = 0, den = 0;
+    for (size_t i = 0; i < outputs[0].pixels.size(); ++i) {
+      ASSERT_TRUE(std::isfinite(outputs[k].pixels[i])) << "backend " << k << " pixel " << i;
+      num += std::pow(outputs[k].pixels[i] - outputs[0].pixels[i], 2);
+      den += std::pow(outputs[0].pixels[i], 2);
+    }
+    EXPECT_LT(std::sqrt(num / den), 1e-4) << "backend " << k;
+  }
+}
+
+TEST_F(DepthEstimatorTest, PlaneFromDenseDepthRecoversTheNet) {
+  const PinholeCamera cam;
+  DepthEstimator estimator(cam, {.model = s1_model(320, 240), .backend = DepthBackend::kEngineCpu},
+                           testing::test_device());
+  std::mt19937_64 rng(testing::fresh_seed());
+  for (int trial = 0; trial < 3; ++trial) {
+    const Frame f = plane_frame(cam, rng());
+    ASSERT_FALSE(f.priors.empty());
+    const DenseDepth d = estimator.estimate(f.image, f.priors);
+    ASSERT_TRUE(d.pose.valid()) << d.pose.reason;
+    // S1 is piecewise constant around the priors, so the plane through it is close, not exact.
+    EXPECT_NEAR(d.pose.psi_net_rad, f.scene.psi_rad, 0.03);
+    EXPECT_NEAR(d.pose.pitch_net_rad, f.scene.pitch_rad, 0.03);
+    // The central window's mean depth against the plane's depth on the axis.
+    EXPECT_NEAR(d.pose.d_net_m, f.scene.distance_m, 0.03 * f.scene.distance_m);
+  }
+}
+
+TEST_F(DepthEstimatorTest, BadModelsSizesAndFramesWithoutPriors) {
+  const PinholeCamera cam;
+  try {
+    DepthEstimator(cam, {.model = dir_ / "missing.onnx"}, testing::test_device());
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("missing.onnx"), std::string::npos) << e.what();
+  }
+  // TRUDepth's RGB image input is not this stage's contract.
+  const fs::path rgb =
+      write(nn::trudepth_net({64, 48}, 0.25f, 1, nn::DepthHead::kConvSoftplus), "rgb.onnx");
+  try {
+    DepthEstimator(cam, {.model = rgb}, testing::test_device());
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("not a depth network"), std::string::npos) << e.what();
+  }
+  const fs::path wide = write(nn::compact_depth_net({64, 32}, 1), "wide.onnx");
+  EXPECT_THROW(DepthEstimator(cam, {.model = wide}, testing::test_device()), Error);
+  std::ofstream(dir_ / "junk.onnx") << "not a protobuf";
+  EXPECT_THROW(DepthEstimator(cam, {.model = dir_ / "junk.onnx"}, testing::test_device()), Error);
+
+  DepthEstimator estimator(cam, {.model = s1_model(64, 48), .backend = DepthBackend::kEngineCpu},
+                           testing::test_device());
+  EXPECT_THROW(estimator.estimate(ImageU8(640, 480), {}), Error);
+  const DenseDepth none = estimator.estimate(ImageU8(cam.width_px, cam.height_px), {});
+  EXPECT_FALSE(none.reason.empty());
+  EXPECT_TRUE(none.depth_m.empty());
+  EXPECT_TRUE(std::isnan(none.pose.d_net_m));
+  const std::vector<SparseDepth> nan_prior = {{{100, 100, std::nanf("")}, 1}};
+  EXPECT_THROW(estimator.estimate(ImageU8(cam.width_px, cam.height_px), nan_prior), Error);
+  EXPECT_THROW(parse_depth_backend("tensorrt"), Error);
+}
+
+}  // namespace
+}  // namespace pensight
