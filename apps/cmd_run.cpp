@@ -2,11 +2,13 @@
 #include <cstdio>
 
 #include "apps/command.h"
+#include "apps/default_model.h"
 #include "apps/progress_bar.h"
 #include "pipeline/dataset/diagnostics_csv.h"
 #include "pipeline/dataset/global_pose_csv.h"
 #include "pipeline/dataset/trajectory_tum.h"
 #include "pipeline/runner.h"
+#include "runtime/log.h"
 #if PENSIGHT_HAS_MAPPING
 #include "mapping/map_io.h"
 #include "mapping/mapping_stage.h"
@@ -47,13 +49,22 @@ int cmd_run(const Args& args) {
                "write OUT/overlays/<frame>.png for every frame (ROI grid, lattices, pose); "
                "without it, for 4 frames the report shows");
   cli.add_flag("--quiet", quiet, "no progress bar");
+  std::string model, depth_backend = "auto";
+  bool no_depth = false;
+  cli.add_option("--model", model,
+                 "depth network (ONNX, models/README.md); default: " +
+                     std::string(kDefaultDepthModel) + " where it is found");
+  cli.add_flag("--no-depth", no_depth, "do not run the dense-depth stage");
+  cli.add_option("--depth-backend", depth_backend,
+                 "auto|opencv|engine-cpu|vulkan (auto: vulkan on a real GPU, else OpenCV DNN)")
+      ->capture_default_str();
 #if PENSIGHT_HAS_MAPPING
   bool map = false;
   std::string map_config_file;
   cli.add_flag("--map", map,
-               "run the mapping stage: the dataset's ground-truth depth (groundtruth0/depth/, "
-               "until the dense-depth stage lands) at the estimated camera poses; writes "
-               "OUT/map.vdb, map_mesh.ply, map_points.ply");
+               "run the mapping stage: the dense-depth stage's depth (with --no-depth or no model: "
+               "the dataset's ground-truth depth, groundtruth0/depth/) at the estimated camera "
+               "poses; writes OUT/map.vdb, map_mesh.ply, map_points.ply");
   cli.add_option("--map-config", map_config_file, "map YAML (docs/mapping.md)");
 #endif
   try {
@@ -64,6 +75,18 @@ int cmd_run(const Args& args) {
 
   options.detector.backend = parse_backend(backend);
   options.write_published_global_pose = !no_published;
+  if (!no_depth) {
+    const std::filesystem::path file =
+        model.empty() ? find_default_depth_model() : std::filesystem::path(model);
+    if (!file.empty()) {
+      options.depth = DepthEstimatorConfig{.model = file,
+                                           .backend = parse_depth_backend(depth_backend),
+                                           .cpu_threads = options.detector.cpu_threads};
+    } else {
+      log_info(std::string("no depth model (") + kDefaultDepthModel +
+               " not found): the dense-depth stage is off; give one with --model");
+    }
+  }
   ProgressBar bar("run");
   if (!quiet) options.on_progress = [&](size_t done, size_t total) { bar.update(done, total); };
   const Dataset dataset = read_dataset(dataset_dir);
@@ -73,7 +96,7 @@ int cmd_run(const Args& args) {
     mapper = std::make_unique<mapping::MappingStage>(
         dataset.cam0.camera,
         map_config_file.empty() ? mapping::MapConfig{} : mapping::read_map_config(map_config_file));
-    options.truth_depth = true;
+    options.truth_depth = !options.depth;
     options.stages.push_back({[&](const FrameResult& r) { mapper->push(r); },
                               [&] {
                                 mapper->finish();
@@ -85,14 +108,18 @@ int cmd_run(const Args& args) {
   Device device;
   const RunSummary s = run_dataset(dataset, out_dir, options, device);
   std::printf("backend: %s\n", s.backend.c_str());
+  if (!s.depth_backend.empty()) {
+    std::printf("dense depth: %s; %zu frames with depth\n", s.depth_backend.c_str(),
+                s.frames_with_depth);
+  }
   std::printf("frames: %zu (%zu unreadable, %zu without a net pose)\n", s.frames, s.frames_skipped,
               s.frames_without_pose);
   std::printf("timing per node (%s; the published pipeline on a Jetson Orin beside it):\n%s",
               options.realtime ? "paced by the timestamps" : "as fast as possible",
               format_timing_table(s.timing).c_str());
   std::printf("global pose sensors:\n%s", s.global_pose_counters.c_str());
-  std::printf("wrote %s/estimates.csv, %s, %s, %s, overlays/, report.html\n", out_dir.c_str(),
-              kDiagnosticsFile, kTrajectoryTumFile, kTimingFile);
+  std::printf("wrote %s/estimates.csv, %s, %s, %s, overlays/, %sreport.html\n", out_dir.c_str(),
+              kDiagnosticsFile, kTrajectoryTumFile, kTimingFile, options.depth ? "depth/, " : "");
 #if PENSIGHT_HAS_MAPPING
   if (mapper) {
     const mapping::MappingCounters c = mapper->counters();

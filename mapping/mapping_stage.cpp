@@ -18,7 +18,9 @@ MappingStage::~MappingStage() {
 }
 
 void MappingStage::push(const FrameResult& result) {
-  push(result.timestamp_ns, result.depth_m, result.global_pose.T_pen_camera);
+  // A depth sensor's image (or replayed truth) when the frame carries one, else the network's.
+  push(result.timestamp_ns, result.depth_m ? result.depth_m : result.dense_depth_m,
+       result.global_pose.T_pen_camera);
 }
 
 void MappingStage::push(int64_t t_ns, std::shared_ptr<const ImageF32> depth_m,

@@ -66,6 +66,7 @@ global_pose::NetObservation net_observation(const NetDetection& d) {
 struct Pipeline::Impl {
   PipelineConfig config;
   NetDetector detector;
+  std::optional<DepthEstimator> depth;
   global_pose::GlobalPoseEstimator estimator;
   std::optional<global_pose::PublishedGlobalPose> published;
 
@@ -76,6 +77,7 @@ struct Pipeline::Impl {
     Clock::time_point at;
   };
   BoundedQueue<Pushed> camera_q;
+  BoundedQueue<std::unique_ptr<Detected>> depth_q;
   // Sensors are fast to apply, so their queue is deep: a push() waits only when the caller is
   // far ahead of a lossless result consumer.
   BoundedQueue<PoseInput> pose_q{4096, QueuePolicy::kBlock};
@@ -87,8 +89,8 @@ struct Pipeline::Impl {
   Held<AttitudeSample> held_attitude;
 
   mutable std::mutex stats_mutex;
-  StageMeter fft{"fft net detection"}, relative{"relative pose (fft)"}, global{"global pose"},
-      delivery{"delivery"};
+  StageMeter fft{"fft net detection"}, relative{"relative pose (fft)"}, dense{"dense depth"},
+      relative_depth{"relative pose (depth)"}, global{"global pose"}, delivery{"delivery"};
 
   mutable std::mutex finish_mutex;
   std::atomic<bool> finished{false};
@@ -99,13 +101,14 @@ struct Pipeline::Impl {
   void throw_if_device_lost() const {
     if (device_lost) throw DeviceLostError(device_lost_message);
   }
-  std::thread detect_thread, pose_thread, deliver_thread;
+  std::thread detect_thread, depth_thread, pose_thread, deliver_thread;
 
   Impl(PipelineConfig c, Device& device)
       : config(std::move(c)),
         detector(config.camera, config.detector, device),
         estimator(config.global_pose),
         camera_q(config.camera_queue, QueuePolicy::kBlock),
+        depth_q(config.camera_queue, QueuePolicy::kBlock),
         result_q(config.result_queue,
                  config.lossless_results ? QueuePolicy::kBlock : QueuePolicy::kDropOldest) {
     if (config.lossless_results && !config.on_frame) {
@@ -114,6 +117,15 @@ struct Pipeline::Impl {
           "the results); set on_frame or turn lossless_results off");
     }
     if (config.published) published.emplace(*config.published);
+    if (config.depth) depth.emplace(config.camera, *config.depth, device);
+  }
+
+  void lose_device(int64_t t_ns, const char* what) {
+    device_lost_message =
+        "Pipeline: the device was lost at the frame at t = " + std::to_string(t_ns) +
+        " ns, and the run stops there: " + what;
+    device_lost = true;
+    log_error(device_lost_message);
   }
 
   void detect_loop() {
@@ -130,16 +142,50 @@ struct Pipeline::Impl {
         fft.add(d->result.detection.fft_ms, d->pushed);
         relative.add(d->result.detection.pose_ms, d->pushed);
       } catch (const DeviceLostError& e) {
-        device_lost_message = "Pipeline: the device was lost at the frame at t = " +
-                              std::to_string(item->timestamp_ns) +
-                              " ns, and the run stops there: " + e.what();
-        device_lost = true;
-        log_error(device_lost_message);
+        lose_device(item->timestamp_ns, e.what());
         continue;
       } catch (const std::exception& e) {
         d->result.error = e.what();
       }
-      pose_q.push({.kind = PoseInput::kFrame, .frame = std::move(d)});
+      if (depth) {
+        depth_q.push(std::move(d));
+      } else {
+        pose_q.push({.kind = PoseInput::kFrame, .frame = std::move(d)});
+      }
+    }
+    if (depth) {
+      depth_q.close();
+    } else {
+      pose_q.close();
+    }
+  }
+
+  // A frame without detection (its error set) passes through; a frame whose depth fails keeps
+  // its other results, the reason in depth_pose.
+  void depth_loop() {
+    while (auto item = depth_q.pop()) {
+      if (device_lost) continue;
+      Detected& d = **item;
+      FrameResult& r = d.result;
+      if (r.error.empty()) {
+        try {
+          DenseDepth dense_depth = depth->estimate(*r.image, r.detection.depths);
+          r.depth_pose = std::move(dense_depth.pose);
+          r.depth_ms = dense_depth.network_ms;
+          if (dense_depth.reason.empty()) {
+            r.dense_depth_m = std::make_shared<const ImageF32>(std::move(dense_depth.depth_m));
+            std::lock_guard lock(stats_mutex);
+            dense.add(dense_depth.network_ms, d.pushed);
+            relative_depth.add(dense_depth.pose_ms, d.pushed);
+          }
+        } catch (const DeviceLostError& e) {
+          lose_device(r.timestamp_ns, e.what());
+          continue;
+        } catch (const std::exception& e) {
+          r.depth_pose.reason = std::string("dense depth: ") + e.what();
+        }
+      }
+      pose_q.push({.kind = PoseInput::kFrame, .frame = std::move(*item)});
     }
     pose_q.close();
   }
@@ -237,8 +283,9 @@ struct Pipeline::Impl {
     std::lock_guard lock(finish_mutex);
     if (finished.exchange(true)) return;
     camera_q.close();
-    detect_thread.join();  // closes the pose queue when drained
-    pose_thread.join();    // closes the result queue when drained
+    detect_thread.join();  // closes the depth queue (or, without it, the pose queue) when drained
+    if (depth_thread.joinable()) depth_thread.join();  // closes the pose queue when drained
+    pose_thread.join();                                // closes the result queue when drained
     if (deliver_thread.joinable()) deliver_thread.join();
   }
 
@@ -253,6 +300,7 @@ Pipeline::Pipeline(PipelineConfig config, Device& device)
     : impl_(std::make_unique<Impl>(std::move(config), device)) {
   Impl& m = *impl_;
   m.detect_thread = std::thread([&m] { m.detect_loop(); });
+  if (m.depth) m.depth_thread = std::thread([&m] { m.depth_loop(); });
   m.pose_thread = std::thread([&m] { m.pose_loop(); });
   if (m.config.on_frame) m.deliver_thread = std::thread([&m] { m.deliver_loop(); });
 }
@@ -295,8 +343,14 @@ void Pipeline::finish() {
 std::vector<StageStats> Pipeline::stats() const {
   const Impl& m = *impl_;
   std::lock_guard lock(m.stats_mutex);
-  return {m.fft.stats(), m.relative.stats(), m.global.stats(),
-          m.delivery.stats(m.result_q.dropped())};
+  std::vector<StageStats> out = {m.fft.stats(), m.relative.stats()};
+  if (m.depth) {
+    out.push_back(m.dense.stats());
+    out.push_back(m.relative_depth.stats());
+  }
+  out.push_back(m.global.stats());
+  out.push_back(m.delivery.stats(m.result_q.dropped()));
+  return out;
 }
 
 global_pose::GlobalPoseCounters Pipeline::global_pose_counters() const {
@@ -318,6 +372,10 @@ int Pipeline::roi_size_px() const {
 
 std::string Pipeline::backend_description() const {
   return impl_->detector.description();
+}
+
+std::string Pipeline::depth_description() const {
+  return impl_->depth ? impl_->depth->description() : std::string();
 }
 
 }  // namespace pensight

@@ -6,6 +6,8 @@
 // A frame's whole path:
 //   push(CameraFrame) -> [camera queue, blocking] -> detection worker: NetDetector::detect
 //     (FFT lattice per ROI, net points, FFT relative pose)
+//   -> [depth queue, blocking; when PipelineConfig::depth is set] -> dense-depth worker:
+//     DepthEstimator::estimate (priors -> network -> depth image, pose from dense depth)
 //   -> [pose queue, blocking] -> global-pose worker: feeds the estimators every sensor sample up
 //     to the frame's timestamp (samples pushed before the frame, or late ones), adds the frame's
 //     net observation, asks for the estimate at the frame's time
@@ -25,6 +27,7 @@
 #include <vector>
 
 #include "pipeline/dataset/dataset_types.h"
+#include "pipeline/depth/depth_estimator.h"
 #include "pipeline/global_pose/global_pose_estimator.h"
 #include "pipeline/global_pose/published_global_pose.h"
 #include "pipeline/net_detector.h"
@@ -52,6 +55,11 @@ struct FrameResult {
   NetDetection detection;
   global_pose::GlobalPose global_pose;
   std::optional<global_pose::GlobalPose> published;  // when PipelineConfig::published is set
+  // The dense-depth stage's z-depth in metres at the camera's resolution; null when the stage is
+  // off or the frame had none (depth_pose.reason says why).
+  std::shared_ptr<const ImageF32> dense_depth_m;
+  DepthPlanePose depth_pose;  // the net-relative pose from dense_depth_m
+  double depth_ms = 0;        // priors + network + resize
   // The latest DVL net plane as the camera's net-relative pose, when at most 0.5 s old (NaN else).
   global_pose::NetRelativePose dvl_plane;
   // The estimator's counters after this frame (cumulative since the start).
@@ -63,6 +71,8 @@ struct PipelineConfig {
   PinholeCamera camera;
   NetDetectorConfig detector;  // its mesh_m is the net's (scene.yaml net_mesh_size_m)
   global_pose::GlobalPoseEstimatorConfig global_pose;
+  // The dense-depth stage (a model file and its backend); off when unset.
+  std::optional<DepthEstimatorConfig> depth;
   // Also run the published global-pose node (the baseline) on the same inputs.
   std::optional<global_pose::PublishedGlobalPoseConfig> published;
   // Called on the pipeline's delivery thread for each result, in frame order (an exception it
@@ -104,10 +114,13 @@ class Pipeline {
   // was lost: the frames from the lost one on have no results.
   void finish();
 
-  // Per stage: "fft net detection", "relative pose (fft)", "global pose", "delivery"; latency
+  // Per stage: "fft net detection", "relative pose (fft)", with the dense-depth stage "dense
+  // depth" and "relative pose (depth)", then "global pose", "delivery"; latency
   // from push() of the frame. Safe to call while running.
   std::vector<StageStats> stats() const;
   std::string backend_description() const;
+  // The dense-depth stage's backend, network size and GFLOP; empty when the stage is off.
+  std::string depth_description() const;
   // The detector's ROI grid (top-left corners, grid order) and ROI side, e.g. for overlays.
   const std::vector<kernels::RoiOrigin>& rois() const;
   int roi_size_px() const;

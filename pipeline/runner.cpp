@@ -1,5 +1,8 @@
 #include "pipeline/runner.h"
 
+#include "pipeline/dataset/dataset_reader.h"
+#include "pipeline/dataset/png_io.h"
+
 #include <algorithm>
 #include <chrono>
 #include <exception>
@@ -114,6 +117,12 @@ class RunWriter {
     overlay_every_ = std::max<size_t>(every_nth, 1);
   }
 
+  // OUT/depth/ for the dense-depth stage's PNGs.
+  void depth_pngs(std::filesystem::path dir) {
+    std::filesystem::create_directories(dir);
+    depth_dir_ = std::move(dir);
+  }
+
   // Frame i could not be loaded, for `reason` (its diagnostics row says so).
   void skip(size_t i, const std::string& reason) {
     std::lock_guard lock(mutex_);
@@ -154,6 +163,15 @@ class RunWriter {
       if (r.published) fill_global_pose(published_row, *r.published);
       diag.dvl_plane_d_m = r.dvl_plane.d_net_m;
       diag.dvl_plane_psi_rad = r.dvl_plane.psi_net_rad;
+      if (r.depth_pose.valid()) {
+        row.d_net_depth_m = r.depth_pose.d_net_m;
+        row.psi_net_depth_rad = r.depth_pose.psi_net_rad;
+        row.pitch_net_depth_rad = r.depth_pose.pitch_net_rad;
+      }
+      if (r.dense_depth_m && !depth_dir_.empty()) {
+        write_png(depth_dir_ / d_.frames[next_].filename, depth_mm_from_m(*r.dense_depth_m));
+        ++summary_.frames_with_depth;
+      }
       if (!overlay_dir_.empty() && next_ % overlay_every_ == 0 && r.image) {
         const std::filesystem::path name =
             std::filesystem::path(d_.frames[next_].filename).stem().string() + ".png";
@@ -228,6 +246,7 @@ class RunWriter {
   std::vector<kernels::RoiOrigin> rois_;
   int roi_size_px_ = 0;
   size_t overlay_every_ = 1;
+  std::filesystem::path depth_dir_;
   size_t next_ = 0;  // frames with a row
   global_pose::GlobalPoseCounters last_;
 };
@@ -269,6 +288,7 @@ RunSummary run_dataset(const Dataset& dataset, const std::filesystem::path& out_
   config.detector.mesh_angle_rad = dataset.scene.net_mesh_angle_rad;
   config.global_pose = global_pose_config(dataset);
   if (options.write_published_global_pose) config.published = published_config(dataset);
+  config.depth = options.depth;
   config.lossless_results = true;
   // A failed write (disk full) ends the run after the pipeline drains, with no output renamed.
   std::exception_ptr write_error;
@@ -285,6 +305,8 @@ RunSummary run_dataset(const Dataset& dataset, const std::filesystem::path& out_
   };
   Pipeline pipeline(config, device);
   summary.backend = pipeline.backend_description();
+  summary.depth_backend = pipeline.depth_description();
+  if (options.depth) writer.depth_pngs(out_dir / "depth");
   writer.overlays(out_dir / "overlays", pipeline.rois(), pipeline.roi_size_px(),
                   options.overlays ? 1 : (total + kReportOverlays - 1) / kReportOverlays);
 

@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -36,6 +37,9 @@ struct RunOptions {
   // the mapping stage's input until the dense-depth stage produces it. Throws pensight::Error
   // when the dataset has none.
   bool truth_depth = false;
+  // The dense-depth stage: OUT/depth/<cam0 file> (contract 1.1) and the *_depth columns of
+  // estimates.csv; off when unset.
+  std::optional<DepthEstimatorConfig> depth;
   // Stages outside the pipeline layer (the mapping stage) that take every result.
   struct AttachedStage {
     // On the delivery thread, after the frame's rows are written; must not block.
@@ -47,7 +51,9 @@ struct RunOptions {
 };
 
 struct RunSummary {
-  std::string backend;  // e.g. "cpu (FFTW, 2 threads)"
+  std::string backend;        // e.g. "cpu (FFTW, 2 threads)"
+  std::string depth_backend;  // e.g. "opencv dnn (2 threads), 320x240, 1.19 GFLOP"; empty when off
+  size_t frames_with_depth = 0;
   size_t frames = 0;
   size_t frames_skipped = 0;  // unreadable or wrong-size images: NaN rows, with a warning each
   size_t frames_without_pose = 0;

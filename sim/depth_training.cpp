@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "pipeline/dataset/atomic_file.h"
+#include "pipeline/dataset/dataset_reader.h"
 #include "pipeline/depth/depth_input.h"
 #include "pipeline/net_detector.h"
 #include "runtime/device.h"
@@ -183,7 +184,7 @@ DepthSample make_depth_sample(uint64_t seed, int width, int height) {
 
   DepthSample out;
   out.image = resize_area(r.image, width, height);
-  const ImageU16 full_mm = depth_to_mm(r.depth_m);
+  const ImageU16 full_mm = depth_mm_from_m(r.depth_m);
   out.depth_mm = ImageU16(width, height);
   for (int y = 0; y < height; ++y) {
     const int sy = std::min(cam.height_px - 1,

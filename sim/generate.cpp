@@ -1,5 +1,6 @@
 #include "sim/generate.h"
 
+#include "pipeline/dataset/dataset_reader.h"
 #include "pipeline/dataset/dataset_writer.h"
 #include "runtime/error.h"
 #include "runtime/log.h"
@@ -83,7 +84,7 @@ void generate_dataset(const Scenario& s, FrameRenderer& renderer, const std::fil
     } else {
       writer.add_frame(f.timestamp_ns, r.image);
     }
-    writer.add_groundtruth(ground_truth_row(s, net, f, r.depth_m), depth_to_mm(r.depth_m));
+    writer.add_groundtruth(ground_truth_row(s, net, f, r.depth_m), depth_mm_from_m(r.depth_m));
     writer.add_mesh_truth(mesh_truth_row(s, net, lattice, f));
     if (options.progress) options.progress(i + 1, frames);
   }

@@ -57,12 +57,4 @@ GroundTruthRow ground_truth_row(const Scenario& s, const NetGeometry& net, const
   return g;
 }
 
-ImageU16 depth_to_mm(const ImageF32& depth_m) {
-  ImageU16 mm(depth_m.width, depth_m.height);
-  std::transform(depth_m.pixels.begin(), depth_m.pixels.end(), mm.pixels.begin(), [](float z) {
-    return static_cast<uint16_t>(std::clamp(std::lround(z * 1000.0), 0L, 65535L));
-  });
-  return mm;
-}
-
 }  // namespace pensight::sim

@@ -29,7 +29,4 @@ MeshTruthRow mesh_truth_row(const Scenario& s, const NetGeometry& net, const Net
 GroundTruthRow ground_truth_row(const Scenario& s, const NetGeometry& net, const FrameState& f,
                                 const ImageF32& depth_m);
 
-// Depth image as the contract's 16-bit millimetres (0 = no net).
-ImageU16 depth_to_mm(const ImageF32& depth_m);
-
 }  // namespace pensight::sim

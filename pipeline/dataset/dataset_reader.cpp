@@ -185,6 +185,16 @@ ImageU16 Dataset::load_depth_mm(size_t i) const {
                       cam0.camera.height_px);
 }
 
+ImageU16 depth_mm_from_m(const ImageF32& depth_m) {
+  ImageU16 mm(depth_m.width, depth_m.height);
+  std::transform(depth_m.pixels.begin(), depth_m.pixels.end(), mm.pixels.begin(), [](float z) {
+    return std::isfinite(z) && z > 0
+               ? static_cast<uint16_t>(std::clamp(std::lround(z * 1000.0), 0L, 65535L))
+               : uint16_t{0};
+  });
+  return mm;
+}
+
 ImageF32 depth_m_from_mm(const ImageU16& mm) {
   ImageF32 out(mm.width, mm.height);
   std::transform(mm.pixels.begin(), mm.pixels.end(), out.pixels.begin(),

@@ -60,6 +60,9 @@ class Dataset {
 
 // A depth PNG of the contract (16-bit z-depth in millimetres, 0 = none) in metres, NaN where none.
 ImageF32 depth_m_from_mm(const ImageU16& mm);
+// The contract's depth PNG from metres: rounded to mm, clamped to 65535; 0 where the depth is
+// not finite or not positive (no estimate).
+ImageU16 depth_mm_from_m(const ImageF32& depth_m);
 
 // Reads scene.yaml, cam0/ (required) and the optional sensor folders. Throws pensight::Error
 // naming the file (and line or key) for anything missing or malformed, except single bad rows of

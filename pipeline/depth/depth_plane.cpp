@@ -138,6 +138,7 @@ DepthPlanePose depth_plane_pose(const ImageF32& depth_m, const PixelRays& rays,
     return out;
   }
   out.inlier_share = static_cast<double>(inliers) / static_cast<double>(samples.size());
+  out.reason.clear();
   out.psi_net_rad = std::atan(abc.x());
   out.pitch_net_rad = std::atan(abc.y());
   out.d_net_m = central_sum / central_count;

@@ -30,8 +30,8 @@ struct DepthPlaneParams {
 
 struct DepthPlanePose {
   double d_net_m = kNaN, psi_net_rad = kNaN, pitch_net_rad = kNaN;
-  double inlier_share = 0;  // pixels with a non-zero final weight
-  std::string reason;       // why the pose is NaN; empty when valid
+  double inlier_share = 0;               // pixels with a non-zero final weight
+  std::string reason = "not estimated";  // why the pose is NaN; empty when valid
   bool valid() const { return reason.empty(); }
 };
 

@@ -15,6 +15,7 @@
 #include "pipeline/depth/depth_estimator.h"
 #include "pipeline/net_detector.h"
 #include "runtime/error.h"
+#include "tests/support/depth_models.h"
 #include "tests/support/net_image.h"
 #include "tests/support/vulkan_fixture.h"
 
@@ -37,20 +38,10 @@ class DepthEstimatorTest : public ::testing::Test {
     return file;
   }
 
-  // The model that passes S1 through: depth = the nearest prior's depth (a 1x1 conv over
-  // image, S1, S2 with weights 0, 1, 0).
   fs::path s1_model(int w, int h) {
-    nn::Graph g;
-    const int image = g.add_input("image", {1, 1, h, w});
-    const int prior = g.add_input("prior", {1, 2, h, w});
-    nn::Attrs cat;
-    cat.axis = 1;
-    const int x = g.add(nn::Op::kConcat, {image, prior}, cat);
-    const int weights = g.add_constant("pick_s1", {{1, 3, 1, 1}, {0.f, 1.f, 0.f}});
-    const int depth = g.add(nn::Op::kConv, {x, weights});
-    g.values()[static_cast<size_t>(depth)].name = "depth";
-    g.mark_output(depth);
-    return write(g, "s1.onnx");
+    const fs::path file = dir_ / "s1.onnx";
+    testing::write_s1_depth_model(file, w, h);
+    return file;
   }
 
   fs::path dir_;

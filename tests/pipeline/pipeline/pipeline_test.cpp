@@ -14,9 +14,11 @@
 
 #include "pipeline/dataset/csv.h"
 #include "pipeline/dataset/diagnostics_csv.h"
+#include "pipeline/dataset/png_io.h"
 #include "pipeline/dataset/trajectory_tum.h"
 #include "pipeline/runner.h"
 #include "runtime/error.h"
+#include "tests/support/depth_models.h"
 #include "tests/support/net_image.h"
 #include "tests/support/rendered_run.h"
 #include "tests/support/vulkan_fixture.h"
@@ -238,6 +240,7 @@ TEST(Pipeline, RunWritesDiagnosticsAndTiming) {
   }
   EXPECT_TRUE(fft && orin);
   EXPECT_EQ(summary.timing.size(), timing.rows());
+  EXPECT_FALSE(std::filesystem::exists(out / "depth"));  // no model, no dense-depth stage
   // The report and the overlays it shows (kReportOverlays evenly spaced frames, the first one).
   EXPECT_TRUE(std::filesystem::is_regular_file(out / "report.html"));
   size_t overlays = 0;
@@ -246,6 +249,61 @@ TEST(Pipeline, RunWritesDiagnosticsAndTiming) {
   EXPECT_EQ(overlays, kReportOverlays);
   EXPECT_TRUE(std::filesystem::is_regular_file(
       out / "overlays" / (std::filesystem::path(d.frames[0].filename).stem().string() + ".png")));
+  std::filesystem::remove_all(out);
+}
+
+// With a depth model: OUT/depth/<cam0 file> (16-bit mm, the camera's size) for every frame with an
+// FFT pose and none for the others, the *_depth columns filled on the same frames, and the stage
+// in timing.csv. The S1 model outputs the nearest prior, so its depth follows the rendered net.
+TEST(Pipeline, RunWithTheDepthStageWritesDepthPngsAndColumns) {
+  const testing::RenderedDataset rendered(testing::shipped_scenario("sweep.yaml", 1.5));
+  const Dataset& d = rendered.dataset();
+  const std::filesystem::path out =
+      std::filesystem::temp_directory_path() / ("pensight-depth-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(out);
+  testing::write_s1_depth_model(out / "s1.onnx", 320, 240);
+  RunOptions options;
+  options.detector.backend = Backend::kCpu;
+  options.depth = DepthEstimatorConfig{.model = out / "s1.onnx"};
+  const RunSummary summary = run_dataset(d, out, options, test_device());
+  const std::vector<EstimateRow> rows = read_estimates_csv(out / "estimates.csv");
+  ASSERT_EQ(rows.size(), d.frames.size());
+  size_t with_depth = 0, frontal = 0;
+  for (size_t i = 0; i < rows.size(); ++i) {
+    const bool fft = std::isfinite(rows[i].d_net_fft_m);
+    const std::filesystem::path png = out / "depth" / d.frames[i].filename;
+    ASSERT_EQ(std::filesystem::exists(png), fft) << i;
+    EXPECT_EQ(std::isfinite(rows[i].d_net_depth_m), fft) << i;
+    if (!fft) continue;
+    ++with_depth;
+    // S1 is constant around each prior: beyond ~30 deg of obliquity a prior's patch spans more
+    // depth than these bounds (the sweep turns to 50 deg).
+    if (std::abs(rows[i].psi_net_fft_rad) > 0.5) continue;
+    ++frontal;
+    EXPECT_NEAR(rows[i].d_net_depth_m, rows[i].d_net_fft_m, 0.05 * rows[i].d_net_fft_m) << i;
+    EXPECT_NEAR(rows[i].psi_net_depth_rad, rows[i].psi_net_fft_rad, 0.05) << i;
+    const ImageU16 mm = read_png_u16(png, d.cam0.camera.width_px, d.cam0.camera.height_px);
+    const ImageU16 truth = d.load_depth_mm(i);
+    int close = 0, compared = 0;
+    for (size_t p = 0; p < mm.pixels.size(); p += 97) {
+      if (truth.pixels[p] == 0) continue;
+      ++compared;
+      close += std::abs(mm.pixels[p] - truth.pixels[p]) < 0.05 * truth.pixels[p];
+    }
+    EXPECT_GT(close, 0.8 * compared) << i;
+  }
+  EXPECT_GT(frontal, 3u);
+  EXPECT_EQ(summary.frames_with_depth, with_depth);
+  EXPECT_NE(summary.depth_backend.find("320x240"), std::string::npos) << summary.depth_backend;
+  const CsvTable timing(out / kTimingFile, 10, 10);
+  bool dense = false;
+  for (size_t i = 0; i < timing.rows(); ++i) {
+    if (timing.text(i, 0) == "dense depth") {
+      dense =
+          timing.integer(i, 1) == static_cast<int64_t>(with_depth) && timing.number(i, 8) == 66.8;
+    }
+  }
+  EXPECT_TRUE(dense);
   std::filesystem::remove_all(out);
 }
 
