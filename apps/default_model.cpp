@@ -14,10 +14,7 @@ std::filesystem::path find_default_depth_model() {
     candidates.push_back(fs::path(dir) / name);
   std::error_code ec;
   const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  if (!ec) {
-    candidates.push_back(exe.parent_path() / "../.." / kDefaultDepthModel);
-    candidates.push_back(exe.parent_path() / "../share/pensight" / kDefaultDepthModel);
-  }
+  if (!ec) candidates.push_back(exe.parent_path() / "../.." / kDefaultDepthModel);
   for (const fs::path& c : candidates) {
     if (fs::is_regular_file(c, ec)) return fs::weakly_canonical(c, ec);
   }

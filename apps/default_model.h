@@ -6,9 +6,8 @@ namespace pensight::app {
 
 inline constexpr const char* kDefaultDepthModel = "models/compact_depth.onnx";
 
-// The first that exists of: $PENSIGHT_MODEL_DIR/compact_depth.onnx, the source tree's models/
-// seen from the executable (build/apps/pensight -> models/), <prefix>/share/pensight/models/.
-// Empty when none does.
+// The first that exists of: $PENSIGHT_MODEL_DIR/compact_depth.onnx and the source tree's models/
+// seen from the executable (build/apps/pensight -> models/). Empty when neither does.
 std::filesystem::path find_default_depth_model();
 
 }  // namespace pensight::app

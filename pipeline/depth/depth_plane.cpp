@@ -6,6 +6,7 @@
 #include <random>
 #include <vector>
 
+#include "pipeline/median.h"
 #include "runtime/error.h"
 
 namespace pensight {
@@ -102,9 +103,8 @@ DepthPlanePose depth_plane_pose(const ImageF32& depth_m, const PixelRays& rays,
       out.reason = "no plane agrees with the depth image";
       return out;
     }
-    std::nth_element(near.begin(), near.begin() + near.size() / 2, near.end());
     // A floor of 1 mm keeps an exact plane from dividing by zero.
-    const double c = 4.685 * std::max(1.4826 * near[near.size() / 2], 1e-3);
+    const double c = 4.685 * std::max(1.4826 * median(std::move(near)), 1e-3);
     Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
     Eigen::Vector3d b = Eigen::Vector3d::Zero();
     for (size_t i = 0; i < samples.size(); ++i) {

@@ -1,0 +1,67 @@
+// `pensight depth-eval DATASET... --model FILE`: the dense-depth stage's accuracy on rendered
+// datasets against their ground truth, beside S1 alone and the FFT plane (depth_accuracy.h).
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <string>
+
+#include "apps/command.h"
+#include "apps/default_model.h"
+#include "pipeline/depth/depth_accuracy.h"
+#include "runtime/error.h"
+#include "runtime/units.h"
+
+namespace pensight::app {
+
+int cmd_depth_eval(const Args& args) {
+  CLI::App cli(
+      "Measures the dense-depth stage on rendered datasets (groundtruth0/depth/): AbsRel, "
+      "delta < 1.25 and RMSE over the pixels that see the net, beside S1 alone and the FFT plane "
+      "extrapolated to every pixel on the same frames, and the median d_net / psi_net error of the "
+      "pose from dense depth. One Markdown table row per dataset.",
+      "pensight depth-eval");
+  std::vector<std::string> datasets;
+  std::string model, backend = "auto";
+  size_t stride = 1;
+  cli.add_option("DATASET", datasets, "rendered dataset folders")->required();
+  cli.add_option("--model", model, "depth network (default: the shipped one)");
+  cli.add_option("--depth-backend", backend, "auto|opencv|engine-cpu|vulkan")
+      ->capture_default_str();
+  cli.add_option("--stride", stride, "every N-th frame")->check(CLI::Range(1, 1000));
+  try {
+    cli.parse(std::vector<std::string>(args.rbegin(), args.rend()));
+  } catch (const CLI::ParseError& e) {
+    return cli.exit(e);
+  }
+  const std::filesystem::path file =
+      model.empty() ? find_default_depth_model() : std::filesystem::path(model);
+  if (file.empty()) {
+    throw Error(std::string("no depth model: ") + kDefaultDepthModel +
+                " was not found; give one with --model");
+  }
+  std::printf(
+      "| dataset | frames | AbsRel net | AbsRel S1 | AbsRel FFT plane | delta1 net | RMSE net m | "
+      "d_net_depth median | psi_net_depth median deg |\n|---|---|---|---|---|---|---|---|---|\n");
+  Device device;
+  for (const std::string& dir : datasets) {
+    const Dataset dataset = read_dataset(dir);
+    NetDetectorConfig config;
+    config.mesh_m = dataset.scene.net_mesh_size_m;
+    config.mesh_type = dataset.scene.net_mesh_type;
+    config.mesh_angle_rad = dataset.scene.net_mesh_angle_rad;
+    NetDetector detector(dataset.cam0.camera, config, device);
+    DepthEstimator estimator(dataset.cam0.camera,
+                             {.model = file, .backend = parse_depth_backend(backend)}, device);
+    const DepthAccuracy a = depth_accuracy(dataset, detector, estimator, stride);
+    std::printf("| %s | %zu | %.4f | %.4f | %.4f | %.4f | %.4f | %.2f %% | %.2f |\n",
+                std::filesystem::path(dir).filename().c_str(), a.frames, a.network.abs_rel,
+                a.s1.abs_rel, a.fft_plane.abs_rel, a.network.delta1, a.network.rmse_m,
+                100 * a.d_net_median_rel, rad_to_deg(a.psi_median_rad));
+    std::fflush(stdout);
+  }
+  return 0;
+}
+
+PENSIGHT_COMMAND("depth-eval", "dense-depth accuracy on rendered datasets (with baselines)",
+                 cmd_depth_eval);
+
+}  // namespace pensight::app

@@ -1,0 +1,101 @@
+// The dense-depth stage per frame on the shipped model (models/compact_depth.onnx) at 320x240:
+// area resize, priors -> S1/S2, network, bilinear resize to 720x540 (DepthEstimator::estimate,
+// pose excluded) on each backend side by side: OpenCV DNN, the engine's CPU executor, the
+// engine's Vulkan executor (lavapipe on a machine without a GPU; S1/S2 on the device). ONNX
+// Runtime CPU as the peer: node bench/ort_bench.js models/compact_depth.onnx 20
+// image=1x1x240x320 prior=1x2x240x320. Then the pose from dense depth (every pixel, IRLS).
+// Counters: GFLOP per frame and achieved GFLOP/s. The frame: follow.yaml's first, rendered.
+#include <benchmark/benchmark.h>
+
+#include <filesystem>
+#include <optional>
+
+#include "pipeline/depth/depth_estimator.h"
+#include "pipeline/net_detector.h"
+#include "runtime/device.h"
+#include "sim/frame_state.h"
+#include "sim/net_geometry.h"
+#include "sim/render_cpu.h"
+#include "sim/scenario.h"
+
+namespace {
+
+using namespace pensight;
+
+const std::filesystem::path kModel =
+    std::filesystem::path(PENSIGHT_SOURCE_DIR) / "models/compact_depth.onnx";
+
+struct Frame {
+  PinholeCamera camera;
+  ImageU8 image;
+  std::vector<SparseDepth> priors;
+};
+
+const Frame& frame() {
+  static const Frame f = [] {
+    const sim::Scenario s =
+        sim::load_scenario(std::filesystem::path(PENSIGHT_SOURCE_DIR) / "scenarios/follow.yaml");
+    const sim::NetGeometry net(s.pen, s.net);
+    Frame out;
+    out.camera = s.camera.calibration.camera;
+    out.image = sim::render_cpu(s, net, sim::frame_state(s, 0)).image;
+    Device device;
+    NetDetectorConfig config;
+    config.backend = Backend::kCpu;
+    config.mesh_m = s.net.mesh_m;
+    out.priors = NetDetector(out.camera, config, device).detect(out.image).depths;
+    return out;
+  }();
+  return f;
+}
+
+// range(0): 0 OpenCV DNN, 1 engine CPU, 2 engine Vulkan.
+void BM_DepthStage(benchmark::State& state) {
+  if (!std::filesystem::exists(kModel)) {
+    state.SkipWithError("no models/compact_depth.onnx (scripts/train_depth.sh)");
+    return;
+  }
+  const DepthBackend backends[] = {DepthBackend::kOpenCv, DepthBackend::kEngineCpu,
+                                   DepthBackend::kVulkan};
+  const Frame& f = frame();
+  Device device;
+  std::optional<DepthEstimator> estimator;
+  try {
+    estimator.emplace(f.camera,
+                      DepthEstimatorConfig{.model = kModel, .backend = backends[state.range(0)]},
+                      device);
+  } catch (const std::exception& e) {
+    state.SkipWithError(e.what());
+    return;
+  }
+  double network_ms = 0;
+  for (auto _ : state) {
+    const DenseDepth d = estimator->estimate(f.image, f.priors);
+    network_ms += d.network_ms;
+    benchmark::DoNotOptimize(d.depth_m.pixels.data());
+  }
+  const double gflop = estimator->gflop();
+  state.counters["GFLOP"] = gflop;
+  state.counters["GFLOP/s"] = benchmark::Counter(gflop * static_cast<double>(state.iterations()),
+                                                 benchmark::Counter::kIsRate);
+  state.counters["pose_excluded_ms"] =
+      network_ms / static_cast<double>(std::max<benchmark::IterationCount>(state.iterations(), 1));
+  state.SetLabel(to_string(estimator->backend()));
+}
+BENCHMARK(BM_DepthStage)->DenseRange(0, 2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_DepthPlanePose(benchmark::State& state) {
+  const PinholeCamera cam = frame().camera.scaled(320.0 / 720);
+  const PixelRays rays(cam);
+  ImageF32 depth(cam.width_px, cam.height_px);
+  for (int v = 0; v < depth.height; ++v) {
+    for (int u = 0; u < depth.width; ++u) {
+      const Eigen::Vector3d r = cam.ray({u, v});
+      depth.at(u, v) = static_cast<float>(0.8 / (1 - 0.3 * r.x() - 0.1 * r.y()));
+    }
+  }
+  for (auto _ : state) benchmark::DoNotOptimize(depth_plane_pose(depth, rays).psi_net_rad);
+}
+BENCHMARK(BM_DepthPlanePose)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+}  // namespace

@@ -1,0 +1,86 @@
+#include "pipeline/depth/depth_accuracy.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "kernels/sparse_prior/sparse_prior.h"
+#include "pipeline/median.h"
+#include "runtime/error.h"
+
+namespace pensight {
+namespace {
+
+struct Sums {
+  double abs_rel = 0, sq = 0;
+  size_t within = 0, n = 0;
+  void add(double z, double truth) {
+    abs_rel += std::abs(z - truth) / truth;
+    sq += (z - truth) * (z - truth);
+    within += std::max(z / truth, truth / z) < 1.25;
+    ++n;
+  }
+  DepthErrors errors() const {
+    if (n == 0) return {};
+    const double count = static_cast<double>(n);
+    return {abs_rel / count, static_cast<double>(within) / count, std::sqrt(sq / count), n};
+  }
+};
+
+}  // namespace
+
+DepthAccuracy depth_accuracy(const Dataset& dataset, NetDetector& detector,
+                             DepthEstimator& estimator, size_t stride) {
+  if (!dataset.groundtruth0 || !dataset.groundtruth0->has_depth) {
+    throw Error("'" + dataset.root.string() +
+                "' has no groundtruth0/depth/: the depth accuracy needs a rendered dataset");
+  }
+  const PinholeCamera& cam = dataset.cam0.camera;
+  const kernels::SparsePriorShape camera_shape{cam.width_px, cam.height_px, 10};
+  const PixelRays rays(cam);
+  Sums network, s1, plane;
+  std::vector<double> d_errors, psi_errors;
+  DepthAccuracy out;
+  for (size_t i = 0; i < dataset.frames.size(); i += std::max<size_t>(stride, 1)) {
+    const GroundTruthRow* truth = dataset.truth_for_frame(i);
+    if (!truth) continue;
+    const ImageU8 image = dataset.load_frame(i);
+    const NetDetection detection = detector.detect(image, dataset.frames[i].timestamp_ns);
+    if (!detection.pose.valid() || detection.depths.empty()) continue;
+    const DenseDepth dense = estimator.estimate(image, detection.depths);
+    if (!dense.reason.empty()) continue;
+    ++out.frames;
+    std::vector<kernels::SparsePoint> points;
+    for (const SparseDepth& d : detection.depths) points.push_back(d.point);
+    std::vector<float> s1_maps(2 * static_cast<size_t>(cam.width_px) * cam.height_px);
+    kernels::sparse_prior_cpu(camera_shape, points, s1_maps);
+    const double a = std::tan(detection.pose.psi_net_rad);
+    const double b = std::tan(detection.pose.pitch_net_rad);
+    const ImageU16 truth_mm = dataset.load_depth_mm(i);
+    for (size_t p = 0; p < truth_mm.pixels.size(); ++p) {
+      if (truth_mm.pixels[p] == 0) continue;
+      const double z_true = truth_mm.pixels[p] * 1e-3;
+      const Eigen::Vector2f& r = rays.xy[p];
+      network.add(dense.depth_m.pixels[p], z_true);
+      s1.add(s1_maps[p], z_true);
+      const double denom = 1 - a * r.x() - b * r.y();
+      // A ray parallel to (or beyond) the plane gets no extrapolated depth: counted as its worst.
+      plane.add(denom > 1e-3 ? detection.pose.d_net_m / denom : 1e3, z_true);
+    }
+    if (dense.pose.valid() && std::isfinite(truth->d_net_m)) {
+      ++out.pose_frames;
+      d_errors.push_back(std::abs(dense.pose.d_net_m - truth->d_net_m) / truth->d_net_m);
+      psi_errors.push_back(std::abs(dense.pose.psi_net_rad - truth->psi_net_rad));
+    }
+  }
+  out.network = network.errors();
+  out.s1 = s1.errors();
+  out.fft_plane = plane.errors();
+  if (!d_errors.empty()) {
+    out.d_net_median_rel = median(d_errors);
+    out.psi_median_rad = median(psi_errors);
+  }
+  return out;
+}
+
+}  // namespace pensight

@@ -1,0 +1,37 @@
+#pragma once
+// Accuracy of the dense-depth stage on a rendered dataset against its ground-truth depth
+// (groundtruth0/depth/), with the two baselines it must beat measured on the same frames and
+// pixels: S1 alone (every pixel the nearest prior's depth, in camera pixels) and the FFT plane
+// extrapolated to every pixel (z = d_net / (1 - tan(psi) x - tan(pitch) y) on each pixel's ray).
+// Only frames with an FFT pose count (the network runs on those); only pixels whose truth sees
+// the net (> 0). The relative pose from dense depth is compared with groundtruth0's d_net and
+// psi_net. Cost per frame: one detection, one network run, O(pixels) sums.
+#include <cstddef>
+#include <string>
+
+#include "pipeline/dataset/dataset_reader.h"
+#include "pipeline/depth/depth_estimator.h"
+#include "pipeline/net_detector.h"
+
+namespace pensight {
+
+struct DepthErrors {
+  double abs_rel = 0;  // mean |z - z_true| / z_true over the pixels
+  double delta1 = 0;   // share with max(z / z_true, z_true / z) < 1.25
+  double rmse_m = 0;
+  size_t pixels = 0;
+};
+
+struct DepthAccuracy {
+  size_t frames = 0;  // with an FFT pose and ground truth
+  DepthErrors network, s1, fft_plane;
+  double d_net_median_rel = 0;  // median |d_net_depth - d_net| / d_net
+  double psi_median_rad = 0;    // median |psi_net_depth - psi_net|
+  size_t pose_frames = 0;       // frames with a dense-depth pose and a truth d_net
+};
+
+// Every `stride`-th frame. Throws pensight::Error when the dataset has no groundtruth0/depth/.
+DepthAccuracy depth_accuracy(const Dataset& dataset, NetDetector& detector,
+                             DepthEstimator& estimator, size_t stride = 1);
+
+}  // namespace pensight
