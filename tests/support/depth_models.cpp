@@ -5,14 +5,14 @@
 
 namespace pensight::testing {
 
-void write_s1_depth_model(const std::filesystem::path& file, int width, int height) {
+void write_s1_depth_model(const std::filesystem::path& file, int width, int height, float gain) {
   nn::Graph g;
   const int image = g.add_input("image", {1, 1, height, width});
   const int prior = g.add_input("prior", {1, 2, height, width});
   nn::Attrs cat;
   cat.axis = 1;
   const int x = g.add(nn::Op::kConcat, {image, prior}, cat);
-  const int weights = g.add_constant("pick_s1", {{1, 3, 1, 1}, {0.f, 1.f, 0.f}});
+  const int weights = g.add_constant("pick_s1", {{1, 3, 1, 1}, {0.f, gain, 0.f}});
   const int depth = g.add(nn::Op::kConv, {x, weights});
   g.values()[static_cast<size_t>(depth)].name = "depth";
   g.mark_output(depth);

@@ -4,8 +4,9 @@
 
 namespace pensight::testing {
 
-// depth = S1 (a 1x1 conv over image, S1, S2 with weights 0, 1, 0): the nearest prior's depth at
-// every pixel, so a test knows what the stage must output. width x height: the network's input.
-void write_s1_depth_model(const std::filesystem::path& file, int width, int height);
+// depth = gain x S1 (a 1x1 conv over image, S1, S2 with weights 0, gain, 0): the nearest prior's
+// depth at every pixel, scaled, so a test knows what the stage must output. width x height: the
+// network's input.
+void write_s1_depth_model(const std::filesystem::path& file, int width, int height, float gain = 1);
 
 }  // namespace pensight::testing

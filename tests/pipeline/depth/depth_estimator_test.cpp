@@ -113,6 +113,24 @@ TEST_F(DepthEstimatorTest, PlaneFromDenseDepthRecoversTheNet) {
   }
 }
 
+// A network whose scale is off by a common factor is pinned to the priors: twice S1 comes out as
+// S1.
+TEST_F(DepthEstimatorTest, ScaleIsAlignedToThePriors) {
+  const PinholeCamera cam;
+  const Frame f = plane_frame(cam, testing::fresh_seed());
+  ASSERT_FALSE(f.priors.empty());
+  testing::write_s1_depth_model(dir_ / "s1x2.onnx", 320, 240, 2.0f);
+  DepthEstimator doubled(cam, {.model = dir_ / "s1x2.onnx", .backend = DepthBackend::kEngineCpu},
+                         testing::test_device());
+  DepthEstimator plain(cam, {.model = s1_model(320, 240), .backend = DepthBackend::kEngineCpu},
+                       testing::test_device());
+  const DenseDepth a = doubled.estimate(f.image, f.priors), b = plain.estimate(f.image, f.priors);
+  ASSERT_EQ(a.depth_m.pixels.size(), b.depth_m.pixels.size());
+  for (size_t i = 0; i < a.depth_m.pixels.size(); i += 101) {
+    ASSERT_NEAR(a.depth_m.pixels[i], b.depth_m.pixels[i], 1e-5f * b.depth_m.pixels[i]) << i;
+  }
+}
+
 TEST_F(DepthEstimatorTest, BadModelsSizesAndFramesWithoutPriors) {
   const PinholeCamera cam;
   try {
