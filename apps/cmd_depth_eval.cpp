@@ -32,12 +32,6 @@ int cmd_depth_eval(const Args& args) {
   } catch (const CLI::ParseError& e) {
     return cli.exit(e);
   }
-  const std::filesystem::path file =
-      model.empty() ? find_default_depth_model() : std::filesystem::path(model);
-  if (file.empty()) {
-    throw Error(std::string("no depth model: ") + kDefaultDepthModel +
-                " was not found; give one with --model");
-  }
   std::printf(
       "| dataset | frames | AbsRel net | AbsRel S1 | AbsRel FFT plane | delta1 net | RMSE net m | "
       "d_net_depth median | psi_net_depth median deg |\n|---|---|---|---|---|---|---|---|---|\n");
@@ -49,6 +43,13 @@ int cmd_depth_eval(const Args& args) {
     config.mesh_type = dataset.scene.net_mesh_type;
     config.mesh_angle_rad = dataset.scene.net_mesh_angle_rad;
     NetDetector detector(dataset.cam0.camera, config, device);
+    const std::filesystem::path file = model.empty()
+                                           ? find_default_depth_model(dataset.cam0.camera)
+                                           : std::filesystem::path(model);
+    if (file.empty()) {
+      throw Error("no depth model for " + dir +
+                  "'s camera aspect in models/ (compact_depth*.onnx); give one with --model");
+    }
     DepthEstimator estimator(dataset.cam0.camera,
                              {.model = file, .backend = parse_depth_backend(backend)}, device);
     const DepthAccuracy a = depth_accuracy(dataset, detector, estimator, stride);

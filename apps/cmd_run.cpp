@@ -52,8 +52,8 @@ int cmd_run(const Args& args) {
   std::string model, depth_backend = "auto";
   bool no_depth = false;
   cli.add_option("--model", model,
-                 "depth network (ONNX, models/README.md); default: " +
-                     std::string(kDefaultDepthModel) + " where it is found");
+                 "depth network (ONNX, models/README.md); default: the shipped one for the "
+                 "camera's aspect (models/compact_depth*.onnx), where it is found");
   cli.add_flag("--no-depth", no_depth, "do not run the dense-depth stage");
   cli.add_option("--depth-backend", depth_backend,
                  "auto|opencv|engine-cpu|vulkan (auto: vulkan on a real GPU, else OpenCV DNN)")
@@ -75,21 +75,22 @@ int cmd_run(const Args& args) {
 
   options.detector.backend = parse_backend(backend);
   options.write_published_global_pose = !no_published;
+  ProgressBar bar("run");
+  if (!quiet) options.on_progress = [&](size_t done, size_t total) { bar.update(done, total); };
+  const Dataset dataset = read_dataset(dataset_dir);
   if (!no_depth) {
-    const std::filesystem::path file =
-        model.empty() ? find_default_depth_model() : std::filesystem::path(model);
+    const std::filesystem::path file = model.empty()
+                                           ? find_default_depth_model(dataset.cam0.camera)
+                                           : std::filesystem::path(model);
     if (!file.empty()) {
       options.depth = DepthEstimatorConfig{.model = file,
                                            .backend = parse_depth_backend(depth_backend),
                                            .cpu_threads = options.detector.cpu_threads};
     } else {
-      log_info(std::string("no depth model (") + kDefaultDepthModel +
-               " not found): the dense-depth stage is off; give one with --model");
+      log_info("no depth model for this camera's aspect in models/ (compact_depth*.onnx): the "
+               "dense-depth stage is off; give one with --model");
     }
   }
-  ProgressBar bar("run");
-  if (!quiet) options.on_progress = [&](size_t done, size_t total) { bar.update(done, total); };
-  const Dataset dataset = read_dataset(dataset_dir);
 #if PENSIGHT_HAS_MAPPING
   std::unique_ptr<mapping::MappingStage> mapper;
   if (map) {

@@ -1,22 +1,40 @@
 #include "apps/default_model.h"
 
+#include <algorithm>
 #include <cstdlib>
 #include <system_error>
 #include <vector>
 
+#include "kernels/nn/nn_onnx.h"
+
 namespace pensight::app {
 
-std::filesystem::path find_default_depth_model() {
+std::filesystem::path find_default_depth_model(const PinholeCamera& camera) {
   namespace fs = std::filesystem;
-  const fs::path name = fs::path(kDefaultDepthModel).filename();
-  std::vector<fs::path> candidates;
-  if (const char* dir = std::getenv("PENSIGHT_MODEL_DIR"))
-    candidates.push_back(fs::path(dir) / name);
+  std::vector<fs::path> dirs;
+  if (const char* dir = std::getenv("PENSIGHT_MODEL_DIR")) dirs.emplace_back(dir);
   std::error_code ec;
   const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  if (!ec) candidates.push_back(exe.parent_path() / "../.." / kDefaultDepthModel);
-  for (const fs::path& c : candidates) {
-    if (fs::is_regular_file(c, ec)) return fs::weakly_canonical(c, ec);
+  if (!ec) dirs.push_back(exe.parent_path() / "../.." / kModelsDir);
+  for (const fs::path& dir : dirs) {
+    std::vector<fs::path> files;
+    for (const auto& e : fs::directory_iterator(dir, ec)) {
+      const std::string name = e.path().filename().string();
+      if (e.is_regular_file() && name.starts_with("compact_depth") && name.ends_with(".onnx")) {
+        files.push_back(e.path());
+      }
+    }
+    std::sort(files.begin(), files.end());
+    for (const fs::path& f : files) {
+      try {
+        const nn::Graph g = nn::import_onnx(f);
+        if (g.inputs().empty() || g.value(g.inputs()[0]).shape.size() != 4) continue;
+        const nn::Dims& d = g.value(g.inputs()[0]).shape;
+        if (d[3] * camera.height_px == d[2] * camera.width_px) return fs::weakly_canonical(f, ec);
+      } catch (const std::exception&) {
+        // Not a model this build reads: the next one may be; --model names one explicitly.
+      }
+    }
   }
   return {};
 }

@@ -1,13 +1,17 @@
 #pragma once
-// Where the command line finds the shipped depth network when no --model is given.
+// Where the command line finds a shipped depth network when no --model is given.
 #include <filesystem>
+
+#include "pipeline/camera.h"
 
 namespace pensight::app {
 
-inline constexpr const char* kDefaultDepthModel = "models/compact_depth.onnx";
+inline constexpr const char* kModelsDir = "models";  // in the source tree
 
-// The first that exists of: $PENSIGHT_MODEL_DIR/compact_depth.onnx and the source tree's models/
-// seen from the executable (build/apps/pensight -> models/). Empty when neither does.
-std::filesystem::path find_default_depth_model();
+// Among the compact_depth*.onnx files of $PENSIGHT_MODEL_DIR, then of the source tree's models/
+// seen from the executable (build/apps/pensight -> models/), in name order: the first whose
+// input has the camera's aspect (compact_depth.onnx: 320x240 for 4:3; compact_depth_512x288.onnx
+// for 16:9). Empty when none does.
+std::filesystem::path find_default_depth_model(const PinholeCamera& camera);
 
 }  // namespace pensight::app

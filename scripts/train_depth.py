@@ -232,9 +232,12 @@ class CompactDepthNet(nn.Module):
 
     def __init__(self):
         super().__init__()
-        # (S1, S2) -> S1 as a Conv weight, and (m, 1) = m * pick_s1 + s2_one as the divisor.
-        self.register_buffer("pick_s1", torch.tensor([1.0, 0.0]).view(1, 2, 1, 1))
-        self.register_buffer("s2_one", torch.tensor([0.0, 1.0]).view(1, 2, 1, 1))
+        # Fixed 1x1 convolutions (OpenCV 4.6 cannot broadcast a computed [1,1,1,1] tensor against
+        # a constant): (S1, S2) -> S1 + 1e-3, and m -> the divisor (m, 1).
+        self.register_buffer("pick_s1", torch.tensor([1.0, 0.0]).view(1, 2, 1, 1), persistent=False)
+        self.register_buffer("eps", torch.tensor([1e-3]), persistent=False)
+        self.register_buffer("spread_w", torch.tensor([1.0, 0.0]).view(2, 1, 1, 1), persistent=False)
+        self.register_buffer("spread_b", torch.tensor([0.0, 1.0]), persistent=False)
         encoder, cin = [], 3
         for c in self.ENCODER:
             encoder.append(nn.Sequential(conv_bn_relu(cin, c, 2), conv_bn_relu(c, c)))
@@ -251,8 +254,14 @@ class CompactDepthNet(nn.Module):
         nn.init.constant_(self.head.bias, math.log(math.e - 1))
 
     def forward(self, image, prior):
-        m = F.conv2d(prior.mean((2, 3), keepdim=True), self.pick_s1) + 1e-3  # [B,1,1,1]
-        p = prior / (m * self.pick_s1 + self.s2_one)  # (S1 / m, S2)
+        m = F.conv2d(F.adaptive_avg_pool2d(prior, 1), self.pick_s1, self.eps)  # [B,1,1,1]
+        # The per-frame scalars are spread to the full size before dividing and multiplying:
+        # OpenCV 4.6's ONNX importer takes Div and Mul of two computed tensors only when their
+        # shapes are equal.
+        size = prior.shape[-2:]
+        m_map = F.interpolate(m, size=size, mode="nearest")
+        divisor = F.conv2d(m, self.spread_w, self.spread_b)  # (m, 1)
+        p = prior / F.interpolate(divisor, size=size, mode="nearest")
         x = torch.cat([image, p], 1)
         skips = []
         for level in self.encoder:
@@ -269,7 +278,7 @@ class CompactDepthNet(nn.Module):
             d = conv(torch.cat([d, skip, q], 1))
         y = F.softplus(self.head(d))
         y = F.interpolate(y, size=image.shape[-2:], mode="bilinear", align_corners=False)
-        return y * m
+        return y * m_map
 
 
 def conv_gflop(model, height, width):
@@ -365,6 +374,17 @@ def parse_crop(text):
     return h, w
 
 
+def parse_size(text):
+    """WxH (an export size) as (height, width), both multiples of 16."""
+    try:
+        w, h = (int(v) for v in text.lower().split("x"))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"--also-export wants WxH, got '{text}'") from None
+    if h < 16 or w < 16 or h % 16 or w % 16:
+        raise argparse.ArgumentTypeError(f"--also-export {text}: W and H must be multiples of 16")
+    return h, w
+
+
 def parse_args():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--data", required=True, help="depth-data folder to train on")
@@ -382,6 +402,9 @@ def parse_args():
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--crop", type=parse_crop, help="train on random HxW crops (multiples of 16)")
     ap.add_argument("--checkpoint", help="state saved every epoch; resumed from if it exists")
+    ap.add_argument("--also-export", type=parse_size, action="append", default=[],
+                    metavar="WxH", help="also write the network for WxH input (another camera "
+                    "aspect, multiples of 16) as OUT with _WxH before .onnx; repeatable")
     args = ap.parse_args()
     for name in ("epochs", "batch", "threads"):
         if getattr(args, name) < 1:
@@ -593,10 +616,17 @@ def train(args):
     minutes = (spent_s + time.monotonic() - t_start) / 60
 
     sha256 = export_onnx(model, train_data.height, train_data.width, args.out)
+    # The network is fully convolutional and scale-normalised: the same weights serve other
+    # resolutions (a 16:9 camera needs a 16:9 input).
+    also = {}
+    for height, width in args.also_export:
+        stem = args.out[:-len(".onnx")] if args.out.endswith(".onnx") else args.out
+        path = f"{stem}_{width}x{height}.onnx"
+        also[os.path.basename(path)] = export_onnx(model, height, width, path)
     summary = {key: round(value, 6) for key, value in metrics.items()}
     summary.update({"epochs": round(step / steps_per_epoch, 2), "steps": step,
                     "minutes": round(minutes, 2), "gflop": round(gflop, 4), "params": params,
-                    "sha256": sha256})
+                    "sha256": sha256, "also_exported": also})
     line = json.dumps(summary)
     with open(args.out + ".json.tmp", "w") as f:
         f.write(line + "\n")

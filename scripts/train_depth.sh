@@ -4,7 +4,8 @@
 # Renders N training scenes (seed 1) and N/10 validation scenes (seed 2) with `pensight
 # depth-data` into .cache/depth_data/{train,val}, reused while their sample count and seed match;
 # trains for M minutes of wall-clock time (scripts/train_depth.py), checks that pensight's engine
-# imports the result, and writes OUT and OUT.json. An interrupted run resumes from
+# imports the result, and writes OUT (320x240, 4:3 cameras), OUT with _512x288 (16:9 cameras, the
+# same weights) and OUT.json. An interrupted run resumes from
 # .cache/depth_data/checkpoint.pt; a finished one removes it, so the next run starts over.
 # --smoke: 8 + 4 scenes and 2 steps in a temporary folder, removed at exit (checks the toolchain).
 # Defaults: 3000 samples, 100 minutes.
@@ -32,7 +33,7 @@ if [[ ! $samples =~ ^[1-9][0-9]*$ || ! $minutes =~ ^[0-9]+(\.[0-9]+)?$ ]]; then
   exit 2
 fi
 
-pensight=build/apps/pensight
+pensight=${PENSIGHT_BIN:-build/apps/pensight}  # the tests point it at their build's binary
 if [[ ! -x $pensight ]]; then
   echo "train_depth: $pensight is missing; build it first with scripts/setup.sh" >&2
   exit 2
@@ -49,8 +50,9 @@ if [[ $smoke -eq 1 ]]; then
   "$pensight" depth-data --out "$tmp/train" --samples 8 --seed 1 --quiet
   "$pensight" depth-data --out "$tmp/val" --samples 4 --seed 2 --quiet
   /usr/bin/python3 scripts/train_depth.py --data "$tmp/train" --val "$tmp/val" \
-    --out "$tmp/smoke.onnx" --max-steps 2
+    --out "$tmp/smoke.onnx" --max-steps 2 --also-export 512x288
   "$pensight" export-onnx "$tmp/smoke.onnx" --out "$tmp/roundtrip.onnx"
+  "$pensight" export-onnx "$tmp/smoke_512x288.onnx" --out "$tmp/roundtrip.onnx"
   echo "train_depth: smoke test passed"
   exit 0
 fi
@@ -68,9 +70,11 @@ for spec in "train $samples 1" "val $((samples / 10 > 0 ? samples / 10 : 1)) 2";
   fi
 done
 /usr/bin/python3 scripts/train_depth.py --data "$data/train" --val "$data/val" --out "$out" \
-  --minutes "$minutes" --epochs 1000 --threads "$(nproc)" --checkpoint "$checkpoint"
+  --minutes "$minutes" --epochs 1000 --threads "$(nproc)" --checkpoint "$checkpoint" \
+  --also-export 512x288
 roundtrip=$(mktemp --suffix=.onnx)
 trap 'rm -f "$roundtrip"' EXIT
 "$pensight" export-onnx "$out" --out "$roundtrip"
+"$pensight" export-onnx "${out%.onnx}_512x288.onnx" --out "$roundtrip"
 rm -f "$checkpoint"
 echo "train_depth: wrote $out and $out.json"

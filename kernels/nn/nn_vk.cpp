@@ -401,8 +401,10 @@ void VkModel::Impl::plan_node(const ExecNode& e) {
           n.op == Op::kGlobalAveragePool ? Shape4{xs[0], xs[1], 1, 1} : reduced_shape4(xs, a.axes);
       const uint32_t push[9] = {u32(keep[0]), u32(keep[1]), u32(keep[2]), u32(keep[3]), u32(in4[0]),
                                 u32(in4[1]),  u32(in4[2]),  u32(in4[3]),  u32(count)};
+      // One workgroup per output element (shaders/common/nn/reduce_mean.glsl).
+      const vk::Groups groups{static_cast<uint32_t>(std::min<int64_t>(count, 65535)), 1, 1};
       s.dispatch(pipeline("reduce_mean", 2, sizeof(push), {}), {vk::in(buf(x)), vk::out(y)},
-                 groups1d(count), push, sizeof(push), n.name);
+                 groups, push, sizeof(push), n.name);
       return;
     }
     case Op::kMatMul:

@@ -9,11 +9,13 @@
 #include <fstream>
 #include <map>
 #include <opencv2/dnn.hpp>
+#include <optional>
 
 #include "kernels/nn/nn.h"
 #include "kernels/nn/nn_models.h"
 #include "kernels/nn/nn_onnx.h"
 #include "runtime/error.h"
+#include "runtime/file_bytes.h"
 #include "tests/kernels/nn/nn_test_util.h"
 #include "tests/support/vulkan_fixture.h"
 
@@ -182,6 +184,35 @@ TEST_F(VulkanTest, OnnxTrudepthNet) {
 TEST_F(VulkanTest, OnnxTrudepthEncoderDecoder) {
   const uint64_t seed = pensight::testing::fresh_seed();
   check_model(ctx(), trudepth_net({128, 96}, 0.5f, seed, DepthHead::kConvSoftplus), seed);
+}
+
+// The shipped depth network as PyTorch wrote it (models/compact_depth.onnx): our CPU and Vulkan
+// executors against OpenCV DNN and ONNX Runtime reading that same file.
+TEST_F(VulkanTest, OnnxShippedDepthModel) {
+  const fs::path file = fs::path(std::getenv("PENSIGHT_SOURCE_DIR")) / "models/compact_depth.onnx";
+  const std::optional<std::string> bytes = read_file_bytes(file);
+  ASSERT_TRUE(bytes) << file;
+  ASSERT_NO_THROW(check_onnx_bytes(*bytes));
+  const Graph g = import_onnx_bytes(*bytes, file.string());
+  std::mt19937_64 rng(pensight::testing::fresh_seed());
+  const auto inputs = random_inputs(g, rng);
+  const auto want = run_cpu(g, inputs);
+  VkModel model(ctx(), g);
+  model.fill_activations(pensight::testing::kPoison);
+  const double vk_error = relative_l2(model.run(inputs)[0], want[0]);
+  std::printf("Vulkan fp32 vs CPU executor: relative L2 %.2e\n", vk_error);
+  EXPECT_LT(vk_error, 1e-5);
+  const double cv_error = relative_l2(run_opencv(*bytes, g, inputs)[0], want[0]);
+  std::printf("OpenCV DNN vs ours: relative L2 %.2e\n", cv_error);
+  EXPECT_LT(cv_error, 1e-4);
+  const fs::path dir = ort_dir();
+  if (dir.empty()) {
+    std::printf("ONNX Runtime check skipped: no node_modules/onnxruntime-node\n");
+    return;
+  }
+  const double ort_error = relative_l2(run_ort(dir, *bytes, g, inputs)[0], want[0]);
+  std::printf("ONNX Runtime vs ours: relative L2 %.2e\n", ort_error);
+  EXPECT_LT(ort_error, 1e-4);
 }
 
 TEST(Onnx, Fp16WeightsExportPassesTheCheckerAndStaysClose) {

@@ -233,6 +233,15 @@ TEST_F(NnOps, ReduceMean) {
   b.keepdims = false;
   check(g_.add(Op::kReduceMean, {input({2, 5, 6, 7})}, b));
 }
+// A whole 320x240 plane per output: more elements than llvmpipe lets one loop run (65535), which
+// the depth network's per-frame prior mean needs.
+TEST_F(NnOps, MeanOverAWholeImage) {
+  const int x = input({1, 2, 240, 320});
+  g_.mark_output(g_.add(Op::kGlobalAveragePool, {x}));
+  Attrs a;
+  a.axes = {1, 2, 3};
+  check(g_.add(Op::kReduceMean, {x}, a));
+}
 TEST_F(NnOps, LayerNorm) {
   Attrs a;
   a.axis = -1;
