@@ -43,9 +43,8 @@ int cmd_depth_eval(const Args& args) {
     config.mesh_type = dataset.scene.net_mesh_type;
     config.mesh_angle_rad = dataset.scene.net_mesh_angle_rad;
     NetDetector detector(dataset.cam0.camera, config, device);
-    const std::filesystem::path file = model.empty()
-                                           ? find_default_depth_model(dataset.cam0.camera)
-                                           : std::filesystem::path(model);
+    const std::filesystem::path file = model.empty() ? find_default_depth_model(dataset.cam0.camera)
+                                                     : std::filesystem::path(model);
     if (file.empty()) {
       throw Error("no depth model for " + dir +
                   "'s camera aspect in models/ (compact_depth*.onnx); give one with --model");

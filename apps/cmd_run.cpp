@@ -79,16 +79,16 @@ int cmd_run(const Args& args) {
   if (!quiet) options.on_progress = [&](size_t done, size_t total) { bar.update(done, total); };
   const Dataset dataset = read_dataset(dataset_dir);
   if (!no_depth) {
-    const std::filesystem::path file = model.empty()
-                                           ? find_default_depth_model(dataset.cam0.camera)
-                                           : std::filesystem::path(model);
+    const std::filesystem::path file = model.empty() ? find_default_depth_model(dataset.cam0.camera)
+                                                     : std::filesystem::path(model);
     if (!file.empty()) {
       options.depth = DepthEstimatorConfig{.model = file,
                                            .backend = parse_depth_backend(depth_backend),
                                            .cpu_threads = options.detector.cpu_threads};
     } else {
-      log_info("no depth model for this camera's aspect in models/ (compact_depth*.onnx): the "
-               "dense-depth stage is off; give one with --model");
+      log_info(
+          "no depth model for this camera's aspect in models/ (compact_depth*.onnx): the "
+          "dense-depth stage is off; give one with --model");
     }
   }
 #if PENSIGHT_HAS_MAPPING

@@ -403,8 +403,8 @@ void VkModel::Impl::plan_node(const ExecNode& e) {
                                 u32(in4[1]),  u32(in4[2]),  u32(in4[3]),  u32(count)};
       // One workgroup per output element (shaders/common/nn/reduce_mean.glsl).
       const vk::Groups groups{static_cast<uint32_t>(std::min<int64_t>(count, 65535)), 1, 1};
-      s.dispatch(pipeline("reduce_mean", 2, sizeof(push), {}), {vk::in(buf(x)), vk::out(y)},
-                 groups, push, sizeof(push), n.name);
+      s.dispatch(pipeline("reduce_mean", 2, sizeof(push), {}), {vk::in(buf(x)), vk::out(y)}, groups,
+                 push, sizeof(push), n.name);
       return;
     }
     case Op::kMatMul:
