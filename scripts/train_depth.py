@@ -3,7 +3,7 @@
 
     scripts/train_depth.py --data DIR --out FILE.onnx [--val DIR] [--epochs E] [--minutes M]
                            [--batch B] [--lr LR] [--threads T] [--max-steps S] [--seed S]
-                           [--crop HxW] [--checkpoint FILE]
+                           [--crop WxH] [--checkpoint FILE]
 
 DIR is a `pensight depth-data` folder (sim/depth_training.h): depth_data.txt ("key: value"
 lines), image.u8 (N*H*W grey), depth_mm.u16 (N*H*W ground-truth z-depth in mm, 0 = no net),
@@ -362,26 +362,15 @@ def learning_rate(base, progress):
     return base * (0.01 + 0.99 * 0.5 * (1 + math.cos(math.pi * t)))
 
 
-def parse_crop(text):
-    if text is None:
-        return None
-    try:
-        h, w = (int(v) for v in text.lower().split("x"))
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"--crop wants HxW, got '{text}'") from None
-    if h < 16 or w < 16 or h % 16 or w % 16:
-        raise argparse.ArgumentTypeError(f"--crop {text}: H and W must be multiples of 16")
-    return h, w
-
-
 def parse_size(text):
-    """WxH (an export size) as (height, width), both multiples of 16."""
+    """An image size "WxH" (width first, as image sizes are written) as (height, width), both
+    multiples of 16 (the network's five stride-2 levels)."""
     try:
         w, h = (int(v) for v in text.lower().split("x"))
     except ValueError:
-        raise argparse.ArgumentTypeError(f"--also-export wants WxH, got '{text}'") from None
+        raise argparse.ArgumentTypeError(f"expected WxH, got '{text}'") from None
     if h < 16 or w < 16 or h % 16 or w % 16:
-        raise argparse.ArgumentTypeError(f"--also-export {text}: W and H must be multiples of 16")
+        raise argparse.ArgumentTypeError(f"{text}: W and H must be multiples of 16")
     return h, w
 
 
@@ -400,7 +389,7 @@ def parse_args():
     ap.add_argument("--threads", type=int, default=2, help="torch.set_num_threads")
     ap.add_argument("--max-steps", type=int, default=0, help="stop after this many steps (0: none)")
     ap.add_argument("--seed", type=int, default=1)
-    ap.add_argument("--crop", type=parse_crop, help="train on random HxW crops (multiples of 16)")
+    ap.add_argument("--crop", type=parse_size, help="train on random WxH crops (multiples of 16)")
     ap.add_argument("--checkpoint", help="state saved every epoch; resumed from if it exists")
     ap.add_argument("--also-export", type=parse_size, action="append", default=[],
                     metavar="WxH", help="also write the network for WxH input (another camera "
@@ -429,7 +418,7 @@ def load_data(args):
         train = DepthData(args.data, np.arange(n - n_val))
         val = DepthData(args.data, np.arange(n - n_val, n))
     if args.crop and (args.crop[0] > train.height or args.crop[1] > train.width):
-        raise InputError(f"--crop {args.crop[0]}x{args.crop[1]} is larger than the "
+        raise InputError(f"--crop {args.crop[1]}x{args.crop[0]} is larger than the "
                          f"{train.width}x{train.height} images of {args.data}")
     for name, d in (("train", train), ("val", val)):
         if len(d) == 0:
