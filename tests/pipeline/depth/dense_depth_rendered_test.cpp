@@ -1,0 +1,60 @@
+// The shipped depth network on held-out renders of shipped scenarios (never in its training
+// draw), through the depth stage: within bounds of 3x what docs/dense_depth.md measured on their
+// first 40 frames (the renders are deterministic per scenario, so there is no seed tail), and no
+// worse than 3x S1 alone on the same pixels. Full table: pensight depth-eval.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+
+#include "pipeline/depth/depth_accuracy.h"
+#include "tests/support/rendered_run.h"
+#include "tests/support/vulkan_fixture.h"
+
+namespace pensight {
+namespace {
+
+struct Case {
+  const char* scenario;
+  double abs_rel, d_net_rel, psi_rad;  // bounds
+};
+
+class DenseDepthRendered : public ::testing::TestWithParam<Case> {};
+
+TEST_P(DenseDepthRendered, ShippedModelWithinBounds) {
+  const Case c = GetParam();
+  const testing::RenderedDataset rendered(
+      testing::shipped_scenario(std::string(c.scenario) + ".yaml", 1.0));
+  const Dataset& d = rendered.dataset();
+  NetDetectorConfig config;
+  config.backend = Backend::kCpu;
+  config.mesh_m = d.scene.net_mesh_size_m;
+  config.mesh_type = d.scene.net_mesh_type;
+  config.mesh_angle_rad = d.scene.net_mesh_angle_rad;
+  NetDetector detector(d.cam0.camera, config, testing::test_device());
+  const std::filesystem::path model =
+      std::filesystem::path(std::getenv("PENSIGHT_SOURCE_DIR")) / "models/compact_depth.onnx";
+  DepthEstimator estimator(d.cam0.camera, {.model = model}, testing::test_device());
+  const DepthAccuracy a = depth_accuracy(d, detector, estimator, 2);
+  SCOPED_TRACE(::testing::Message()
+               << c.scenario << ": AbsRel " << a.network.abs_rel << " (S1 " << a.s1.abs_rel
+               << ", plane " << a.fft_plane.abs_rel << "), delta1 " << a.network.delta1
+               << ", d_net " << a.d_net_median_rel << ", psi " << a.psi_median_rad);
+  ASSERT_GE(a.frames, 5u);
+  EXPECT_LE(a.network.abs_rel, c.abs_rel);
+  EXPECT_LE(a.network.abs_rel, 3 * a.s1.abs_rel);
+  EXPECT_GE(a.network.delta1, 0.99);
+  EXPECT_LE(a.d_net_median_rel, c.d_net_rel);
+  EXPECT_LE(a.psi_median_rad, c.psi_rad);
+}
+
+// Measured (40 frames): follow AbsRel 0.49 %, d_net 0.21 %, psi 0.08 deg; lowlight 0.84 %,
+// 0.16 %, 0.07 deg; along_12m 0.35 %, 0.21 %, 0.12 deg.
+INSTANTIATE_TEST_SUITE_P(Shipped, DenseDepthRendered,
+                         ::testing::Values(Case{"follow", 0.015, 0.0065, 0.0042},
+                                           Case{"lowlight", 0.025, 0.005, 0.0037},
+                                           Case{"along_12m", 0.011, 0.0065, 0.0063}),
+                         [](const auto& p) { return std::string(p.param.scenario); });
+
+}  // namespace
+}  // namespace pensight
