@@ -7,6 +7,7 @@
 #include "apps/command.h"
 #include "apps/default_model.h"
 #include "pipeline/depth/depth_accuracy.h"
+#include "pipeline/runner.h"
 #include "runtime/error.h"
 #include "runtime/units.h"
 
@@ -38,11 +39,7 @@ int cmd_depth_eval(const Args& args) {
   Device device;
   for (const std::string& dir : datasets) {
     const Dataset dataset = read_dataset(dir);
-    NetDetectorConfig config;
-    config.mesh_m = dataset.scene.net_mesh_size_m;
-    config.mesh_type = dataset.scene.net_mesh_type;
-    config.mesh_angle_rad = dataset.scene.net_mesh_angle_rad;
-    NetDetector detector(dataset.cam0.camera, config, device);
+    NetDetector detector(dataset.cam0.camera, detector_config(dataset.scene), device);
     const std::filesystem::path file = model.empty() ? find_default_depth_model(dataset.cam0.camera)
                                                      : std::filesystem::path(model);
     if (file.empty()) {

@@ -253,6 +253,13 @@ class RunWriter {
 
 }  // namespace
 
+NetDetectorConfig detector_config(const SceneConfig& scene, NetDetectorConfig base) {
+  base.mesh_m = scene.net_mesh_size_m;
+  base.mesh_type = scene.net_mesh_type;
+  base.mesh_angle_rad = scene.net_mesh_angle_rad;
+  return base;
+}
+
 global_pose::GlobalPoseEstimatorConfig global_pose_config(const Dataset& d) {
   global_pose::GlobalPoseEstimatorConfig c;
   c.pen_radius_m = d.scene.pen_radius_m;
@@ -282,10 +289,7 @@ RunSummary run_dataset(const Dataset& dataset, const std::filesystem::path& out_
   const size_t total = dataset.frames.size();
   PipelineConfig config;
   config.camera = dataset.cam0.camera;
-  config.detector = options.detector;
-  config.detector.mesh_m = dataset.scene.net_mesh_size_m;
-  config.detector.mesh_type = dataset.scene.net_mesh_type;
-  config.detector.mesh_angle_rad = dataset.scene.net_mesh_angle_rad;
+  config.detector = detector_config(dataset.scene, options.detector);
   config.global_pose = global_pose_config(dataset);
   if (options.write_published_global_pose) config.published = published_config(dataset);
   config.depth = options.depth;

@@ -61,6 +61,10 @@ struct RunSummary {
   std::string global_pose_counters;  // per-sensor accepted / rejected / late counts
 };
 
+// `base` with what scene.yaml says of the net: its bar, and the mesh type and opening angle where
+// given (the detector estimates what is absent).
+NetDetectorConfig detector_config(const SceneConfig& scene, NetDetectorConfig base = {});
+
 // The estimators' settings from the dataset: pen radius, camera mount, DVL beams, which sensors
 // are present.
 global_pose::GlobalPoseEstimatorConfig global_pose_config(const Dataset& dataset);

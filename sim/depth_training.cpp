@@ -12,6 +12,7 @@
 #include "pipeline/dataset/dataset_reader.h"
 #include "pipeline/depth/depth_input.h"
 #include "pipeline/net_detector.h"
+#include "pipeline/runner.h"
 #include "runtime/device.h"
 #include "runtime/error.h"
 #include "sim/frame_state.h"
@@ -170,14 +171,9 @@ DepthSample make_depth_sample(uint64_t seed, int width, int height) {
   }
 
   const PinholeCamera& cam = s.camera.calibration.camera;
-  NetDetectorConfig config;
   // What `pensight run` takes from the rendered dataset's scene.yaml.
-  const SceneConfig scene = s.scene_config();
-  config.mesh_m = scene.net_mesh_size_m;
-  config.mesh_type = scene.net_mesh_type;
-  config.mesh_angle_rad = scene.net_mesh_angle_rad;
-  config.backend = Backend::kCpu;
-  config.cpu_threads = 1;
+  const NetDetectorConfig config =
+      detector_config(s.scene_config(), {.backend = Backend::kCpu, .cpu_threads = 1});
   Device device;
   NetDetector detector(cam, config, device);
   const NetDetection detection = detector.detect(r.image);

@@ -36,7 +36,7 @@ DepthAccuracy depth_accuracy(const Dataset& dataset, NetDetector& detector,
                 "' has no groundtruth0/depth/: the depth accuracy needs a rendered dataset");
   }
   const PinholeCamera& cam = dataset.cam0.camera;
-  const kernels::SparsePriorShape camera_shape{cam.width_px, cam.height_px, 10};
+  const kernels::SparsePriorShape camera_shape{cam.width_px, cam.height_px};  // S1 only
   const PixelRays rays(cam);
   Sums network, s1, plane;
   std::vector<double> d_errors, psi_errors;

@@ -8,6 +8,7 @@
 #include <filesystem>
 
 #include "pipeline/depth/depth_accuracy.h"
+#include "pipeline/runner.h"
 #include "tests/support/rendered_run.h"
 #include "tests/support/vulkan_fixture.h"
 
@@ -26,12 +27,8 @@ TEST_P(DenseDepthRendered, ShippedModelWithinBounds) {
   const testing::RenderedDataset rendered(
       testing::shipped_scenario(std::string(c.scenario) + ".yaml", 1.0));
   const Dataset& d = rendered.dataset();
-  NetDetectorConfig config;
-  config.backend = Backend::kCpu;
-  config.mesh_m = d.scene.net_mesh_size_m;
-  config.mesh_type = d.scene.net_mesh_type;
-  config.mesh_angle_rad = d.scene.net_mesh_angle_rad;
-  NetDetector detector(d.cam0.camera, config, testing::test_device());
+  NetDetector detector(d.cam0.camera, detector_config(d.scene, {.backend = Backend::kCpu}),
+                       testing::test_device());
   const std::filesystem::path model =
       std::filesystem::path(std::getenv("PENSIGHT_SOURCE_DIR")) / "models/compact_depth.onnx";
   DepthEstimator estimator(d.cam0.camera, {.model = model}, testing::test_device());

@@ -12,6 +12,7 @@
 #include "pipeline/dataset/dataset_reader.h"
 #include "pipeline/median.h"
 #include "pipeline/net_detector.h"
+#include "pipeline/runner.h"
 #include "runtime/units.h"
 #include "tests/support/vulkan_fixture.h"
 
@@ -22,10 +23,7 @@ const std::filesystem::path kFrameDir =
     std::filesystem::path(PENSIGHT_SHARED_DIR) / "real" / "solaqua_close";
 
 NetDetectorConfig config_for(const Dataset& d, Backend backend) {
-  NetDetectorConfig c{.mesh_m = d.scene.net_mesh_size_m, .backend = backend};
-  c.mesh_type = d.scene.net_mesh_type;
-  c.mesh_angle_rad = d.scene.net_mesh_angle_rad;
-  return c;
+  return detector_config(d.scene, {.backend = backend});
 }
 
 TEST(RealFrame, SolaquaCloseGivesAPlausiblePose) {

@@ -89,12 +89,8 @@ struct Collector {
 
 // The stages called one after another, as run_dataset did before it replayed through Pipeline.
 std::vector<EstimateRow> direct_rows(const Dataset& d) {
-  NetDetectorConfig config;
-  config.backend = Backend::kCpu;
-  config.mesh_m = d.scene.net_mesh_size_m;
-  config.mesh_type = d.scene.net_mesh_type;
-  config.mesh_angle_rad = d.scene.net_mesh_angle_rad;
-  NetDetector detector(d.cam0.camera, config, test_device());
+  NetDetector detector(d.cam0.camera, detector_config(d.scene, {.backend = Backend::kCpu}),
+                       test_device());
   global_pose::GlobalPoseEstimator est(global_pose_config(d));
   size_t dvl = 0, depth = 0, att = 0;
   std::vector<EstimateRow> rows;
