@@ -26,12 +26,4 @@ const vk::Context& VulkanTest::ctx() {
   return test_device().vulkan();
 }
 
-uint64_t fresh_seed() {
-  const char* fixed = std::getenv("PENSIGHT_TEST_SEED");
-  const uint64_t seed = fixed ? std::strtoull(fixed, nullptr, 10) : std::random_device{}();
-  ::testing::Test::RecordProperty("seed", std::to_string(seed));
-  std::printf("[ seed     ] PENSIGHT_TEST_SEED=%llu\n", static_cast<unsigned long long>(seed));
-  return seed;
-}
-
 }  // namespace pensight::testing

@@ -10,6 +10,7 @@
 
 #include "runtime/device.h"
 #include "runtime/vk_context.h"
+#include "tests/support/test_seed.h"
 
 namespace pensight::testing {
 
@@ -22,10 +23,6 @@ class VulkanTest : public ::testing::Test {
  protected:
   static const vk::Context& ctx();
 };
-
-// A seed that differs per run (fresh random inputs); printed so a failure can be reproduced by
-// setting PENSIGHT_TEST_SEED.
-uint64_t fresh_seed();
 
 inline constexpr float kPoison = std::numeric_limits<float>::quiet_NaN();
 
