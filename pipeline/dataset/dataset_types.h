@@ -2,7 +2,9 @@
 // Value types of the dataset contract (../shared/dataset-format.md, version 1). Timestamps are
 // integer nanoseconds shared by all sensors; frames and signs are those of the contract.
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -95,6 +97,14 @@ inline Eigen::Matrix3d rotation_from_rpy(double roll_rad, double pitch_rad, doub
           Eigen::AngleAxisd(pitch_rad, Eigen::Vector3d::UnitY()) *
           Eigen::AngleAxisd(roll_rad, Eigen::Vector3d::UnitX()))
       .toRotationMatrix();
+}
+
+// The inverse: roll, pitch, yaw of R_P_B, pitch in [-pi/2, pi/2]. At pitch +-pi/2 roll and yaw
+// share one angle and roll is reported as 0.
+inline Eigen::Vector3d rpy_from_rotation(const Eigen::Matrix3d& R) {
+  const double pitch = std::asin(std::clamp(-R(2, 0), -1.0, 1.0));
+  if (std::abs(R(2, 0)) > 1 - 1e-12) return {0.0, pitch, std::atan2(-R(0, 1), R(1, 1))};
+  return {std::atan2(R(2, 1), R(2, 2)), pitch, std::atan2(R(1, 0), R(0, 0))};
 }
 
 }  // namespace pensight
