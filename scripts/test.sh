@@ -51,6 +51,12 @@ if command -v npm >/dev/null && [ ! -d .cache/ort/node_modules/onnxruntime-node 
   npm install --prefix .cache/ort onnxruntime-node@1 --ignore-scripts --no-audit --no-fund \
     --loglevel=error >/dev/null || echo "test: onnxruntime-node not installed; its checks skip"
 fi
+# node-mavlink (npm, pure JavaScript) is the independent MAVLink implementation our frames are
+# checked against (tests/mavlink/node_mavlink_test.cpp); without npm that check skips and says so.
+if command -v npm >/dev/null && [ ! -d .cache/node-mavlink/node_modules/node-mavlink ]; then
+  npm install --prefix .cache/node-mavlink node-mavlink@2 --ignore-scripts --no-audit --no-fund \
+    --loglevel=error >/dev/null || echo "test: node-mavlink not installed; its checks skip"
+fi
 
 # Vulkan tests run on lavapipe unless the caller picks another device.
 export PENSIGHT_VK_DEVICE="${PENSIGHT_VK_DEVICE:-llvmpipe}"
