@@ -24,6 +24,7 @@
 #include "pipeline/dataset/estimates_csv.h"
 #include "pipeline/dataset/global_pose_csv.h"
 #include "pipeline/evaluation/evaluation.h"
+#include "pipeline/report/svg_chart.h"
 #include "pipeline/timing_table.h"
 #include "runtime/error.h"
 #include "runtime/file_bytes.h"
@@ -31,33 +32,6 @@
 
 namespace pensight {
 namespace {
-
-std::string escape(std::string_view s) {
-  std::string out;
-  out.reserve(s.size());
-  for (const char c : s) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      case '\'':
-        out += "&#39;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
-}
 
 std::string base64(std::string_view bytes) {
   static constexpr char kDigits[] =
@@ -77,18 +51,12 @@ std::string base64(std::string_view bytes) {
   return out;
 }
 
-std::string format(const char* spec, double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, spec, v);
-  return buf;
-}
-
 // Table cells: integers as such, otherwise about three significant digits.
 std::string short_number(double v) {
   if (!std::isfinite(v)) return "n/a";
-  if (v == std::round(v) && std::abs(v) < 1e9) return format("%.0f", v);
-  if (std::abs(v) >= 100) return format("%.0f", v);
-  return format("%.3g", v);
+  if (v == std::round(v) && std::abs(v) < 1e9) return printf_double("%.0f", v);
+  if (std::abs(v) >= 100) return printf_double("%.0f", v);
+  return printf_double("%.3g", v);
 }
 
 // Angles as a continuous curve (no jumps of 2 pi where an angle crosses +-pi).
@@ -102,178 +70,6 @@ void unwrap(std::vector<double>& angles_rad) {
     a += turns;
     last = a;
   }
-}
-
-// ---- Inline SVG charts -------------------------------------------------------------------------
-
-struct Series {
-  std::string name;
-  std::string colour;
-  std::vector<double> x, y;  // a non-finite point breaks the line
-  bool dashed = false;
-};
-
-struct Chart {
-  std::string title;
-  std::string x_label, y_label;
-  std::vector<Series> series;
-  bool equal_aspect = false;      // top views: one metre is as long on both axes
-  double circle_radius_m = kNaN;  // the pen, centred on the origin
-  bool fit_circle = false;        // the axes cover the whole circle, not only the data
-  double min_span_m = 0;          // equal_aspect: the axes cover at least this much
-  int width = 960, height = 250;
-};
-
-constexpr const char* kPenColour = "#3a9a6a";
-
-struct Axis {
-  double lo = 0, hi = 1;
-  std::vector<double> ticks;
-};
-
-// Covers [lo, hi] with ticks at 1, 2 or 5 times a power of ten.
-Axis nice_axis(double lo, double hi) {
-  if (!(lo <= hi)) lo = 0, hi = 1;
-  if (hi - lo < 1e-9 * std::max(1.0, std::abs(lo))) lo -= 0.5, hi += 0.5;
-  const double raw = (hi - lo) / 5, magnitude = std::pow(10.0, std::floor(std::log10(raw)));
-  double step = 10 * magnitude;
-  for (const double m : {1.0, 2.0, 5.0}) {
-    if (m * magnitude >= raw) {
-      step = m * magnitude;
-      break;
-    }
-  }
-  Axis a{std::floor(lo / step) * step, std::ceil(hi / step) * step, {}};
-  for (int k = 0; a.lo + k * step <= a.hi + 0.5 * step; ++k) {
-    const double t = a.lo + k * step;
-    a.ticks.push_back(std::abs(t) < 1e-9 * step ? 0 : t);  // never "-0"
-  }
-  return a;
-}
-
-// As many decimals as the tick step needs (0.05 -> 2).
-std::string tick_label(double t, const Axis& a) {
-  const double step = a.ticks.size() > 1 ? a.ticks[1] - a.ticks[0] : 1;
-  const int decimals = std::max(0, -static_cast<int>(std::floor(std::log10(step) + 1e-9)));
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.*f", decimals, t);
-  return buf;
-}
-
-std::string svg(const Chart& c) {
-  constexpr double kLeft = 64, kRight = 16, kBottom = 40;
-  // Legend entries left to right under the title, wrapping to more rows; the plot starts below.
-  std::vector<std::pair<double, double>> legend_at;
-  double legend_x = kLeft, legend_y = 30;
-  for (const Series& s : c.series) {
-    const double w = 45 + 6.5 * static_cast<double>(s.name.size());
-    if (legend_x > kLeft && legend_x + w > c.width - kRight) legend_x = kLeft, legend_y += 16;
-    legend_at.emplace_back(legend_x, legend_y);
-    legend_x += w;
-  }
-  const double top = legend_y + 14;
-  double x_lo = std::numeric_limits<double>::infinity(), x_hi = -x_lo, y_lo = x_lo, y_hi = -x_lo;
-  for (const Series& s : c.series) {
-    for (size_t i = 0; i < s.x.size(); ++i) {
-      if (!std::isfinite(s.x[i]) || !std::isfinite(s.y[i])) continue;
-      x_lo = std::min(x_lo, s.x[i]), x_hi = std::max(x_hi, s.x[i]);
-      y_lo = std::min(y_lo, s.y[i]), y_hi = std::max(y_hi, s.y[i]);
-    }
-  }
-  const double plot_w = c.width - kLeft - kRight, plot_h = c.height - top - kBottom;
-  if (c.equal_aspect) {
-    if (c.fit_circle) {
-      x_lo = std::min(x_lo, -c.circle_radius_m), x_hi = std::max(x_hi, c.circle_radius_m);
-      y_lo = std::min(y_lo, -c.circle_radius_m), y_hi = std::max(y_hi, c.circle_radius_m);
-    }
-    if (!(x_lo <= x_hi)) x_lo = y_lo = -1, x_hi = y_hi = 1;
-    // Both axes span the same metres per pixel, centred on the data, with a margin of 10 %.
-    const double m_per_px = std::max({(x_hi - x_lo) / plot_w, (y_hi - y_lo) / plot_h,
-                                      c.min_span_m / std::min(plot_w, plot_h)}) *
-                                1.2 +
-                            1e-9;
-    const double xc = 0.5 * (x_lo + x_hi), yc = 0.5 * (y_lo + y_hi);
-    x_lo = xc - 0.5 * m_per_px * plot_w, x_hi = xc + 0.5 * m_per_px * plot_w;
-    y_lo = yc - 0.5 * m_per_px * plot_h, y_hi = yc + 0.5 * m_per_px * plot_h;
-  }
-  Axis xa = nice_axis(x_lo, x_hi), ya = nice_axis(y_lo, y_hi);
-  if (c.equal_aspect) {
-    // Keep the equal scale: the ticks fall inside, the range stays as computed.
-    std::erase_if(xa.ticks, [&](double t) { return t < x_lo || t > x_hi; });
-    std::erase_if(ya.ticks, [&](double t) { return t < y_lo || t > y_hi; });
-    xa.lo = x_lo, xa.hi = x_hi, ya.lo = y_lo, ya.hi = y_hi;
-  }
-  // Top views are seen from above with P's z down: x to the right and y down the page turn
-  // clockwise, as yaw does. Time charts put y up.
-  const auto px = [&](double x) { return kLeft + (x - xa.lo) / (xa.hi - xa.lo) * plot_w; };
-  const auto py = [&](double y) {
-    const double f = (y - ya.lo) / (ya.hi - ya.lo);
-    return top + (c.equal_aspect ? f : 1 - f) * plot_h;
-  };
-
-  std::ostringstream o;
-  o << "<svg width=\"" << c.width << "\" height=\"" << c.height << "\" viewBox=\"0 0 " << c.width
-    << " " << c.height << "\" font-family=\"sans-serif\" font-size=\"12\">\n"
-    << "<text x=\"" << kLeft << "\" y=\"16\" font-weight=\"bold\">" << escape(c.title)
-    << "</text>\n";
-  for (size_t i = 0; i < c.series.size(); ++i) {
-    const Series& s = c.series[i];
-    const auto [x, y] = legend_at[i];
-    o << "<line x1=\"" << x << "\" y1=\"" << y << "\" x2=\"" << x + 22 << "\" y2=\"" << y
-      << "\" stroke=\"" << s.colour << "\" stroke-width=\"2\""
-      << (s.dashed ? " stroke-dasharray=\"5 3\"" : "") << "/><text x=\"" << x + 27 << "\" y=\""
-      << y + 4 << "\">" << escape(s.name) << "</text>\n";
-  }
-  o << "<rect x=\"" << kLeft << "\" y=\"" << top << "\" width=\"" << plot_w << "\" height=\""
-    << plot_h << "\" fill=\"#fafafa\" stroke=\"#999\"/>\n";
-  for (const double t : xa.ticks) {
-    o << "<line x1=\"" << px(t) << "\" y1=\"" << top << "\" x2=\"" << px(t) << "\" y2=\""
-      << top + plot_h << "\" stroke=\"#e4e4e4\"/><text x=\"" << px(t) << "\" y=\""
-      << top + plot_h + 15 << "\" text-anchor=\"middle\">" << tick_label(t, xa) << "</text>\n";
-  }
-  for (const double t : ya.ticks) {
-    o << "<line x1=\"" << kLeft << "\" y1=\"" << py(t) << "\" x2=\"" << kLeft + plot_w << "\" y2=\""
-      << py(t) << "\" stroke=\"#e4e4e4\"/><text x=\"" << kLeft - 5 << "\" y=\"" << py(t) + 4
-      << "\" text-anchor=\"end\">" << tick_label(t, ya) << "</text>\n";
-  }
-  o << "<text x=\"" << kLeft + plot_w / 2 << "\" y=\"" << c.height - 6
-    << "\" text-anchor=\"middle\">" << escape(c.x_label) << "</text>\n"
-    << "<text transform=\"translate(14," << top + plot_h / 2
-    << ") rotate(-90)\" text-anchor=\"middle\">" << escape(c.y_label) << "</text>\n";
-  // A nested viewport in the outer coordinates clips what lies beyond the axes (the pen circle).
-  o << "<svg x=\"" << kLeft << "\" y=\"" << top << "\" width=\"" << plot_w << "\" height=\""
-    << plot_h << "\" viewBox=\"" << kLeft << " " << top << " " << plot_w << " " << plot_h
-    << "\">\n";
-  if (std::isfinite(c.circle_radius_m)) {
-    o << "<circle cx=\"" << px(0) << "\" cy=\"" << py(0) << "\" r=\""
-      << c.circle_radius_m / (xa.hi - xa.lo) * plot_w << "\" fill=\"none\" stroke=\"" << kPenColour
-      << "\" stroke-width=\"2\"/>\n";
-  }
-  for (const Series& s : c.series) {
-    // One path per run of finite points; a lone point between NaNs gets a dot.
-    std::string path;
-    size_t run = 0;
-    for (size_t i = 0; i <= s.x.size(); ++i) {
-      const bool ok = i < s.x.size() && std::isfinite(s.x[i]) && std::isfinite(s.y[i]);
-      if (ok) {
-        path +=
-            (run == 0 ? "M" : "L") + format("%.1f", px(s.x[i])) + "," + format("%.1f", py(s.y[i]));
-        ++run;
-        continue;
-      }
-      if (run == 1) {
-        o << "<circle cx=\"" << px(s.x[i - 1]) << "\" cy=\"" << py(s.y[i - 1])
-          << "\" r=\"1.8\" fill=\"" << s.colour << "\"/>\n";
-      }
-      run = 0;
-    }
-    if (!path.empty()) {
-      o << "<path d=\"" << path << "\" fill=\"none\" stroke=\"" << s.colour
-        << "\" stroke-width=\"1.5\"" << (s.dashed ? " stroke-dasharray=\"5 3\"" : "") << "/>\n";
-    }
-  }
-  o << "</svg></svg>\n";
-  return o.str();
 }
 
 // ---- Reading the run's files ------------------------------------------------------------------
@@ -345,7 +141,7 @@ std::vector<double> seconds(const NamedTable& t, int64_t t0_ns) {
 }
 
 std::string not_available(const std::string& why) {
-  return "<p class=\"absent\">" + escape(why) + ".</p>\n";
+  return "<p class=\"absent\">" + html_escape(why) + ".</p>\n";
 }
 
 // ---- The page ----------------------------------------------------------------------------------
@@ -567,12 +363,12 @@ std::string global_pose_section(const Run& run) {
   std::vector<std::string> notes;
   if (run.published.empty()) notes.push_back("published node: " + run.published_problem);
   if (!truth.empty()) {
-    notes.push_back(aligned
-                        ? "truth rho and yaw shifted by " + format("%.1f", rad_to_deg(rho_offset)) +
-                              " and " + format("%.1f", rad_to_deg(psi_offset)) +
-                              " deg to agree at the first frame with rho_g and psi_g (the "
-                              "pen's azimuth origin is not observable)"
-                        : "no frame with rho_g and psi_g: truth azimuth and yaw as recorded");
+    notes.push_back(aligned ? "truth rho and yaw shifted by " +
+                                  printf_double("%.1f", rad_to_deg(rho_offset)) + " and " +
+                                  printf_double("%.1f", rad_to_deg(psi_offset)) +
+                                  " deg to agree at the first frame with rho_g and psi_g (the "
+                                  "pen's azimuth origin is not observable)"
+                            : "no frame with rho_g and psi_g: truth azimuth and yaw as recorded");
   }
   if (!run.dataset) notes.push_back("no dataset given: no pen circle");
   std::string joined;
@@ -586,19 +382,21 @@ std::string evaluation_section(const Run& run) {
   if (!run.dataset) return html + not_available("No dataset given: no ground truth");
   if (!run.truth) return html + not_available("The dataset has no groundtruth0/");
   const AccuracyEnvelope envelope;
-  html +=
-      "<pre>" +
-      escape(format("measurable: net fraction >= %.2f, ", envelope.min_net_fraction) +
-             format("%.1f", envelope.min_d_net_m) + "-" + format("%.1f m, ", envelope.max_d_net_m) +
-             format("|psi_net| <= %.0f deg\n", rad_to_deg(envelope.max_abs_psi_net_rad)) +
-             "net pose from FFT:\n" +
-             describe(score_net_pose(*run.dataset, run.rows, NetPoseSource::kFft, envelope)) +
-             "global pose (all frames; rho_g and psi_g as changes from the first frame with "
-             "both):\n" +
-             describe(score_global_pose(*run.dataset, run.rows)));
+  html += "<pre>" +
+          html_escape(
+              printf_double("measurable: net fraction >= %.2f, ", envelope.min_net_fraction) +
+              printf_double("%.1f", envelope.min_d_net_m) + "-" +
+              printf_double("%.1f m, ", envelope.max_d_net_m) +
+              printf_double("|psi_net| <= %.0f deg\n", rad_to_deg(envelope.max_abs_psi_net_rad)) +
+              "net pose from FFT:\n" +
+              describe(score_net_pose(*run.dataset, run.rows, NetPoseSource::kFft, envelope)) +
+              "global pose (all frames; rho_g and psi_g as changes from the first frame with "
+              "both):\n" +
+              describe(score_global_pose(*run.dataset, run.rows)));
   if (!run.published.empty()) {
-    html += escape(std::string("global pose of the published node (") + kPublishedGlobalPoseFile +
-                   ", the baseline):\n" + describe(score_global_pose(*run.dataset, run.published)));
+    html += html_escape(std::string("global pose of the published node (") +
+                        kPublishedGlobalPoseFile + ", the baseline):\n" +
+                        describe(score_global_pose(*run.dataset, run.published)));
   }
   return html + "</pre>\n";
 }
@@ -623,7 +421,7 @@ std::string diagnostics_section(const Run& run) {
                      [](const auto& a, const auto& b) { return a.second > b.second; });
     html += "<table><tr><th>why the FFT pose is NaN (fft_reason)</th><th>frames</th></tr>\n";
     for (const auto& [reason, count] : sorted) {
-      html += "<tr><td>" + escape(reason) + "</td><td class=\"n\">" + std::to_string(count) +
+      html += "<tr><td>" + html_escape(reason) + "</td><td class=\"n\">" + std::to_string(count) +
               "</td></tr>\n";
     }
     html += "</table>\n";
@@ -638,7 +436,7 @@ std::string diagnostics_section(const Run& run) {
     double accepted = 0, rejected = 0;
     for (const double v : numbers(d, name)) accepted += std::isfinite(v) ? v : 0;
     for (const double v : numbers(d, sensor + "_rejected")) rejected += std::isfinite(v) ? v : 0;
-    sensors += "<tr><td>" + escape(sensor) + "</td><td class=\"n\">" + short_number(accepted) +
+    sensors += "<tr><td>" + html_escape(sensor) + "</td><td class=\"n\">" + short_number(accepted) +
                "</td><td class=\"n\">" + short_number(rejected) + "</td></tr>\n";
   }
   if (!sensors.empty()) {
@@ -680,7 +478,7 @@ std::string timing_section(const Run& run) {
   html += "<table><tr>";
   for (const std::string& name : t.header()) {
     const auto it = kLabel.find(name);
-    html += "<th>" + escape(it == kLabel.end() ? name : it->second) + "</th>";
+    html += "<th>" + html_escape(it == kLabel.end() ? name : it->second) + "</th>";
   }
   html += "</tr>\n";
   const size_t node = tm.column.at("node");
@@ -688,7 +486,7 @@ std::string timing_section(const Run& run) {
     html += "<tr>";
     for (size_t f = 0; f < t.fields(r); ++f) {
       if (f == node) {
-        html += "<td>" + escape(t.text(r, f)) + "</td>";
+        html += "<td>" + html_escape(t.text(r, f)) + "</td>";
         continue;
       }
       std::string cell;
@@ -697,7 +495,7 @@ std::string timing_section(const Run& run) {
       } catch (const Error&) {
         cell = t.text(r, f);
       }
-      html += "<td class=\"n\">" + escape(cell) + "</td>";
+      html += "<td class=\"n\">" + html_escape(cell) + "</td>";
     }
     html += "</tr>\n";
   }
@@ -741,7 +539,7 @@ std::string overlays_section(const Run& run) {
   for (size_t k = 0; k < shown; ++k) {
     const size_t i = shown == 1 ? 0 : k * (files.size() - 1) / (shown - 1);
     const auto [mime, bytes] = embeddable(files[i]);
-    const std::string name = escape(files[i].filename().string());
+    const std::string name = html_escape(files[i].filename().string());
     html += "<figure><img src=\"data:" + mime + ";base64," + base64(bytes) + "\" alt=\"" + name +
             "\"><figcaption>" + name + "</figcaption></figure>\n";
   }
@@ -755,13 +553,14 @@ std::string summary_section(const Run& run) {
     global += std::isfinite(r.r_g_m);
   }
   const double span_s = run.rows.empty() ? 0 : run.seconds(run.rows.back().timestamp_ns);
-  std::string html = "<p>Output folder: <code>" + escape(run.out_dir.string()) + "</code><br>\n";
-  html += run.dataset ? "Dataset: <code>" + escape(run.dataset->root.string()) + "</code>"
+  std::string html =
+      "<p>Output folder: <code>" + html_escape(run.out_dir.string()) + "</code><br>\n";
+  html += run.dataset ? "Dataset: <code>" + html_escape(run.dataset->root.string()) + "</code>"
                       : std::string("Dataset: none given (no ground truth)");
-  html += "<br>\n" + std::to_string(run.rows.size()) + " frames over " + format("%.1f", span_s) +
-          " s (time 0: the first frame, timestamp " + std::to_string(run.t0_ns) +
-          " ns); FFT net pose in " + std::to_string(fft) + ", global pose in " +
-          std::to_string(global) + ".</p>\n";
+  html += "<br>\n" + std::to_string(run.rows.size()) + " frames over " +
+          printf_double("%.1f", span_s) + " s (time 0: the first frame, timestamp " +
+          std::to_string(run.t0_ns) + " ns); FFT net pose in " + std::to_string(fft) +
+          ", global pose in " + std::to_string(global) + ".</p>\n";
   return html;
 }
 
@@ -829,8 +628,8 @@ void write_report_html(const std::filesystem::path& out_dir, const Dataset* data
   std::string html =
       "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>pensight "
       "report: " +
-      escape(out_dir.filename().empty() ? out_dir.parent_path().filename().string()
-                                        : out_dir.filename().string()) +
+      html_escape(out_dir.filename().empty() ? out_dir.parent_path().filename().string()
+                                             : out_dir.filename().string()) +
       "</title>\n" + kSelfCheck + kStyle + "</head>\n<body>\n<h1>pensight run report</h1>\n";
   html += summary_section(run);
   html += net_pose_section(run);
