@@ -260,17 +260,26 @@ NetDetectorConfig detector_config(const SceneConfig& scene, NetDetectorConfig ba
   return base;
 }
 
-global_pose::GlobalPoseEstimatorConfig global_pose_config(const Dataset& d) {
+global_pose::GlobalPoseEstimatorConfig global_pose_config(const SceneConfig& scene,
+                                                          const CameraCalibration& cam0,
+                                                          const std::optional<DvlCalibration>& dvl0,
+                                                          bool has_pressure, bool has_attitude) {
   global_pose::GlobalPoseEstimatorConfig c;
-  c.pen_radius_m = d.scene.pen_radius_m;
-  c.flat_panel = d.scene.flat_panel;
-  c.initial_rho_rad = d.scene.initial_rho_rad.value_or(0.0);
-  c.T_body_camera = d.cam0.T_body_camera;
-  if (d.dvl0) c.dvl_beams = d.dvl0->calibration;
-  c.has_dvl = d.dvl0.has_value();
-  c.has_attitude = d.imu0.has_value();
-  c.has_pressure = d.pressure0.has_value();
+  c.pen_radius_m = scene.pen_radius_m;
+  c.flat_panel = scene.flat_panel;
+  c.initial_rho_rad = scene.initial_rho_rad.value_or(0.0);
+  c.T_body_camera = cam0.T_body_camera;
+  if (dvl0) c.dvl_beams = *dvl0;
+  c.has_dvl = dvl0.has_value();
+  c.has_attitude = has_attitude;
+  c.has_pressure = has_pressure;
   return c;
+}
+
+global_pose::GlobalPoseEstimatorConfig global_pose_config(const Dataset& d) {
+  std::optional<DvlCalibration> dvl;
+  if (d.dvl0) dvl = d.dvl0->calibration;
+  return global_pose_config(d.scene, d.cam0, dvl, d.pressure0.has_value(), d.imu0.has_value());
 }
 
 RunSummary run_dataset(const Dataset& dataset, const std::filesystem::path& out_dir,

@@ -68,6 +68,11 @@ NetDetectorConfig detector_config(const SceneConfig& scene, NetDetectorConfig ba
 // The estimators' settings from the dataset: pen radius, camera mount, DVL beams, which sensors
 // are present.
 global_pose::GlobalPoseEstimatorConfig global_pose_config(const Dataset& dataset);
+// The same from the parts (a closed loop, which has no dataset to read).
+global_pose::GlobalPoseEstimatorConfig global_pose_config(const SceneConfig& scene,
+                                                          const CameraCalibration& cam0,
+                                                          const std::optional<DvlCalibration>& dvl0,
+                                                          bool has_pressure, bool has_attitude);
 
 // Writes the outputs whole (temporary name, then rename), creating out_dir if needed. Runs the
 // detector's Vulkan backend on `device`.

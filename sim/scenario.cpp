@@ -7,6 +7,7 @@
 #include <optional>
 #include <sstream>
 
+#include "control/control_config.h"
 #include "pipeline/dataset/strict_yaml.h"
 #include "runtime/error.h"
 #include "runtime/units.h"
@@ -420,6 +421,24 @@ SceneConfig Scenario::scene_config() const {
   return scene;
 }
 
+namespace {
+
+// The closed loop's vehicle: what a scenario may change of the BlueROV2 Heavy's defaults.
+void parse_vehicle(const YamlMap& y, vehicle::VehicleParams& v) {
+  v.current.variation_mps = y.number("current_variation_mps", v.current.variation_mps);
+  v.current.time_constant_s = y.number("current_time_constant_s", v.current.time_constant_s);
+  v.autopilot.pilot_gain = y.number("pilot_gain", v.autopilot.pilot_gain);
+  v.hull.water_density_kgpm3 = y.number("water_density_kgpm3", v.hull.water_density_kgpm3);
+  y.check_unknown_keys();
+  try {
+    vehicle::check_params(v);
+  } catch (const Error& e) {
+    throw Error(y.file() + ": section 'vehicle': " + e.what());
+  }
+}
+
+}  // namespace
+
 Scenario parse_scenario(const std::string& text, const std::string& file_name) {
   const YamlMap y = YamlMap::parse(text, file_name);
   Scenario s;
@@ -446,6 +465,10 @@ Scenario parse_scenario(const std::string& text, const std::string& file_name) {
   if (const auto m = y.optional_map("dvl")) s.dvl = parse_dvl(*m);
   if (const auto m = y.optional_map("pressure")) s.pressure = parse_pressure(*m);
   if (const auto m = y.optional_map("attitude")) s.attitude = parse_attitude(*m);
+  if (const auto m = y.optional_map("control")) s.control = control::parse_control_config(*m);
+  if (const auto m = y.optional_map("vehicle")) parse_vehicle(*m, s.vehicle);
+  s.vehicle.current.mean_pen_mps = s.water.current_mps;
+  s.vehicle.current.seed = s.seed;
   s.waypoints = parse_trajectory(y.map("trajectory"));
   if (s.waypoints.empty()) y.fail("trajectory", "needs at least one waypoint");
   const double last = s.waypoints.back().t_s;

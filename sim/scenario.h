@@ -5,10 +5,13 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "control/control_config.h"
 #include "pipeline/dataset/dataset_types.h"
+#include "sim/vehicle/bluerov2_params.h"
 
 namespace pensight::sim {
 
@@ -180,6 +183,11 @@ struct Scenario {
   PressureConfig pressure;
   AttitudeConfig attitude;
   std::vector<Waypoint> waypoints;  // sorted by time, at least one
+  // The closed loop's mission and controller (`pensight closed-loop`); the trajectory then gives
+  // only the start pose and duration_s the length of the run.
+  std::optional<control::ControlConfig> control;
+  // The simulated BlueROV2 Heavy of the closed loop; its current's mean is water.current_mps.
+  vehicle::VehicleParams vehicle;
 
   int num_frames() const;
   int64_t frame_time_ns(int frame) const;

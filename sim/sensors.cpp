@@ -84,26 +84,33 @@ std::vector<DvlSample> simulate_dvl(const Scenario& s, const NetGeometry& net) {
   return out;
 }
 
+PressureSample measure_pressure(const PressureConfig& cfg, const BodyState& body,
+                                int64_t timestamp_ns, std::mt19937_64& rng) {
+  std::normal_distribution<double> gauss(0, cfg.noise_m);
+  return {timestamp_ns, body.T_pen_body.translation().z() + cfg.bias_m + gauss(rng)};
+}
+
+AttitudeSample measure_attitude(const AttitudeConfig& cfg, const BodyState& body,
+                                int64_t timestamp_ns, std::mt19937_64& rng) {
+  std::normal_distribution<double> gauss(0, cfg.noise_rad);
+  const double roll = body.roll_rad + gauss(rng), pitch = body.pitch_rad + gauss(rng);
+  return {timestamp_ns, roll, pitch, wrap_angle(body.yaw_rad + gauss(rng))};
+}
+
 std::vector<PressureSample> simulate_pressure(const Scenario& s) {
   auto rng = stream(s, 2);
-  std::normal_distribution<double> gauss(0, s.pressure.noise_m);
   std::vector<PressureSample> out;
   for_each_sample(s, s.pressure.rate_hz, [&](double t, int64_t ns) {
-    const double z = body_state(s, t).T_pen_body.translation().z();
-    out.push_back({ns, z + s.pressure.bias_m + gauss(rng)});
+    out.push_back(measure_pressure(s.pressure, body_state(s, t), ns, rng));
   });
   return out;
 }
 
 std::vector<AttitudeSample> simulate_attitude(const Scenario& s) {
   auto rng = stream(s, 3);
-  std::normal_distribution<double> gauss(0, s.attitude.noise_rad);
   std::vector<AttitudeSample> out;
   for_each_sample(s, s.attitude.rate_hz, [&](double t, int64_t ns) {
-    const BodyState b = body_state(s, t);
-    const double roll = b.roll_rad + gauss(rng), pitch = b.pitch_rad + gauss(rng);
-    const double yaw = wrap_angle(b.yaw_rad + gauss(rng));
-    out.push_back({ns, roll, pitch, yaw});
+    out.push_back(measure_attitude(s.attitude, body_state(s, t), ns, rng));
   });
   return out;
 }

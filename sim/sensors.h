@@ -21,8 +21,13 @@ std::vector<DvlSample> simulate_dvl(const Scenario& s, const NetGeometry& net);
 std::vector<PressureSample> simulate_pressure(const Scenario& s);
 std::vector<AttitudeSample> simulate_attitude(const Scenario& s);
 
-// One DVL measurement at a given body state (closed loops); draws its noise from `rng`.
+// One measurement at a given body state (closed loops, and the samplers above); each draws its
+// noise from `rng`.
 DvlSample measure_dvl(const DvlConfig& cfg, const NetGeometry& net, const BodyState& body,
                       int64_t timestamp_ns, std::mt19937_64& rng);
+PressureSample measure_pressure(const PressureConfig& cfg, const BodyState& body,
+                                int64_t timestamp_ns, std::mt19937_64& rng);
+AttitudeSample measure_attitude(const AttitudeConfig& cfg, const BodyState& body,
+                                int64_t timestamp_ns, std::mt19937_64& rng);
 
 }  // namespace pensight::sim
