@@ -84,6 +84,10 @@ int cmd_closed_loop(const Args& args) {
   std::printf("closed loop '%s': %.1f s simulated in %.1f s (%.2fx real time)\n", s.name.c_str(),
               summary.simulated_s, summary.wall_s,
               summary.simulated_s / std::max(summary.wall_s, 1e-9));
+  std::printf("wall time: render %.1f s, dataset writing %.1f s, perception (beyond the writing) "
+              "%.1f s, the rest %.1f s\n",
+              summary.render_s, summary.write_s, summary.perception_s,
+              summary.wall_s - summary.render_s - summary.write_s - summary.perception_s);
   std::printf("distance RMSE after settling %.1f cm, heading RMSE %.2f deg, nearest %.3f m\n",
               100 * m.distance_rmse_m, m.heading_rmse_deg, m.min_distance_m);
   for (const sim::LegMetrics& l : m.legs) {

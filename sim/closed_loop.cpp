@@ -160,13 +160,23 @@ ClosedLoopSummary run_closed_loop(const Scenario& s, const std::filesystem::path
     // The frame: rendered, perceived, controlled.
     const double t = vehicle.time_s();
     const FrameState f = frame_state_at(s, body_of(vehicle), k, t);
+    auto tic = std::chrono::steady_clock::now();
+    const auto toc = [&tic](double& total_s) {
+      const auto now = std::chrono::steady_clock::now();
+      total_s += std::chrono::duration<double>(now - tic).count();
+      tic = now;
+    };
     const RenderedFrame r = renderer->render(f);
+    toc(summary.render_s);
+    pipeline.push(CameraFrame{f.timestamp_ns, r.image, nullptr});
+    // The dataset is written while perception runs on the pipeline's threads.
     const GroundTruthRow truth = ground_truth_row(s, net, f, r.depth_m);
     writer.add_frame(f.timestamp_ns, r.image);
     writer.add_groundtruth(truth, depth_mm_from_m(r.depth_m));
-    pipeline.push(CameraFrame{f.timestamp_ns, r.image, nullptr});
+    toc(summary.write_s);
     std::optional<FrameResult> result;
     while (!(result = pipeline.poll())) std::this_thread::sleep_for(std::chrono::microseconds(100));
+    toc(summary.perception_s);
 
     ClosedLoopStep step;
     step.timestamp_ns = f.timestamp_ns;

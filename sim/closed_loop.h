@@ -53,6 +53,9 @@ struct ClosedLoopSummary {
   std::vector<ClosedLoopStep> steps;
   control::ControlCounters counters;
   double simulated_s = 0, wall_s = 0;
+  // Where the wall time went: rendering, perception (push to result), writing the dataset, and
+  // the rest (dynamics, sensors, control).
+  double render_s = 0, perception_s = 0, write_s = 0;
   std::string renderer, backend;
 };
 
