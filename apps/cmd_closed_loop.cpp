@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "apps/command.h"
 #include "apps/progress_bar.h"
@@ -39,6 +40,11 @@ int cmd_closed_loop(const Args& args) {
   cli.add_option("--mavlink", mavlink_endpoint,
                  "also send the commands over MAVLink v2 as a companion computer: "
                  "udpout:HOST:PORT (send to) or udpin:ADDR:PORT (listen), as MAVProxy writes them");
+  std::vector<double> outage;
+  cli.add_option("--perception-outage", outage,
+                 "FROM TO: seconds after the start between which perception yields no pose (a "
+                 "test of the hold and back-off)")
+      ->expected(2);
   cli.add_flag("--quiet", quiet, "no progress bar");
   try {
     cli.parse(std::vector<std::string>(args.rbegin(), args.rend()));
@@ -54,6 +60,13 @@ int cmd_closed_loop(const Args& args) {
   sim::ClosedLoopOptions options;
   options.renderer = renderer;
   options.detector.backend = parse_backend(backend);
+  if (!outage.empty()) {
+    if (!(outage[0] >= 0 && outage[1] > outage[0])) {
+      std::fprintf(stderr, "pensight closed-loop: --perception-outage needs 0 <= FROM < TO\n");
+      return 2;
+    }
+    options.perception_outages_s.emplace_back(outage[0], outage[1]);
+  }
   if (!strategy.empty()) {
     options.strategy = strategy == "dvl" ? control::VelocityStrategy::kDvlFeedback
                                          : control::VelocityStrategy::kOpenLoop;
@@ -84,10 +97,11 @@ int cmd_closed_loop(const Args& args) {
   std::printf("closed loop '%s': %.1f s simulated in %.1f s (%.2fx real time)\n", s.name.c_str(),
               summary.simulated_s, summary.wall_s,
               summary.simulated_s / std::max(summary.wall_s, 1e-9));
-  std::printf("wall time: render %.1f s, dataset writing %.1f s, perception (beyond the writing) "
-              "%.1f s, the rest %.1f s\n",
-              summary.render_s, summary.write_s, summary.perception_s,
-              summary.wall_s - summary.render_s - summary.write_s - summary.perception_s);
+  std::printf(
+      "wall time: render %.1f s, dataset writing %.1f s, perception (beyond the writing) "
+      "%.1f s, the rest %.1f s\n",
+      summary.render_s, summary.write_s, summary.perception_s,
+      summary.wall_s - summary.render_s - summary.write_s - summary.perception_s);
   std::printf("distance RMSE after settling %.1f cm, heading RMSE %.2f deg, nearest %.3f m\n",
               100 * m.distance_rmse_m, m.heading_rmse_deg, m.min_distance_m);
   for (const sim::LegMetrics& l : m.legs) {

@@ -46,11 +46,11 @@ struct LoopGains {
 };
 
 struct LoopLimits {
-  double surge_speed_mps = 0.25;   // |u_ref|
-  double sway_speed_mps = 0.3;     // |v_ref| a leg may ask for
-  double yaw_rate_radps = 0.35;    // |r_ref|
-  double climb_rate_mps = 0.2;     // depth changes
-  double depth_gain_per_s = 0.5;   // climb-rate demand per metre of depth error
+  double surge_speed_mps = 0.25;    // |u_ref|
+  double sway_speed_mps = 0.3;      // |v_ref| a leg may ask for
+  double yaw_rate_radps = 0.35;     // |r_ref|
+  double climb_rate_mps = 0.2;      // depth changes
+  double depth_gain_per_s = 0.5;    // climb-rate demand per metre of depth error
   double force_rate_n_per_s = 200;  // thrust ramps, per horizontal axis
 };
 
@@ -76,7 +76,7 @@ struct VehicleModel {
 };
 
 struct SafetyConfig {
-  double startup_s = 2.0;           // armed, depth hold, neutral sticks before the first leg
+  double startup_s = 2.0;           // armed, depth hold, held still before the first leg
   double pose_timeout_s = 0.5;      // no valid relative pose for this long: hold
   double backoff_after_s = 3.0;     // no valid pose for this long: back away from the net
   double backoff_speed_mps = 0.05;  // slowly, so a net that reappears is not lost again

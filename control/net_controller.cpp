@@ -127,13 +127,6 @@ ControlOutput NetController::update(int64_t now_ns) {
   out.d_ref_m = leg.d_ref_m;
   out.heading_ref_rad = leg.heading_ref_rad;
   out.depth_ref_m = leg.depth_m;
-  if (seconds_between(start_ns_, now_ns) < safety.startup_s) {
-    out.state = state_ = ControlState::kStartup;
-    out.strategy = strategy_in_use_;
-    if (has_depth_) legs_.advance(0, 0, depth_m_);  // the first leg keeps the start depth
-    return out;
-  }
-
   // The strategy: the configured one while the DVL answers.
   const bool dvl_ok = has_dvl_ && seconds_between(dvl_ns_, now_ns) <= safety.dvl_timeout_s;
   const VelocityStrategy strategy = dvl_ok ? config_.strategy : VelocityStrategy::kOpenLoop;
@@ -142,9 +135,30 @@ ControlOutput NetController::update(int64_t now_ns) {
     v_.reset();
     strategy_in_use_ = strategy;
   }
-  if (strategy != config_.strategy) ++counters_.open_loop_fallback_steps;
   out.strategy = strategy;
   const bool feedback = strategy == VelocityStrategy::kDvlFeedback;
+  propagate_velocity(now_ns);
+  const double u_mps = velocity_mps_.x(), v_mps = velocity_mps_.y();
+
+  if (seconds_between(start_ns_, now_ns) < safety.startup_s) {
+    // Armed in depth hold; with the DVL the velocity loops hold the vehicle still against a
+    // current (neutral sticks would let it drift onto the net), without it the sticks are neutral.
+    out.state = state_ = ControlState::kStartup;
+    if (has_depth_) legs_.advance(0, 0, depth_m_);  // the first leg keeps the start depth
+    if (feedback) {
+      const double ramp_n = limits.force_rate_n_per_s * dt_s;
+      surge_force_n_ =
+          std::clamp(u_.update(-u_mps, dt_s), surge_force_n_ - ramp_n, surge_force_n_ + ramp_n);
+      sway_force_n_ =
+          std::clamp(v_.update(-v_mps, dt_s), sway_force_n_ - ramp_n, sway_force_n_ + ramp_n);
+      out.surge_force_n = surge_force_n_;
+      out.sway_force_n = sway_force_n_;
+      out.x = stick_for_axis_force(vehicle, surge_force_n_);
+      out.y = stick_for_axis_force(vehicle, sway_force_n_);
+    }
+    return out;
+  }
+  if (strategy != config_.strategy) ++counters_.open_loop_fallback_steps;
 
   // The state.
   const double pose_age_s = has_pose_ ? seconds_between(pose_ns_, now_ns) : 1e9;
@@ -166,8 +180,6 @@ ControlOutput NetController::update(int64_t now_ns) {
   state_ = next;
   out.state = state_;
 
-  propagate_velocity(now_ns);
-  const double u_mps = velocity_mps_.x(), v_mps = velocity_mps_.y();
   // Without the DVL, hold and back-off keep the thrust that held the distance lately (it carries
   // the current's force); the last step's alone is as noisy as the pose it came from.
   double surge_target_n = tracking_force_n_;
@@ -201,10 +213,8 @@ ControlOutput NetController::update(int64_t now_ns) {
   }
   pose_fresh_ = false;
   if (feedback) {
-    surge_target_n =
-        feed_forward_surge(out.u_ref_mps) + u_.update(out.u_ref_mps - u_mps, dt_s);
-    sway_target_n =
-        feed_forward_sway(out.v_ref_mps) + v_.update(out.v_ref_mps - v_mps, dt_s);
+    surge_target_n = feed_forward_surge(out.u_ref_mps) + u_.update(out.u_ref_mps - u_mps, dt_s);
+    sway_target_n = feed_forward_sway(out.v_ref_mps) + v_.update(out.v_ref_mps - v_mps, dt_s);
   } else {
     sway_target_n = feed_forward_sway(out.v_ref_mps);
   }

@@ -6,7 +6,8 @@
 //   yaw: psi_net - heading_ref    -> yaw-rate demand
 //   depth: depth_ref - depth      -> climb-rate demand (ArduSub's depth hold keeps it in between)
 // turned into MANUAL_CONTROL sticks, and the safety logic around them:
-//   startup: armed, depth hold, neutral sticks for safety.startup_s;
+//   startup: armed, depth hold for safety.startup_s, held still by the velocity loops (DVL) or on
+//     neutral sticks;
 //   no valid pose for pose_timeout_s: hold (DVL: zero speed; open loop: the last thrust);
 //   for backoff_after_s: back away from the net at backoff_speed_mps, up to backoff_max_m;
 //   a valid pose again: tracking, from rest (no derivative or integral kick);

@@ -57,4 +57,32 @@ printf 'beam_directions: [[0.5, 0.5, 0.7071], [0.5, -0.5, 0.7071], [-0.5, -0.5, 
   >>"$out/dvl_yaml/beam-list.yaml"
 cp scenarios/*.yaml "$out/scenario_yaml/"
 "$cli" export-onnx builtin:all-ops --out "$out/onnx/all_ops.onnx" >/dev/null
+# MAVLink: the datagrams `pensight closed-loop --mavlink` sends in its first 0.2 s (HEARTBEAT,
+# COMMAND_LONG arm, SET_MODE, MANUAL_CONTROL), caught by a small UDP listener.
+port=$(python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')
+python3 - "$port" "$out/mavlink" <<'PY' &
+import socket, sys
+s = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+s.bind(("127.0.0.1", int(sys.argv[1])))
+s.settimeout(30)
+for i in range(8):
+    data, _ = s.recvfrom(65536)
+    open(f"{sys.argv[2]}/closed-loop-{i}", "wb").write(data)
+PY
+listener=$!
+sleep 0.5
+"$cli" closed-loop scenarios/hold_0p5.yaml --out "$tmp/closed_loop" --duration 0.5 --quiet \
+  --mavlink "udpout:127.0.0.1:$port" >/dev/null
+wait "$listener"
+# ... and what an ArduSub vehicle sends back (HEARTBEAT armed in ALT_HOLD, ATTITUDE,
+# SCALED_PRESSURE), encoded by node-mavlink (scripts/test.sh installs it), one file whole and the
+# same behind garbage bytes.
+cat >"$tmp/vehicle.txt" <<'TXT'
+0 0 1 1 type=12 autopilot=3 base_mode=209 custom_mode=2 system_status=4 mavlink_version=3
+30 1 1 1 time_boot_ms=1000 roll=0.01 pitch=-0.02 yaw=1.5 rollspeed=0 pitchspeed=0 yawspeed=0.1
+29 2 1 1 time_boot_ms=1000 press_abs=1313.25 press_diff=0 temperature=1500
+TXT
+NODE_PATH=.cache/node-mavlink/node_modules node tests/mavlink/node_mavlink.js encode \
+  "$tmp/vehicle.txt" "$out/mavlink/vehicle-stream"
+{ printf '\xfe\x09garbage\xfd\x01'; cat "$out/mavlink/vehicle-stream"; } >"$out/mavlink/vehicle-after-garbage"
 du -sh "$out"

@@ -89,15 +89,25 @@ ControlConfig hold(double d_ref, VelocityStrategy s) {
   return c;
 }
 
-TEST(NetController, StartsNeutralArmedInDepthHold) {
-  NetController ctl(hold(0.5, VelocityStrategy::kDvlFeedback));
-  Plant p;
-  const Trace r = simulate(ctl, p, 1.9, always, always);
-  for (const ControlOutput& c : r.out) {
-    EXPECT_EQ(c.state, ControlState::kStartup);
-    EXPECT_EQ(c.x, 0);
-    EXPECT_EQ(c.z, 0.5);
-    EXPECT_TRUE(c.arm && c.depth_hold);
+// Start-up: armed in depth hold; without the DVL's feedback the sticks are neutral, with it the
+// velocity loops hold the vehicle still (here, at rest, nearly neutral).
+TEST(NetController, StartsArmedInDepthHoldHoldingStill) {
+  for (const auto s : {VelocityStrategy::kOpenLoop, VelocityStrategy::kDvlFeedback}) {
+    NetController ctl(hold(0.5, s));
+    Plant p;
+    const Trace r = simulate(ctl, p, 1.9, always, always);
+    for (const ControlOutput& c : r.out) {
+      EXPECT_EQ(c.state, ControlState::kStartup);
+      if (s == VelocityStrategy::kOpenLoop) {
+        EXPECT_EQ(c.x, 0);
+        EXPECT_EQ(c.y, 0);
+      }
+      EXPECT_LT(std::abs(c.x) + std::abs(c.y), 0.3);
+      EXPECT_EQ(c.r, 0);
+      EXPECT_EQ(c.z, 0.5);
+      EXPECT_TRUE(c.arm && c.depth_hold);
+    }
+    EXPECT_LT(std::abs(p.X + 1.0), 0.01);
   }
 }
 
