@@ -8,9 +8,11 @@
 // turned into MANUAL_CONTROL sticks, and the safety logic around them:
 //   startup: armed, depth hold for safety.startup_s, held still by the velocity loops (DVL) or on
 //     neutral sticks;
-//   no valid pose for pose_timeout_s: hold (DVL: zero speed; open loop: the last thrust);
+//   no valid pose for pose_timeout_s: hold (DVL: zero speed; open loop: the surge thrust of the
+//     last 2 s of tracking);
 //   for backoff_after_s: back away from the net at backoff_speed_mps, up to backoff_max_m;
-//   a valid pose again: tracking, from rest (no derivative or integral kick);
+//   a valid pose again: tracking, the pose loops from rest (no derivative kick), the velocity
+//     loops keeping their integrals (the current's force);
 //   no DVL for dvl_timeout_s: the open-loop strategy until it is back.
 // No clock and no I/O: samples and the time come in, sticks go out, so the same object runs on
 // the vehicle and in the simulator.
