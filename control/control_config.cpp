@@ -56,7 +56,7 @@ void validate(const ControlConfig& c, const std::string& file, const std::string
   const std::string where = file + ": key '" + key_prefix;
   check_gains(c.gains.surge_position, where, "gains.surge_position");
   check_gains(c.gains.surge_velocity, where, "gains.surge_velocity");
-  check_gains(c.gains.sway_velocity, where, "gains.sway_velocity");
+  check_gains(c.gains.sway_position, where, "gains.sway_position");
   check_gains(c.gains.yaw, where, "gains.yaw");
   require(c.gains.surge_position.kp > 0, where, "gains.surge_position.kp",
           "0 leaves the distance to the net uncontrolled; the published value is 3.0");
@@ -80,8 +80,10 @@ void validate(const ControlConfig& c, const std::string& file, const std::string
   require(v.surge_damping_linear + v.surge_damping_quadratic > 0 &&
               v.sway_damping_linear + v.sway_damping_quadratic > 0,
           where, "vehicle", "the feed-forward needs some damping on surge and sway");
-  require(std::isfinite(v.pilot_gain) && v.pilot_gain > 0 && v.pilot_gain <= 1, where,
-          "vehicle.pilot_gain", "expected a number in (0, 1]");
+  require(std::isfinite(v.pilot_gain) && v.pilot_gain > 0 && v.pilot_gain <= 0.5, where,
+          "vehicle.pilot_gain",
+          "expected a number in (0, 0.5]: above it ArduSub rescales a combined surge and sway "
+          "stick, which the controller's stick model (stick_map.h) does not");
   require(std::isfinite(v.deadband_low_us) && std::isfinite(v.deadband_high_us) &&
               1100 < v.deadband_low_us && v.deadband_low_us <= 1500 && 1500 <= v.deadband_high_us &&
               v.deadband_high_us < 1900,
@@ -135,7 +137,7 @@ ControlConfig parse_control_config(const YamlMap& map) {
   if (const auto g = map.optional_map("gains")) {
     read_gains(*g, "surge_position", c.gains.surge_position);
     read_gains(*g, "surge_velocity", c.gains.surge_velocity);
-    read_gains(*g, "sway_velocity", c.gains.sway_velocity);
+    read_gains(*g, "sway_position", c.gains.sway_position);
     read_gains(*g, "yaw", c.gains.yaw);
     g->check_unknown_keys();
   }

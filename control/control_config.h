@@ -39,8 +39,10 @@ struct LoopGains {
   PidGains surge_position{3.0, 0.0, 0.3};
   // u: surge speed error u_ref - u_dvl [m/s] -> surge force [N], around the feed-forward.
   PidGains surge_velocity{10.0, 1.0, 0.0};
-  // y: sway speed error v_ref - v_dvl [m/s] -> sway force [N], around the feed-forward.
-  PidGains sway_velocity{30.0, 0.001, 0.0};
+  // y: along-net position error [m] -> sway force [N], around the feed-forward F(v_ref): the
+  // reference moves at the leg's speed, the position is the DVL's sway integrated, so the speed
+  // along the net comes out right whatever force a current or the thrusters' dead band add.
+  PidGains sway_position{30.0, 0.001, 0.0};
   // yaw: heading error psi_net - heading_ref [deg] -> yaw-rate demand [rad/s].
   PidGains yaw{0.075, 0.007, 0.008};
 };

@@ -39,8 +39,8 @@ NetController::NetController(ControlConfig config)
     : config_(validated(std::move(config))),
       legs_(config_.legs),
       x_(config_.gains.surge_position, {config_.limits.surge_speed_mps}),
-      u_(config_.gains.surge_velocity, {axis_force_n(config_.vehicle, 1.0)}),
-      v_(config_.gains.sway_velocity, {axis_force_n(config_.vehicle, 1.0)}),
+      u_(config_.gains.surge_velocity, {full_stick_force_n(config_.vehicle)}),
+      y_(config_.gains.sway_position, {full_stick_force_n(config_.vehicle)}),
       yaw_(config_.gains.yaw, {config_.limits.yaw_rate_radps}),
       strategy_in_use_(config_.strategy) {}
 
@@ -132,13 +132,15 @@ ControlOutput NetController::update(int64_t now_ns) {
   const VelocityStrategy strategy = dvl_ok ? config_.strategy : VelocityStrategy::kOpenLoop;
   if (strategy != strategy_in_use_) {
     u_.reset();
-    v_.reset();
+    y_.reset();
+    along_ref_m_ = along_m_;
     strategy_in_use_ = strategy;
   }
   out.strategy = strategy;
   const bool feedback = strategy == VelocityStrategy::kDvlFeedback;
   propagate_velocity(now_ns);
   const double u_mps = velocity_mps_.x(), v_mps = velocity_mps_.y();
+  if (feedback) along_m_ += v_mps * dt_s;
 
   if (seconds_between(start_ns_, now_ns) < safety.startup_s) {
     // Armed in depth hold; with the DVL the velocity loops hold the vehicle still against a
@@ -149,12 +151,14 @@ ControlOutput NetController::update(int64_t now_ns) {
       const double ramp_n = limits.force_rate_n_per_s * dt_s;
       surge_force_n_ =
           std::clamp(u_.update(-u_mps, dt_s), surge_force_n_ - ramp_n, surge_force_n_ + ramp_n);
-      sway_force_n_ =
-          std::clamp(v_.update(-v_mps, dt_s), sway_force_n_ - ramp_n, sway_force_n_ + ramp_n);
+      sway_force_n_ = std::clamp(y_.update(along_ref_m_ - along_m_, dt_s), sway_force_n_ - ramp_n,
+                                 sway_force_n_ + ramp_n);
       out.surge_force_n = surge_force_n_;
       out.sway_force_n = sway_force_n_;
-      out.x = stick_for_axis_force(vehicle, surge_force_n_);
-      out.y = stick_for_axis_force(vehicle, sway_force_n_);
+      const Eigen::Vector2d sticks =
+          sticks_for_horizontal_force(vehicle, {surge_force_n_, sway_force_n_});
+      out.x = sticks.x();
+      out.y = sticks.y();
     }
     return out;
   }
@@ -174,9 +178,15 @@ ControlOutput NetController::update(int64_t now_ns) {
     // current's force.
     x_.reset();
     yaw_.reset();
+    along_ref_m_ = along_m_;
     backed_off_m_ = 0;
   }
   if (next == ControlState::kBackOff && state_ != ControlState::kBackOff) backed_off_m_ = 0;
+  if (state_ == ControlState::kTracking && next != ControlState::kTracking) {
+    // The surge speed reference drops to 0 (or the back-off speed): the velocity loop's integral
+    // takes over the thrust that held the distance, which its feed-forward share carried before.
+    u_.set_integral_term(tracking_force_n_);
+  }
   state_ = next;
   out.state = state_;
 
@@ -194,6 +204,7 @@ ControlOutput NetController::update(int64_t now_ns) {
         out.r_ref_radps = -yaw_.output();
       }
       out.v_ref_mps = leg.sway_speed_mps;
+      along_ref_m_ += out.v_ref_mps * dt_s;
       surge_target_n = feed_forward_surge(out.u_ref_mps);
       tracking_force_n_ += (surge_force_n_ - tracking_force_n_) * std::min(1.0, dt_s / 2.0);
       legs_.advance(dt_s, (feedback ? v_mps : out.v_ref_mps) * dt_s, depth_m_);
@@ -214,7 +225,7 @@ ControlOutput NetController::update(int64_t now_ns) {
   pose_fresh_ = false;
   if (feedback) {
     surge_target_n = feed_forward_surge(out.u_ref_mps) + u_.update(out.u_ref_mps - u_mps, dt_s);
-    sway_target_n = feed_forward_sway(out.v_ref_mps) + v_.update(out.v_ref_mps - v_mps, dt_s);
+    sway_target_n = feed_forward_sway(out.v_ref_mps) + y_.update(along_ref_m_ - along_m_, dt_s);
   } else {
     sway_target_n = feed_forward_sway(out.v_ref_mps);
   }
@@ -229,8 +240,10 @@ ControlOutput NetController::update(int64_t now_ns) {
     out.climb_ref_mps = std::clamp(limits.depth_gain_per_s * (depth_m_ - out.depth_ref_m),
                                    -limits.climb_rate_mps, limits.climb_rate_mps);
   }
-  out.x = stick_for_axis_force(vehicle, surge_force_n_);
-  out.y = stick_for_axis_force(vehicle, sway_force_n_);
+  const Eigen::Vector2d sticks =
+      sticks_for_horizontal_force(vehicle, {surge_force_n_, sway_force_n_});
+  out.x = sticks.x();
+  out.y = sticks.y();
   out.r = std::clamp(out.r_ref_radps / vehicle.full_stick_yaw_rate_radps, -1.0, 1.0);
   out.z = std::clamp(0.5 + 0.5 * out.climb_ref_mps / vehicle.full_stick_climb_rate_mps, 0.0, 1.0);
   return out;

@@ -2,7 +2,8 @@
 // The net-relative controller (docs/control.md): the guidance legs, then the loops
 //   x:   d_net - d_ref            -> u_ref (PID, published gains)
 //   u:   u_ref - u_dvl            -> surge force around the feed-forward F(u_ref) (strategy a)
-//   y:   v_ref - v_dvl            -> sway force around F(v_ref)                    (strategy a)
+//   y:   along_ref - along        -> sway force around F(v_ref)                    (strategy a)
+//        (along: the DVL's sway integrated; along_ref: the leg's speed integrated)
 //   yaw: psi_net - heading_ref    -> yaw-rate demand
 //   depth: depth_ref - depth      -> climb-rate demand (ArduSub's depth hold keeps it in between)
 // turned into MANUAL_CONTROL sticks, and the safety logic around them:
@@ -74,7 +75,7 @@ class NetController {
 
   ControlConfig config_;
   LegTracker legs_;
-  Pid x_, u_, v_, yaw_;
+  Pid x_, u_, y_, yaw_;
   ControlCounters counters_;
   ControlState state_ = ControlState::kStartup;
   VelocityStrategy strategy_in_use_;
@@ -90,6 +91,9 @@ class NetController {
   bool holding_sample_ = false;
   double surge_force_n_ = 0, sway_force_n_ = 0;
   double tracking_force_n_ = 0;  // surge thrust while tracking, averaged over ~2 s
+  // Along the net since the start (the observer's sway integrated) and where the legs want the
+  // vehicle; the reference restarts from the vehicle after every state change.
+  double along_m_ = 0, along_ref_m_ = 0;
   double backed_off_m_ = 0;
 };
 

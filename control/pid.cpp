@@ -36,6 +36,12 @@ double Pid::update(double error, double dt_s, double error_rate) {
   return u;
 }
 
+void Pid::set_integral_term(double output) {
+  if (!(gains_.ki > 0) || !std::isfinite(output)) return;
+  const double i_max = limits_.output_max / gains_.ki;
+  integral_ = std::clamp(output / gains_.ki, -i_max, i_max);
+}
+
 void Pid::reset() {
   integral_ = 0;
   last_error_ = 0;

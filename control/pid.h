@@ -32,6 +32,9 @@ class Pid {
                 double error_rate = std::numeric_limits<double>::quiet_NaN());
   // Forgets the integral, the last error and the last output (a new mode starts from rest).
   void reset();
+  // Bumpless transfer: sets the integral so that its term alone is `output` (clamped like
+  // update()), e.g. the force another mode held a disturbance with. No effect when Ki is 0.
+  void set_integral_term(double output);
   double output() const { return output_; }
   double integral() const { return integral_; }
   const PidGains& gains() const { return gains_; }

@@ -25,8 +25,8 @@ TEST(ControlConfig, DefaultsAreThePublishedGains) {
   const ControlConfig c = parse("strategy: dvl\n");
   EXPECT_EQ(c.gains.surge_position.kp, 3.0);
   EXPECT_EQ(c.gains.surge_position.kd, 0.3);
-  EXPECT_EQ(c.gains.sway_velocity.kp, 30.0);
-  EXPECT_EQ(c.gains.sway_velocity.ki, 0.001);
+  EXPECT_EQ(c.gains.sway_position.kp, 30.0);
+  EXPECT_EQ(c.gains.sway_position.ki, 0.001);
   EXPECT_EQ(c.gains.yaw.kp, 0.075);
   EXPECT_EQ(c.gains.yaw.ki, 0.007);
   EXPECT_EQ(c.gains.yaw.kd, 0.008);

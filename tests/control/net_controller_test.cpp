@@ -24,8 +24,9 @@ struct Plant {
   void step(const ControlOutput& c, const VehicleModel& m, double dt) {
     const double cu = current_x_mps * std::cos(psi), cv = -current_x_mps * std::sin(psi);
     const double ur = u - cu, vr = v - cv;
-    const double fx = axis_force_n(m, c.x) - (13.7 * ur + 141 * ur * std::abs(ur));
-    const double fy = axis_force_n(m, c.y) - 217 * vr * std::abs(vr);
+    const Eigen::Vector2d f = horizontal_force_n(m, c.x, c.y);
+    const double fx = f.x() - (13.7 * ur + 141 * ur * std::abs(ur));
+    const double fy = f.y() - 217 * vr * std::abs(vr);
     u += dt * fx / (13.5 + 6.36);
     v += dt * fy / (13.5 + 7.12);
     r += dt * (c.r * m.full_stick_yaw_rate_radps - r) / 0.2;

@@ -38,6 +38,17 @@ TEST(Pid, NoWindupWhileSaturated) {
   EXPECT_GT(windup_free.update(-0.5, 0.1), 100.0);
 }
 
+TEST(Pid, IntegralTermCanBeSetForABumplessTransfer) {
+  Pid pid({2.0, 0.5, 0.0}, {10.0});
+  pid.set_integral_term(4.0);
+  EXPECT_DOUBLE_EQ(pid.update(0.0, 0.1), 4.0);
+  pid.set_integral_term(40.0);  // beyond the output limit: clamped
+  EXPECT_DOUBLE_EQ(pid.update(0.0, 0.1), 10.0);
+  Pid no_integral({2.0, 0.0, 0.0}, {});
+  no_integral.set_integral_term(4.0);
+  EXPECT_DOUBLE_EQ(no_integral.update(0.0, 0.1), 0.0);
+}
+
 TEST(Pid, RateLimitRampsAStep) {
   Pid pid({10.0, 0.0, 0.0}, {100.0, 2.0});
   EXPECT_NEAR(pid.update(1.0, 0.1), 0.2, 1e-12);
