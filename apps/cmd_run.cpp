@@ -1,6 +1,8 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <optional>
 
+#include "apps/bag_input.h"
 #include "apps/command.h"
 #include "apps/default_model.h"
 #include "apps/progress_bar.h"
@@ -8,6 +10,7 @@
 #include "pipeline/dataset/global_pose_csv.h"
 #include "pipeline/dataset/trajectory_tum.h"
 #include "pipeline/runner.h"
+#include "runtime/error.h"
 #include "runtime/log.h"
 #if PENSIGHT_HAS_MAPPING
 #include "mapping/map_io.h"
@@ -18,14 +21,14 @@ namespace pensight::app {
 
 int cmd_run(const Args& args) {
   CLI::App cli(
-      "Run the pipeline on a dataset (../shared/dataset-format.md layout) and write "
-      "OUT/estimates.csv",
+      "Run the pipeline on a dataset (../shared/dataset-format.md layout) or a ROS 1 bag "
+      "(BAG.bag, converted as by bag-to-dataset: docs/ros.md) and write OUT/estimates.csv",
       "pensight run");
   std::string dataset_dir, out_dir, backend = "auto";
   bool quiet = false;
   RunOptions options;
   kernels::RoiGrid& grid = options.detector.grid;
-  cli.add_option("DATASET", dataset_dir, "dataset folder")->required();
+  cli.add_option("DATASET", dataset_dir, "dataset folder, or a ROS 1 bag (*.bag)")->required();
   cli.add_option("--out", out_dir, "output folder")->required();
   cli.add_option("--backend", backend,
                  "auto|cpu|vulkan|cuda (auto: a real GPU if there is one, else the CPU path)")
@@ -58,6 +61,8 @@ int cmd_run(const Args& args) {
   cli.add_option("--depth-backend", depth_backend,
                  "auto|opencv|engine-cpu|vulkan (auto: vulkan on a real GPU, else OpenCV DNN)")
       ->capture_default_str();
+  BagInputOptions bag_options;
+  add_bag_options(cli, bag_options);
 #if PENSIGHT_HAS_MAPPING
   bool map = false;
   std::string map_config_file;
@@ -77,7 +82,18 @@ int cmd_run(const Args& args) {
   options.write_published_global_pose = !no_published;
   ProgressBar bar("run");
   if (!quiet) options.on_progress = [&](size_t done, size_t total) { bar.update(done, total); };
-  const Dataset dataset = read_dataset(dataset_dir);
+  // A bag runs as the dataset it converts to, so every output is that of a dataset folder.
+  std::optional<ConvertedBag> bag;
+  if (is_bag_file(dataset_dir)) {
+    bag.emplace(dataset_dir, out_dir, bag_options, quiet);
+  } else if (any_bag_option_given(bag_options)) {
+    throw Error(
+        "--scene, --camera, --dvl-sensor, --topics, --water-density and "
+        "--surface-pressure are for a bag input (*.bag); '" +
+        dataset_dir + "' is a dataset folder, whose own files give them");
+  }
+  const Dataset dataset =
+      read_dataset(bag ? bag->dataset_dir() : std::filesystem::path(dataset_dir));
   if (!no_depth) {
     const std::filesystem::path file = model.empty() ? find_default_depth_model(dataset.cam0.camera)
                                                      : std::filesystem::path(model);

@@ -7,6 +7,8 @@
 # third of the CI budget there. --tsan: the tests labelled `threads` with ThreadSanitizer
 # (build-tsan/). --fuzz: the fuzz targets (same build-asan/): each replays its seed corpus and
 # crash regressions, then fuzzes for 60 s.
+# The default and --sanitize builds include the ROS layer (its packages installed by
+# `scripts/setup.sh --with-ros`), so its tests (tests/ros/) run in CI.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 mode="${1:-}"
@@ -14,7 +16,7 @@ ctest_args=()
 
 if [ "$mode" = "--sanitize" ]; then
   export PENSIGHT_BUILD_DIR=build-asan
-  scripts/build-asan.sh
+  PENSIGHT_WITH_ROS=1 scripts/build-asan.sh
   # Mesa's llvmpipe keeps JIT and thread allocations until exit; leaks are not checked here.
   export ASAN_OPTIONS="detect_leaks=0:abort_on_error=1"
   export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
@@ -42,7 +44,7 @@ elif [ "$mode" = "--tsan" ]; then
   ctest_args=(-L threads)
 else
   export PENSIGHT_BUILD_DIR=build
-  scripts/setup.sh
+  scripts/setup.sh --with-ros
 fi
 
 # ONNX Runtime (Node.js package, from the npm registry) is the independent runtime that exported

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "control/control_config.h"
+#include "pipeline/dataset/sensor_mounts.h"
 #include "pipeline/dataset/strict_yaml.h"
 #include "runtime/error.h"
 #include "runtime/units.h"
@@ -388,19 +389,6 @@ std::vector<Waypoint> parse_trajectory(const YamlMap& y) {
 }
 
 }  // namespace
-
-Eigen::Isometry3d forward_mount(const Eigen::Vector3d& position_B_m, double pan_rad,
-                                double tilt_rad) {
-  Eigen::Matrix3d forward;  // columns: camera x, y, z in the body frame
-  forward << 0, 0, 1, 1, 0, 0, 0, 1, 0;
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = (Eigen::AngleAxisd(pan_rad, Eigen::Vector3d::UnitZ()) *
-                Eigen::AngleAxisd(-tilt_rad, Eigen::Vector3d::UnitY()))
-                   .toRotationMatrix() *
-               forward;
-  T.translation() = position_B_m;
-  return T;
-}
 
 int Scenario::num_frames() const {
   return static_cast<int>(std::floor(duration_s * camera.calibration.rate_hz + 1e-9)) + 1;

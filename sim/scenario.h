@@ -203,8 +203,4 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& file_na
 // by the loaders; call it again after changing a Scenario in code.
 void validate(const Scenario& s);
 
-// Camera -> body for a forward-looking camera turned by pan (right) and tilt (down).
-Eigen::Isometry3d forward_mount(const Eigen::Vector3d& position_B_m, double pan_rad,
-                                double tilt_rad);
-
 }  // namespace pensight::sim

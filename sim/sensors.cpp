@@ -1,9 +1,9 @@
 #include "sim/sensors.h"
 
 #include <cmath>
-#include <numbers>
 #include <random>
 
+#include "pipeline/dataset/sensor_mounts.h"
 #include "runtime/units.h"
 #include "sim/trajectory.h"
 
@@ -27,16 +27,8 @@ void for_each_sample(const Scenario& s, double rate_hz, F&& f) {
 }  // namespace
 
 DvlCalibration dvl_calibration(const DvlConfig& dvl) {
-  DvlCalibration c;
-  c.rate_hz = dvl.rate_hz;
-  c.T_body_dvl = forward_mount(dvl.position_B_m, dvl.pan_rad, dvl.tilt_rad);
-  for (size_t k = 0; k < 4; ++k) {
-    const double phi = std::numbers::pi / 4 + std::numbers::pi / 2 * static_cast<double>(k);
-    c.beam_directions_S[k] =
-        Eigen::Vector3d(std::sin(dvl.beam_angle_rad) * std::cos(phi),
-                        std::sin(dvl.beam_angle_rad) * std::sin(phi), std::cos(dvl.beam_angle_rad));
-  }
-  return c;
+  return janus_dvl_calibration(
+      dvl.rate_hz, forward_mount(dvl.position_B_m, dvl.pan_rad, dvl.tilt_rad), dvl.beam_angle_rad);
 }
 
 DvlSample measure_dvl(const DvlConfig& cfg, const NetGeometry& net, const BodyState& b,

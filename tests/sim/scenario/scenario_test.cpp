@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "pipeline/dataset/sensor_mounts.h"
 #include "runtime/error.h"
 #include "runtime/units.h"
 #include "sim/scenario.h"
