@@ -142,35 +142,21 @@ ControlOutput NetController::update(int64_t now_ns) {
   const double u_mps = velocity_mps_.x(), v_mps = velocity_mps_.y();
   if (feedback) along_m_ += v_mps * dt_s;
 
-  if (seconds_between(start_ns_, now_ns) < safety.startup_s) {
-    // Armed in depth hold; with the DVL the velocity loops hold the vehicle still against a
-    // current (neutral sticks would let it drift onto the net), without it the sticks are neutral.
-    out.state = state_ = ControlState::kStartup;
-    if (has_depth_) legs_.advance(0, 0, depth_m_);  // the first leg keeps the start depth
-    if (feedback) {
-      const double ramp_n = limits.force_rate_n_per_s * dt_s;
-      surge_force_n_ =
-          std::clamp(u_.update(-u_mps, dt_s), surge_force_n_ - ramp_n, surge_force_n_ + ramp_n);
-      sway_force_n_ = std::clamp(y_.update(along_ref_m_ - along_m_, dt_s), sway_force_n_ - ramp_n,
-                                 sway_force_n_ + ramp_n);
-      out.surge_force_n = surge_force_n_;
-      out.sway_force_n = sway_force_n_;
-      const Eigen::Vector2d sticks =
-          sticks_for_horizontal_force(vehicle, {surge_force_n_, sway_force_n_});
-      out.x = sticks.x();
-      out.y = sticks.y();
-    }
-    return out;
-  }
-  if (strategy != config_.strategy) ++counters_.open_loop_fallback_steps;
-
-  // The state.
-  const double pose_age_s = has_pose_ ? seconds_between(pose_ns_, now_ns) : 1e9;
+  // The state. At start-up: armed in depth hold, the speed references 0, so with the DVL the
+  // velocity loops below hold the vehicle still against a current (neutral sticks would let it
+  // drift onto the net) and without it the sticks are neutral.
   ControlState next = ControlState::kTracking;
-  if (pose_age_s > safety.backoff_after_s) {
-    next = ControlState::kBackOff;
-  } else if (pose_age_s > safety.pose_timeout_s) {
-    next = ControlState::kHold;
+  if (seconds_between(start_ns_, now_ns) < safety.startup_s) {
+    next = ControlState::kStartup;
+    if (has_depth_) legs_.advance(0, 0, depth_m_);  // the first leg keeps the start depth
+  } else {
+    if (strategy != config_.strategy) ++counters_.open_loop_fallback_steps;
+    const double pose_age_s = has_pose_ ? seconds_between(pose_ns_, now_ns) : 1e9;
+    if (pose_age_s > safety.backoff_after_s) {
+      next = ControlState::kBackOff;
+    } else if (pose_age_s > safety.pose_timeout_s) {
+      next = ControlState::kHold;
+    }
   }
   if (next == ControlState::kTracking && state_ != ControlState::kTracking) {
     if (state_ != ControlState::kStartup) ++counters_.recoveries;
@@ -197,6 +183,7 @@ ControlOutput NetController::update(int64_t now_ns) {
   switch (state_) {
     case ControlState::kTracking: {
       if (pose_fresh_) {
+        pose_fresh_ = false;
         out.u_ref_mps = x_.update(d_net_m_ - leg.d_ref_m, dt_s);
         out.r_ref_radps = -yaw_.update(rad_to_deg(psi_net_rad_ - leg.heading_ref_rad), dt_s);
       } else {
@@ -222,7 +209,6 @@ ControlOutput NetController::update(int64_t now_ns) {
     case ControlState::kStartup:
       break;
   }
-  pose_fresh_ = false;
   if (feedback) {
     surge_target_n = feed_forward_surge(out.u_ref_mps) + u_.update(out.u_ref_mps - u_mps, dt_s);
     sway_target_n = feed_forward_sway(out.v_ref_mps) + y_.update(along_ref_m_ - along_m_, dt_s);
@@ -236,7 +222,7 @@ ControlOutput NetController::update(int64_t now_ns) {
   out.surge_force_n = surge_force_n_;
   out.sway_force_n = sway_force_n_;
 
-  if (has_depth_ && std::isfinite(out.depth_ref_m)) {
+  if (state_ != ControlState::kStartup && has_depth_ && std::isfinite(out.depth_ref_m)) {
     out.climb_ref_mps = std::clamp(limits.depth_gain_per_s * (depth_m_ - out.depth_ref_m),
                                    -limits.climb_rate_mps, limits.climb_rate_mps);
   }
