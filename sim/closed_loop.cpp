@@ -84,22 +84,14 @@ ClosedLoopSummary run_closed_loop(const Scenario& s, const std::filesystem::path
   const NetGeometry net(s.pen, s.net);
   const auto renderer = make_renderer(s, RenderOptions{}, options.renderer, device);
 
+  const DatasetContents contents = dataset_contents(s);
   PipelineConfig config;
-  config.camera = s.camera.calibration.camera;
-  config.detector = detector_config(s.scene_config(), options.detector);
-  std::optional<DvlCalibration> dvl_calibration_opt;
-  if (s.dvl.enabled) dvl_calibration_opt = dvl_calibration(s.dvl);
-  config.global_pose =
-      global_pose_config(s.scene_config(), s.camera.calibration, dvl_calibration_opt,
-                         s.pressure.enabled, s.attitude.enabled);
+  config.camera = contents.cam0.camera;
+  config.detector = detector_config(contents.scene, options.detector);
+  config.global_pose = global_pose_config(contents.scene, contents.cam0, contents.dvl0,
+                                          contents.pressure0, contents.imu0);
   Pipeline pipeline(config, device);
 
-  DatasetContents contents;
-  contents.scene = s.scene_config();
-  contents.cam0 = s.camera.calibration;
-  contents.dvl0 = dvl_calibration_opt;
-  contents.pressure0 = s.pressure.enabled;
-  contents.imu0 = s.attitude.enabled;
   DatasetWriter writer(out, contents);
 
   std::mt19937_64 dvl_rng(s.seed * 7 + 1), pressure_rng(s.seed * 7 + 2),

@@ -55,17 +55,21 @@ std::unique_ptr<FrameRenderer> make_renderer(const Scenario& s, const RenderOpti
   throw Error("unknown renderer '" + which + "': use auto, vulkan or cpu");
 }
 
-void generate_dataset(const Scenario& s, FrameRenderer& renderer, const std::filesystem::path& out,
-                      const GenerateOptions& options) {
-  const NetGeometry net(s.pen, s.net);
-  const NetLattice lattice(s.net, net.u_around(), s.seed);
+DatasetContents dataset_contents(const Scenario& s) {
   DatasetContents contents;
   contents.scene = s.scene_config();
   contents.cam0 = s.camera.calibration;
   if (s.dvl.enabled) contents.dvl0 = dvl_calibration(s.dvl);
   contents.pressure0 = s.pressure.enabled;
   contents.imu0 = s.attitude.enabled;
-  DatasetWriter writer(out, contents);
+  return contents;
+}
+
+void generate_dataset(const Scenario& s, FrameRenderer& renderer, const std::filesystem::path& out,
+                      const GenerateOptions& options) {
+  const NetGeometry net(s.pen, s.net);
+  const NetLattice lattice(s.net, net.u_around(), s.seed);
+  DatasetWriter writer(out, dataset_contents(s));
   if (s.dvl.enabled) {
     for (const DvlSample& d : simulate_dvl(s, net)) writer.add_dvl(d);
   }

@@ -7,6 +7,7 @@
 #include <optional>
 #include <string>
 
+#include "pipeline/dataset/dataset_writer.h"
 #include "runtime/device.h"
 #include "sim/frame_state.h"
 #include "sim/render_cpu.h"
@@ -26,6 +27,9 @@ std::unique_ptr<FrameRenderer> make_cpu_renderer(const Scenario& s, const Render
 // Vulkan renderer borrows device's context, which must outlive it.
 std::unique_ptr<FrameRenderer> make_renderer(const Scenario& s, const RenderOptions& o,
                                              const std::string& which, Device& device);
+
+// What a dataset of the scenario holds: its scene, camera, and the sensors it has enabled.
+DatasetContents dataset_contents(const Scenario& s);
 
 struct GenerateOptions {
   std::function<void(int frames_done, int frames_total)> progress;
