@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "control/pid.h"
+#include "sim/vehicle/bluerov2_params.h"
 
 namespace pensight {
 class YamlMap;
@@ -57,24 +58,33 @@ struct LoopLimits {
 };
 
 // The controller's model of the vehicle. The surge and sway damping give the feed-forward force
-// F(v) = linear v + quadratic v |v| (the published BlueROV2 Heavy values); with the masses they
-// carry the DVL's velocity forward between its samples (4 Hz against the 10 Hz loops). The rest is
-// what a stick does on ArduSub in ALT_HOLD: x and y are scaled by the pilot gain into a motor
-// output in
-// [-1, 1] (PWM 1500 + 400 output) of the four vectored thrusters at 45 deg, which push as a T200
-// does (no thrust in the ESC's dead band, a power law beyond); r asks for a yaw rate, z for a
-// climb rate (stick_map.h inverts this for the thrust a loop wants).
+// F(v) = linear v + quadratic v |v|; with the masses they carry the DVL's velocity forward between
+// its samples (4 Hz against the 10 Hz loops). The rest is what a stick does on ArduSub in
+// ALT_HOLD: x and y are scaled by the pilot gain into a motor output in [-1, 1] (PWM 1500 + 400
+// output) of the four vectored thrusters at 45 deg, which push as a T200 does (no thrust in the
+// ESC's dead band, a power law beyond); r asks for a yaw rate, z for a climb rate (stick_map.h
+// inverts this for the thrust a loop wants). The defaults are the published BlueROV2 Heavy and
+// ArduSub values the vehicle layer holds (sim/vehicle/bluerov2_params.h); a real vehicle's may
+// differ, which is why the controller has its own copy.
 struct VehicleModel {
-  // Rigid body plus added mass: the velocity observer between DVL samples.
-  double surge_mass_kg = 13.5 + 6.36, sway_mass_kg = 13.5 + 7.12;
-  double surge_damping_linear = 13.7, surge_damping_quadratic = 141;
-  double sway_damping_linear = 0, sway_damping_quadratic = 217;
-  double pilot_gain = 0.5;
-  double deadband_low_us = 1464, deadband_high_us = 1532;
-  double max_forward_n = 4.52 * 9.80665, max_reverse_n = 3.52 * 9.80665;  // at 1900 / 1100 us
-  double thrust_exponent = 1.35;
-  double full_stick_yaw_rate_radps = 1.325;  // ACRO_YAW_P 3.375 x 45 deg/s x the pilot gain
-  double full_stick_climb_rate_mps = 0.5;
+  double surge_mass_kg = kHull.mass_kg + kHull.added_mass[0];
+  double sway_mass_kg = kHull.mass_kg + kHull.added_mass[1];
+  double surge_damping_linear = kHull.linear_damping[0];
+  double surge_damping_quadratic = kHull.quadratic_damping[0];
+  double sway_damping_linear = kHull.linear_damping[1];
+  double sway_damping_quadratic = kHull.quadratic_damping[1];
+  double pilot_gain = kAutopilot.pilot_gain;
+  double deadband_low_us = kT200.deadband_low_us, deadband_high_us = kT200.deadband_high_us;
+  double max_forward_n = kT200.max_forward_N, max_reverse_n = kT200.max_reverse_N;  // 1900/1100 us
+  double thrust_exponent = kT200.curve_exponent;
+  // ACRO_YAW_P 3.375 x 45 deg/s x the pilot gain, to 4 digits (the vehicle layer: 1.32536).
+  double full_stick_yaw_rate_radps = 1.325;
+  double full_stick_climb_rate_mps = kAutopilot.max_climb_rate_mps;
+
+ private:
+  static inline const vehicle::HullParams kHull{};
+  static inline const vehicle::T200Params kT200{};
+  static inline const vehicle::AutopilotParams kAutopilot{};
 };
 
 struct SafetyConfig {
