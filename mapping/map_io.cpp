@@ -248,7 +248,7 @@ void write_mesh_ply(const SurfaceMesh& mesh, const std::filesystem::path& file) 
   write_ply(file, mesh.vertices, &mesh);
 }
 
-void write_points_ply(const OccupancyMap& map, const std::filesystem::path& file) {
+std::vector<Eigen::Vector3f> occupied_voxel_centres(const OccupancyMap& map) {
   const auto threshold = static_cast<float>(map.config().occupied_log_odds);
   const double v = map.config().voxel_m;
   std::vector<Eigen::Vector3f> points;
@@ -261,7 +261,11 @@ void write_points_ply(const OccupancyMap& map, const std::filesystem::path& file
                           static_cast<float>(c.z() * v));
     }
   }
-  write_ply(file, points, nullptr);
+  return points;
+}
+
+void write_points_ply(const OccupancyMap& map, const std::filesystem::path& file) {
+  write_ply(file, occupied_voxel_centres(map), nullptr);
 }
 
 }  // namespace pensight::mapping

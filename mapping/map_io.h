@@ -38,4 +38,8 @@ SurfaceMesh write_map_outputs(const OccupancyMap& map, const std::filesystem::pa
 void write_mesh_ply(const SurfaceMesh& mesh, const std::filesystem::path& file);
 void write_points_ply(const OccupancyMap& map, const std::filesystem::path& file);
 
+// The centres of the occupied voxels (above occupied_log_odds), in P; one pass over the active
+// values, tiles expanded to their voxels.
+std::vector<Eigen::Vector3f> occupied_voxel_centres(const OccupancyMap& map);
+
 }  // namespace pensight::mapping

@@ -42,6 +42,14 @@ class BoundedQueue {
     return take(lock);
   }
 
+  // Waits for an item until `deadline`; nullopt then, or once the queue is closed and empty.
+  template <class TimePoint>
+  std::optional<T> pop_until(TimePoint deadline) {
+    std::unique_lock lock(mutex_);
+    not_empty_.wait_until(lock, deadline, [&] { return closed_ || !items_.empty(); });
+    return take(lock);
+  }
+
   // An item if one is queued now.
   std::optional<T> try_pop() {
     std::unique_lock lock(mutex_);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cstdlib>
 #include <map>
 #include <mutex>
@@ -47,6 +48,25 @@ struct Delivered {
 template <class Sample>
 using Held = std::multimap<int64_t, Sample>;
 
+// When a sensor's next sample is due, from its stamps so far (period: a running average of the
+// intervals, 1/8 weight for the newest).
+struct SensorClock {
+  int64_t last_ns = INT64_MIN;
+  int64_t period_ns = 0;
+
+  void add(int64_t t_ns) {
+    if (last_ns != INT64_MIN && t_ns > last_ns) {
+      const int64_t interval = t_ns - last_ns;
+      period_ns = period_ns == 0 ? interval : period_ns + (interval - period_ns) / 8;
+    }
+    last_ns = std::max(last_ns, t_ns);
+  }
+  // A sample stamped by about t_ns (a quarter period's jitter) has not arrived yet.
+  bool due_by(int64_t t_ns) const {
+    return period_ns > 0 && last_ns + period_ns <= t_ns + period_ns / 4;
+  }
+};
+
 }  // namespace
 
 global_pose::NetObservation net_observation(const NetDetection& d) {
@@ -87,6 +107,8 @@ struct Pipeline::Impl {
   Held<DvlSample> held_dvl;
   Held<PressureSample> held_depth;
   Held<AttitudeSample> held_attitude;
+  SensorClock dvl_clock, depth_clock, attitude_clock;
+  std::optional<PoseInput> next_frame;  // a frame that came while waiting for samples
 
   mutable std::mutex stats_mutex;
   StageMeter fft{"fft net detection"}, relative{"relative pose (fft)"}, dense{"dense depth"},
@@ -241,22 +263,61 @@ struct Pipeline::Impl {
     result_q.push({std::move(r), d.pushed});
   }
 
-  void pose_loop() {
-    while (auto item = pose_q.pop()) {
-      switch (item->kind) {
-        case PoseInput::kFrame:
-          process(*item->frame);
-          break;
-        case PoseInput::kDvl:
-          hold(held_dvl, item->dvl);
-          break;
-        case PoseInput::kDepth:
-          hold(held_depth, item->depth);
-          break;
-        case PoseInput::kAttitude:
-          hold(held_attitude, item->attitude);
-          break;
+  void take_sample(const PoseInput& item) {
+    switch (item.kind) {
+      case PoseInput::kFrame:
+        break;
+      case PoseInput::kDvl:
+        dvl_clock.add(item.dvl.timestamp_ns);
+        hold(held_dvl, item.dvl);
+        break;
+      case PoseInput::kDepth:
+        depth_clock.add(item.depth.timestamp_ns);
+        hold(held_depth, item.depth);
+        break;
+      case PoseInput::kAttitude:
+        attitude_clock.add(item.attitude.timestamp_ns);
+        hold(held_attitude, item.attitude);
+        break;
+    }
+  }
+
+  // PipelineConfig::sensor_wait_ms: takes samples until none is due by the frame's time or the
+  // wait is over; a frame that comes meanwhile is kept for next.
+  void wait_for_due_samples(const Detected& d) {
+    const int64_t t = d.result.timestamp_ns;
+    const auto deadline =
+        d.pushed + std::chrono::duration_cast<Clock::duration>(
+                       std::chrono::duration<double, std::milli>(config.sensor_wait_ms));
+    const auto due = [&] {
+      return dvl_clock.due_by(t) || depth_clock.due_by(t) || attitude_clock.due_by(t);
+    };
+    while (due()) {
+      std::optional<PoseInput> item = pose_q.pop_until(deadline);
+      if (!item) return;
+      if (item->kind == PoseInput::kFrame) {
+        next_frame = std::move(item);
+        return;
       }
+      take_sample(*item);
+    }
+  }
+
+  std::optional<PoseInput> next_input() {
+    if (!next_frame) return pose_q.pop();
+    std::optional<PoseInput> item = std::move(next_frame);
+    next_frame.reset();
+    return item;
+  }
+
+  void pose_loop() {
+    while (auto item = next_input()) {
+      if (item->kind != PoseInput::kFrame) {
+        take_sample(*item);
+        continue;
+      }
+      if (config.sensor_wait_ms > 0) wait_for_due_samples(*item->frame);
+      process(*item->frame);
     }
     // Accepted samples after the last frame still reach the estimators (and their counters).
     feed_until(std::numeric_limits<int64_t>::max());

@@ -14,7 +14,9 @@
 //   -> [result queue] -> on_frame callback (its own thread) or poll().
 // Sensor samples go straight to the global-pose worker, which holds those newer than the frame it
 // is working on, so the estimators see nothing from the future whatever the threads' timing: the
-// results are those of calling the stages one after another (run_dataset relies on it).
+// results are those of calling the stages one after another (run_dataset relies on it). Samples
+// that arrive after their frame are late for it (PipelineConfig::sensor_wait_ms bounds how long
+// the worker waits for them).
 //
 // The pose path never drops: a full camera queue makes push() wait. The result queue drops its
 // oldest result (counted in stats()) when the caller falls behind, unless lossless_results is set.
@@ -82,6 +84,12 @@ struct PipelineConfig {
   size_t result_queue = 64;  // results waiting for the caller
   // Replay: make the result queue wait for the caller instead of dropping its oldest result.
   bool lossless_results = false;
+  // Live transports (ROS topics) can deliver a sensor sample just after the frame it precedes.
+  // With this > 0 the global-pose worker, before a frame, waits up to this long (counted from the
+  // frame's push) for each sensor whose next sample is due by the frame's time (from the
+  // sensor's own rate), so the frame's estimate uses the samples a replay would give it. A sensor
+  // that stopped costs this wait per frame, nothing more. 0: no wait (replay pushes in order).
+  double sensor_wait_ms = 0;
 };
 
 // The global-pose stage's input from one frame's detection: every ROI's net point (NaN where the

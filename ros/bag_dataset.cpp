@@ -13,9 +13,7 @@
 #include "pipeline/dataset/calibration_yaml.h"
 #include "pipeline/dataset/dataset_reader.h"
 #include "pipeline/dataset/dataset_writer.h"
-#include "pipeline/dataset/sensor_mounts.h"
-#include "ros/image_decoding.h"
-#include "ros/ros_frames.h"
+#include "ros/message_conversions_detail.h"
 #include "ros/ros_messages_detail.h"
 #include "runtime/error.h"
 #include "runtime/log.h"
@@ -23,9 +21,6 @@
 namespace pensight {
 namespace fs = std::filesystem;
 namespace {
-
-// The sensor_msgs/CameraInfo side limit, as for cam0/sensor.yaml's resolution.
-constexpr uint32_t kMaxSidePx = 16384;
 
 struct TopicInfo {
   std::string type;
@@ -101,10 +96,6 @@ void for_each_message(rosbag::Bag& bag, const std::string& topic, F&& f) {
   }
 }
 
-int64_t to_ns(const ros::Time& t) {
-  return static_cast<int64_t>(t.toNSec());
-}
-
 // Messages per second on `topic` from the bag times, to 0.01 Hz; `fallback` below 2 messages.
 double rate_hz(rosbag::Bag& bag, const std::string& topic, double fallback) {
   size_t n = 0;
@@ -164,51 +155,6 @@ class SensorLog {
   std::vector<std::string> bad_;  // the first kWarningsPerTopic
 };
 
-CameraCalibration camera_from_info(const msg::CameraInfo& info, const std::string& topic) {
-  const auto fail = [&](const std::string& what) {
-    throw Error("topic '" + topic + "': " + what +
-                "; give the camera's cam0/sensor.yaml with --camera instead");
-  };
-  if (info.width == 0 || info.height == 0 || info.width > kMaxSidePx || info.height > kMaxSidePx) {
-    fail("image size " + std::to_string(info.width) + "x" + std::to_string(info.height) +
-         " (1 to 16384 px per side)");
-  }
-  const auto& K = info.K;  // row-major 3x3
-  const bool pinhole = K[1] == 0 && K[3] == 0 && K[6] == 0 && K[7] == 0 && K[8] == 1 && K[0] > 0 &&
-                       K[4] > 0 && std::isfinite(K[0] + K[2] + K[4] + K[5]);
-  if (!pinhole) fail("K is not a pinhole matrix [fx 0 cx; 0 fy cy; 0 0 1] with fx, fy > 0");
-  if (info.binning_x > 1 || info.binning_y > 1 ||
-      (info.roi.width != 0 && (info.roi.width != info.width || info.roi.height != info.height))) {
-    fail("binning and regions of interest are not supported");
-  }
-  // plumb_bob is OpenCV's k1, k2, p1, p2, k3; the contract's radial-tangential has no k3.
-  const std::string model = msg::to_std_string(info.distortion_model);
-  const std::vector<double> D(info.D.begin(), info.D.end());
-  const bool no_distortion = std::all_of(D.begin(), D.end(), [](double d) { return d == 0; });
-  if (!no_distortion && model != "plumb_bob") {
-    fail("distortion model '" + model + "' is not supported (plumb_bob is)");
-  }
-  if (!no_distortion &&
-      (D.size() < 4 || D.size() > 5 || (D.size() == 5 && D[4] != 0) ||
-       !std::all_of(D.begin(), D.end(), [](double d) { return std::isfinite(d); }))) {
-    fail(
-        "plumb_bob distortion needs D = [k1, k2, p1, p2] or [k1, k2, p1, p2, 0] (the contract's "
-        "radial-tangential model has no k3)");
-  }
-  CameraCalibration c;
-  c.camera.width_px = static_cast<int>(info.width);
-  c.camera.height_px = static_cast<int>(info.height);
-  c.camera.fx_px = K[0];
-  c.camera.fy_px = K[4];
-  c.camera.cx_px = K[2];
-  c.camera.cy_px = K[5];
-  if (!no_distortion) {
-    c.camera.k1 = D[0], c.camera.k2 = D[1], c.camera.p1 = D[2], c.camera.p2 = D[3];
-  }
-  c.T_body_camera = forward_mount(Eigen::Vector3d::Zero(), 0, 0);
-  return c;
-}
-
 CameraCalibration camera_calibration(rosbag::Bag& bag, const BagIndex& index,
                                      const BagConversionOptions& o,
                                      const std::string& image_topic) {
@@ -222,7 +168,10 @@ CameraCalibration camera_calibration(rosbag::Bag& bag, const BagIndex& index,
   }
   std::optional<CameraCalibration> calib;
   for_each_message<msg::CameraInfo>(bag, topic, [&](const msg::CameraInfo& info, ros::Time) {
-    if (!calib) calib = camera_from_info(info, topic);
+    if (!calib) {
+      calib =
+          camera_from_info(info, topic, "give the camera's cam0/sensor.yaml with --camera instead");
+    }
   });
   calib->rate_hz = rate_hz(bag, image_topic, calib->rate_hz);
   log_info(
@@ -237,7 +186,7 @@ DvlCalibration dvl_calibration(rosbag::Bag& bag, const BagConversionOptions& o) 
   log_info(
       "note: no --dvl-sensor: the DVL is taken to sit at the body origin looking forward "
       "with Janus beams 25 deg off its axis; give its dvl0/sensor.yaml with --dvl-sensor");
-  return janus_dvl_calibration(rate, forward_mount(Eigen::Vector3d::Zero(), 0, 0), deg_to_rad(25));
+  return default_dvl_calibration(rate);
 }
 
 void check_frame(const ImageU8& image, const PinholeCamera& cam, const std::string& topic) {
@@ -268,15 +217,11 @@ size_t write_frames(rosbag::Bag& bag, const std::string& topic, bool compressed,
   if (compressed) {
     for_each_message<msg::CompressedImage>(
         bag, topic, [&](const msg::CompressedImage& m, ros::Time) {
-          add(to_ns(m.header.stamp),
-              grey_from_compressed_image(msg::to_std_string(m.format), m.data, cam.width_px,
-                                         cam.height_px, topic));
+          add(to_ns(m.header.stamp), grey_from(m, cam.width_px, cam.height_px, topic));
         });
   } else {
     for_each_message<msg::Image>(bag, topic, [&](const msg::Image& m, ros::Time) {
-      add(to_ns(m.header.stamp),
-          grey_from_raw_image(m.width, m.height, m.step, msg::to_std_string(m.encoding), m.data,
-                              topic));
+      add(to_ns(m.header.stamp), grey_from(m, topic));
     });
   }
   return frames;
@@ -293,16 +238,9 @@ std::vector<RangesSample> read_ranges(rosbag::Bag& bag, const std::string& topic
   std::vector<RangesSample> out;
   for_each_message<msg::Float64MultiArray>(
       bag, topic, [&](const msg::Float64MultiArray& m, ros::Time t) {
-        const std::string problem = m.data.size() == 4
-                                        ? ""
-                                        : "has " + std::to_string(m.data.size()) +
-                                              " values; dvl_ranges takes the 4 beam ranges [m]";
-        if (!log.keep(to_ns(t), problem)) return;
-        RangesSample s{to_ns(t), {}};
-        for (size_t k = 0; k < 4; ++k) {
-          s.range_m[k] = std::isfinite(m.data[k]) && m.data[k] > 0 ? m.data[k] : kNaN;
-        }
-        out.push_back(s);
+        std::string problem;
+        const std::array<double, 4> range_m = beam_ranges_from(m, problem);
+        if (log.keep(to_ns(t), problem)) out.push_back({to_ns(t), range_m});
       });
   log.finish(skipped);
   return out;
@@ -332,15 +270,9 @@ size_t write_dvl(rosbag::Bag& bag, const BagTopics& topics, bool with_ranges, Da
   size_t written = 0;
   for_each_message<msg::TwistWithCovarianceStamped>(
       bag, topics.dvl_twist, [&](const msg::TwistWithCovarianceStamped& m, ros::Time) {
-        const int64_t stamp_ns = to_ns(m.header.stamp);
-        if (!log.keep(stamp_ns)) return;
-        const auto& v = m.twist.twist.linear;
-        DvlSample s;
-        s.timestamp_ns = stamp_ns;
-        s.valid = std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-        s.velocity_B_mps =
-            s.valid ? Eigen::Vector3d(v.x, v.y, v.z) : Eigen::Vector3d::Constant(kNaN);
-        if (with_ranges) s.beam_range_m = nearest_ranges(ranges, stamp_ns);
+        DvlSample s = dvl_sample_from_twist(m);
+        if (!log.keep(s.timestamp_ns)) return;
+        if (with_ranges) s.beam_range_m = nearest_ranges(ranges, s.timestamp_ns);
         writer.add_dvl(s);
         ++written;
       });
@@ -353,12 +285,10 @@ size_t write_pressure(rosbag::Bag& bag, const std::string& topic, const WaterCol
   SensorLog log(topic);
   size_t written = 0;
   for_each_message<msg::FluidPressure>(bag, topic, [&](const msg::FluidPressure& m, ros::Time) {
-    const int64_t stamp_ns = to_ns(m.header.stamp);
-    if (!log.keep(stamp_ns,
-                  std::isfinite(m.fluid_pressure) ? "" : "fluid_pressure is not finite")) {
-      return;
-    }
-    writer.add_pressure({stamp_ns, depth_from_pressure_m(m.fluid_pressure, water)});
+    std::string problem;
+    const PressureSample s = pressure_sample_from(m, water, problem);
+    if (!log.keep(s.timestamp_ns, problem)) return;
+    writer.add_pressure(s);
     ++written;
   });
   log.finish(skipped);
@@ -370,17 +300,10 @@ size_t write_attitude(rosbag::Bag& bag, const std::string& topic, DatasetWriter&
   SensorLog log(topic);
   size_t written = 0;
   for_each_message<msg::Imu>(bag, topic, [&](const msg::Imu& m, ros::Time) {
-    const int64_t stamp_ns = to_ns(m.header.stamp);
-    const auto& o = m.orientation;
-    const Eigen::Quaterniond q(o.w, o.x, o.y, o.z);
-    // sensor_msgs/Imu: orientation_covariance[0] = -1 says the message has no orientation.
-    const std::string problem =
-        m.orientation_covariance[0] == -1  ? "orientation_covariance[0] is -1: no orientation"
-        : !(std::abs(q.norm() - 1) < 1e-3) ? "orientation is not a unit quaternion"
-                                           : "";
-    if (!log.keep(stamp_ns, problem)) return;
-    const Eigen::Vector3d rpy = rpy_from_rotation(rotation_pen_body_from_ros(q.normalized()));
-    writer.add_attitude({stamp_ns, rpy.x(), rpy.y(), rpy.z()});
+    std::string problem;
+    const AttitudeSample s = attitude_sample_from(m, problem);
+    if (!log.keep(s.timestamp_ns, problem)) return;
+    writer.add_attitude(s);
     ++written;
   });
   log.finish(skipped);

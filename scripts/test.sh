@@ -2,9 +2,11 @@
 # Builds pensight (installing its packages if needed) and runs every test on lavapipe with the
 # Khronos validation layer on, then the installed-package example (scripts/example.sh).
 # --sanitize: the tests with AddressSanitizer + UBSan (scripts/build-asan.sh: build-asan/, clang),
-# except the rendered accuracy tests (label `accuracy`): their code (renderer, FFT detector,
-# estimators) runs under ASan in the shorter rendered tests, and their long sequences would take a
-# third of the CI budget there. --tsan: the tests labelled `threads` with ThreadSanitizer
+# except the accuracy tests over many frames (label `accuracy`; their code, renderer, FFT detector
+# and estimators, runs under ASan in the shorter tests, and their long sequences would take a third
+# of the CI budget there) and the training smoke test (label `training`, Python). The rendered
+# tests render with the Vulkan renderer there (PENSIGHT_TEST_RENDERER, tests/support/rendered_run.h):
+# lavapipe is not instrumented, the CPU reference is, 15-20x slower. --tsan: the tests labelled `threads` with ThreadSanitizer
 # (build-tsan/). --fuzz: the fuzz targets (same build-asan/): each replays its seed corpus and
 # crash regressions, then fuzzes for 60 s.
 # The default and --sanitize builds include the ROS layer (its packages installed by
@@ -20,7 +22,8 @@ if [ "$mode" = "--sanitize" ]; then
   # Mesa's llvmpipe keeps JIT and thread allocations until exit; leaks are not checked here.
   export ASAN_OPTIONS="detect_leaks=0:abort_on_error=1"
   export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
-  ctest_args=(-LE "accuracy|fuzz")
+  export PENSIGHT_TEST_RENDERER=vulkan
+  ctest_args=(-LE "accuracy|fuzz|training")
 elif [ "$mode" = "--fuzz" ]; then
   scripts/fuzz.sh --build
   export PENSIGHT_FUZZ_BUILT=1

@@ -44,7 +44,7 @@ class BagRoundTrip : public ::testing::Test {
     fs::create_directories(*dir_);
     sim::Scenario s = testing::shipped_scenario("follow.yaml", 1.5);
     s.seed = testing::fresh_seed();
-    sim::generate_dataset(s, *sim::make_cpu_renderer(s, {}), *dir_ / "original");
+    sim::generate_dataset(s, *testing::test_renderer(s), *dir_ / "original");
     original_ = new Dataset(read_dataset(*dir_ / "original"));
   }
   static void TearDownTestSuite() {

@@ -5,9 +5,10 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <stdexcept>
+#include <string>
 
 #include "pipeline/dataset/global_pose_csv.h"
-#include "sim/generate.h"
 #include "tests/support/vulkan_fixture.h"
 
 namespace pensight::testing {
@@ -27,7 +28,7 @@ fs::path fresh_folder() {
 // Renders into dir/data; removes dir if that fails.
 Dataset render_into(const fs::path& dir, const sim::Scenario& s) {
   try {
-    const auto renderer = sim::make_cpu_renderer(s, {});
+    const auto renderer = test_renderer(s);
     sim::generate_dataset(s, *renderer, dir / "data");
     return read_dataset(dir / "data");
   } catch (...) {
@@ -38,6 +39,15 @@ Dataset render_into(const fs::path& dir, const sim::Scenario& s) {
 }
 
 }  // namespace
+
+std::unique_ptr<sim::FrameRenderer> test_renderer(const sim::Scenario& s) {
+  const char* which = std::getenv("PENSIGHT_TEST_RENDERER");
+  if (which == nullptr || std::string(which) == "cpu") return sim::make_cpu_renderer(s, {});
+  if (std::string(which) != "vulkan")
+    throw std::runtime_error(std::string("PENSIGHT_TEST_RENDERER=") + which +
+                             ": unknown renderer (use cpu or vulkan)");
+  return sim::make_renderer(s, {}, "vulkan", test_device());
+}
 
 sim::Scenario shipped_scenario(const std::string& file, double duration_s) {
   const char* root = std::getenv("PENSIGHT_SOURCE_DIR");

@@ -1,8 +1,9 @@
 #pragma once
 // The whole chain on a rendered sequence, for estimator tests against the synthetic world:
-// scenario -> CPU reference renderer (1 sample per pixel) -> dataset in a temporary folder ->
+// scenario -> test_renderer() (1 sample per pixel) -> dataset in a temporary folder ->
 // `pensight run`'s pipeline on the CPU backend -> estimates and trajectory. The folder is removed
 // afterwards; the returned dataset keeps its ground truth (read up front) but no longer its images.
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -10,6 +11,7 @@
 #include "pipeline/dataset/estimates_csv.h"
 #include "pipeline/dataset/trajectory_tum.h"
 #include "pipeline/runner.h"
+#include "sim/generate.h"
 #include "sim/scenario.h"
 
 namespace pensight::testing {
@@ -24,6 +26,12 @@ struct RenderedRun {
   std::vector<TumPose> trajectory;  // OUT/trajectory_tum.txt
   RunSummary summary;
 };
+
+// The renderer of the rendered tests: the CPU reference, or with PENSIGHT_TEST_RENDERER=vulkan
+// the Vulkan renderer on test_device(). The sanitizer run (scripts/test.sh --sanitize) takes
+// Vulkan: there the CPU reference is instrumented and 15-20x slower, while lavapipe is not, and
+// the reference keeps its own checks in the renderer tests.
+std::unique_ptr<sim::FrameRenderer> test_renderer(const sim::Scenario& s);
 
 RenderedRun render_and_run(const sim::Scenario& s);
 

@@ -411,6 +411,39 @@ TEST(Pipeline, PollDeliversResultsAndErrorsInOrder) {
   EXPECT_EQ(p.global_pose_counters().vision_fix.received, 2);
 }
 
+// A pressure sample due at a frame's time that arrives after the frame (as over a live topic) is
+// used for that frame when the pipeline waits for due samples, and is late for it otherwise.
+TEST(Pipeline, SensorWaitUsesASampleThatArrivesJustAfterItsFrame) {
+  std::mt19937_64 rng(testing::fresh_seed());
+  const PinholeCamera cam;
+  const Sequence s = sequence(cam, 1, rng);
+  const int64_t t = s.frames[0].timestamp_ns;
+  std::uniform_real_distribution<double> depth_m(2, 20);
+  const double late_depth_m = depth_m(rng);
+  for (const double wait_ms : {0.0, 10000.0}) {
+    PipelineConfig c = config_for(cam);
+    c.sensor_wait_ms = wait_ms;
+    Pipeline p(c, test_device());
+    for (int k = 5; k >= 1; --k) p.push(PressureSample{t - 100 * kMs * k, 1.0});
+    p.push(CameraFrame{t, s.frames[0].image});
+    std::optional<FrameResult> r;
+    if (wait_ms == 0) {  // the frame's result comes without the sample
+      for (int i = 0; i < 3000 && !r; ++i) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        r = p.poll();
+      }
+    } else {  // the worker waits: the result comes after the sample
+      std::this_thread::sleep_for(std::chrono::milliseconds(300));
+      EXPECT_FALSE(p.poll());
+    }
+    p.push(PressureSample{t, late_depth_m});
+    p.finish();
+    if (!r) r = p.poll();
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->global_pose.z_g_m, wait_ms > 0 ? late_depth_m : 1.0) << "wait " << wait_ms;
+  }
+}
+
 // A callback that throws loses its own result only: delivery goes on.
 TEST(Pipeline, ThrowingCallbackDoesNotStopDelivery) {
   std::mt19937_64 rng(testing::fresh_seed());

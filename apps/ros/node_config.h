@@ -1,0 +1,50 @@
+#pragma once
+// pensight_node's parameters, read from the node's private namespace on the parameter server
+// (docs/ros.md lists them with their defaults). Read strictly, like the project's YAML: an unknown
+// private parameter (a typo), a value of the wrong type or out of range is an error naming
+// `~name` and what it takes, so the node stops at start-up with one clear line instead of
+// running on a default the user did not mean.
+#include <ros/node_handle.h>
+
+#include <optional>
+#include <string>
+
+#include "pipeline/dataset/dataset_types.h"
+#include "pipeline/depth/depth_estimator.h"
+#include "pipeline/net_detector.h"
+#include "ros/pressure_depth.h"
+
+namespace pensight::node {
+
+struct NodeConfig {
+  // ~scene (a scene.yaml, dataset-format.md), else ~mesh_size_m and ~pen_radius_m.
+  SceneConfig scene;
+  // ~camera_yaml (a cam0/sensor.yaml): intrinsics and mount; else the camera_info topic gives the
+  // intrinsics and the camera sits at the body origin looking forward.
+  std::optional<CameraCalibration> camera;
+  // ~dvl_yaml (a dvl0/sensor.yaml); else default_dvl_calibration (message_conversions.h).
+  DvlCalibration dvl;
+  // ~has_dvl, ~has_pressure, ~has_imu: which sensors the vehicle has (the estimator announces
+  // the absent ones and does without them).
+  bool has_dvl = true, has_pressure = true, has_imu = true;
+  // ~roi_rows, ~roi_cols, ~roi_size_px, ~backend (auto|cpu|vulkan|cuda), ~cpu_threads.
+  NetDetectorConfig detector;
+  // ~model: "auto" (a shipped compact_depth*.onnx for the camera's aspect, else no depth stage),
+  // "none", or an ONNX file; ~depth_backend (auto|opencv|engine-cpu|vulkan).
+  std::string model = "auto";
+  DepthBackend depth_backend = DepthBackend::kAuto;
+  WaterColumn water;  // ~water_density (kg/m^3), ~surface_pressure_pa
+  // ~pen_frame, ~base_frame, ~camera_frame: the tf frame names.
+  std::string pen_frame = "pen", base_frame = "base_link", camera_frame = "camera";
+  double map_rate_hz = 1.0;  // ~map_rate_hz: ~map publications per second; 0 turns the map off
+  double camera_info_timeout_s = 5.0;  // ~camera_info_timeout_s: error log period while waiting
+  // ~sensor_wait_s: how long a frame's global pose waits for a sensor sample due by its time
+  // (PipelineConfig::sensor_wait_ms); topics deliver samples just after the frame they precede.
+  double sensor_wait_s = 0.05;
+};
+
+// Throws pensight::Error naming the parameter for the problems above, and as read_scene_yaml,
+// read_camera_yaml and read_dvl_yaml for the files they name.
+NodeConfig read_node_config(const ros::NodeHandle& private_nh);
+
+}  // namespace pensight::node
