@@ -61,9 +61,11 @@ struct SensorClock {
     }
     last_ns = std::max(last_ns, t_ns);
   }
-  // A sample stamped by about t_ns (a quarter period's jitter) has not arrived yet.
+  // A sample stamped by t_ns, give or take the stamps' jitter (a quarter period, at most 5 ms: a
+  // slow sensor's next sample just after the frame is not waited for), has not arrived yet.
   bool due_by(int64_t t_ns) const {
-    return period_ns > 0 && last_ns + period_ns <= t_ns + period_ns / 4;
+    constexpr int64_t kMaxJitter_ns = 5'000'000;
+    return period_ns > 0 && last_ns + period_ns <= t_ns + std::min(period_ns / 4, kMaxJitter_ns);
   }
 };
 

@@ -27,7 +27,6 @@
 #include "apps/default_model.h"
 #include "apps/ros/node_config.h"
 #include "apps/ros/node_messages.h"
-#include "pipeline/median.h"
 #include "pipeline/pipeline.h"
 #include "pipeline/runner.h"
 #include "ros/bag_topics.h"
@@ -93,8 +92,6 @@ class PensightNode {
                            [this](const ros::WallTimerEvent&) { warn_if_no_camera(); });
     pairing_timer_ = nh.createWallTimer(ros::WallDuration(kRangesPairing_s),
                                         [this](const ros::WallTimerEvent&) { flush_old_twist(); });
-    cpu_start_ = cpu_seconds();
-    wall_start_ = Clock::now();
   }
 
   // Drains the pipeline (every pushed frame is published) and logs the run's figures.
@@ -104,16 +101,22 @@ class PensightNode {
 #if PENSIGHT_HAS_MAPPING
     if (mapper_) mapper_->finish();
 #endif
-    const double wall_s = std::chrono::duration<double>(Clock::now() - wall_start_).count();
-    const double cpu_share = (cpu_seconds() - cpu_start_) / std::max(wall_s, 1e-9);
     std::lock_guard lock(latency_mutex_);
+    std::vector<double> sorted = latency_ms_;
+    std::sort(sorted.begin(), sorted.end());
+    const auto at = [&](double q) {
+      return sorted.empty()
+                 ? kNaN
+                 : sorted[static_cast<size_t>(q * static_cast<double>(sorted.size() - 1))];
+    };
+    const double wall_s = std::chrono::duration<double>(last_.wall - first_.wall).count();
     ROS_INFO(
         "pensight_node: %zu frames published (%zu dropped before the camera was known, %zu "
         "refused); latency from receiving the image to publishing ~relative_pose: median %.1f "
-        "ms, max %.1f ms; CPU %.0f %% of one core over %.1f s",
-        latency_ms_.size(), dropped_before_camera_, refused_frames_, median(latency_ms_),
-        latency_ms_.empty() ? kNaN : *std::max_element(latency_ms_.begin(), latency_ms_.end()),
-        100 * cpu_share, wall_s);
+        "ms, p95 %.1f ms, max %.1f ms; CPU %.0f %% of one core from the first frame to the last "
+        "(%.1f s)",
+        latency_ms_.size(), dropped_before_camera_, refused_frames_, at(0.5), at(0.95), at(1.0),
+        100 * (last_.cpu_s - first_.cpu_s) / std::max(wall_s, 1e-9), wall_s);
     if (pipeline_) {
       ROS_INFO("%s", global_pose::describe(pipeline_->global_pose_counters()).c_str());
     }
@@ -247,6 +250,10 @@ class PensightNode {
         std::lock_guard lock(latency_mutex_);
         received_[stamp_ns] = received;
       }
+      if (last_frame_ns_ == INT64_MIN) {
+        std::lock_guard lock(latency_mutex_);
+        first_ = {Clock::now(), cpu_seconds()};
+      }
       last_frame_ns_ = stamp_ns;
       pipeline_->push(std::move(frame));
     } catch (const Error& e) {
@@ -340,6 +347,7 @@ class PensightNode {
       if (it != received_.end()) {
         latency_ms_.push_back(ms_since(it->second));
         received_.erase(received_.begin(), std::next(it));
+        last_ = {Clock::now(), cpu_seconds()};
       }
     }
     if (r.dense_depth_m) depth_pub_.publish(depth_image(*r.dense_depth_m, camera));
@@ -377,8 +385,11 @@ class PensightNode {
   std::mutex latency_mutex_;
   std::map<int64_t, Clock::time_point> received_;  // frame stamp -> when its image arrived
   std::vector<double> latency_ms_;
-  double cpu_start_ = 0;
-  Clock::time_point wall_start_;
+  struct Instant {
+    Clock::time_point wall;
+    double cpu_s = 0;  // the process's CPU time (all threads)
+  };
+  Instant first_, last_;  // the first frame received, the last relative pose published
 
   ros::Subscriber image_sub_, compressed_sub_, camera_info_sub_, twist_sub_, ranges_sub_,
       pressure_sub_, imu_sub_;

@@ -11,6 +11,9 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <mutex>
 #include <thread>
@@ -188,8 +191,10 @@ TEST_F(NodeTest, PublishesEveryTopicPerFrameAtTheCameraRateWithTheEstimatesOfRun
   const size_t frames = original().frames.size();
   wait_for([&] { return relative.size() >= frames && global.size() >= frames; }, 30s);
   ASSERT_EQ(node->stop(30s), 0) << node->log();
-  EXPECT_NE(node->log().find(std::to_string(frames) + " frames published"), std::string::npos)
-      << node->log();
+  const std::string log = node->log();
+  const size_t summary = log.find(std::to_string(frames) + " frames published");
+  ASSERT_NE(summary, std::string::npos) << log;
+  std::printf("%s\n", log.substr(summary, log.find('\n', summary) - summary).c_str());
 
   ASSERT_EQ(relative.size(), frames);
   EXPECT_EQ(distance.size(), frames);
@@ -242,6 +247,50 @@ TEST_F(NodeTest, PublishesEveryTopicPerFrameAtTheCameraRateWithTheEstimatesOfRun
     with_global_pose += std::isfinite(rows[i].psi_g_rad);
   }
   EXPECT_GT(with_global_pose, frames / 2);
+}
+
+// With the shipped depth network: ~depth per frame with net priors, at the camera's size, and
+// ~map (the occupied voxels in P) while someone listens.
+TEST_F(NodeTest, PublishesDenseDepthAndTheMapWithTheShippedModel) {
+  ros::NodeHandle nh;
+  Recorder<node::msg::Image> depth(nh, "/depth_node/depth");
+  Recorder<node::msg::PointCloud2> map(nh, "/depth_node/map");
+  Recorder<node::msg::PoseStamped> relative(nh, "/depth_node/relative_pose");
+  auto node =
+      start_node("depth_node", {scene_param(), "model:=auto", "backend:=cpu", "map_rate_hz:=4.0"});
+  ASSERT_TRUE(wait_for([] { return advertised("/depth_node/relative_pose"); }, 30s)) << node->log();
+  std::this_thread::sleep_for(1s);
+  ChildProcess play({"rosbag", "play", "--quiet", bag_file().string()}, dir() / "play_depth.log");
+  ASSERT_EQ(play.wait(120s), 0) << play.log();
+  const size_t frames = original().frames.size();
+  // A node slower than the camera drops frames in the subscriber's queue, as live.
+  for (size_t seen = SIZE_MAX; relative.size() != seen;) {  // until 5 s without a new one
+    seen = relative.size();
+    wait_for([&] { return relative.size() != seen; }, 5s);
+  }
+  ASSERT_EQ(node->stop(60s), 0) << node->log();
+  const std::string log = node->log();
+  ASSERT_EQ(log.find("dense depth off"), std::string::npos) << log;
+  const size_t summary = log.find("frames published");
+  ASSERT_NE(summary, std::string::npos) << log;
+  std::printf("%s\n", log.substr(summary, log.find('\n', summary) - summary).c_str());
+  EXPECT_GE(relative.size(), frames * 3 / 4);
+
+  const auto images = depth.messages();
+  EXPECT_GT(images.size(), frames / 2);
+  for (const auto& m : images) {
+    EXPECT_EQ(m.encoding, "32FC1");
+    EXPECT_EQ(m.width, static_cast<uint32_t>(original().cam0.camera.width_px));
+    EXPECT_EQ(m.height, static_cast<uint32_t>(original().cam0.camera.height_px));
+    ASSERT_EQ(m.data.size(), size_t{4} * m.width * m.height);
+    float centre = 0;
+    std::memcpy(&centre, &m.data[4 * (m.width * (m.height / 2) + m.width / 2)], 4);
+    EXPECT_TRUE(centre > 0.2f && centre < 5.0f) << centre;  // the net, 0.5-1.5 m ahead
+  }
+  const auto maps = map.messages();
+  ASSERT_FALSE(maps.empty());
+  EXPECT_EQ(maps.back().header.frame_id, "pen");
+  EXPECT_GT(maps.back().width, 100u);
 }
 
 TEST_F(NodeTest, WithoutCameraInfoSaysWhatIsMissingAndKeepsRunning) {
