@@ -5,15 +5,15 @@
 
 namespace pensight::global_pose {
 
-double DvlSpikeTest::noise_margin_mps() const {
+double DvlSpikeTest::difference_noise_mps(const DvlSpikeTestOptions& o) {
   // The difference of two samples has sqrt(2) x one sample's noise per axis, sqrt(3) axes.
-  return o_.noise_sigmas * o_.noise_mps * std::sqrt(6.0);
+  return o.noise_sigmas * o.noise_mps * std::sqrt(6.0);
 }
 
 bool DvlSpikeTest::within_bound(int64_t t_ns, const Eigen::Vector3d& v_P) const {
   const double dt_s = std::abs(seconds_between(reference_ns_, t_ns));
   return (v_P - reference_P_mps_).norm() <=
-         (o_.max_accel_mps2 + recent_accel_mps2_) * dt_s + noise_margin_mps();
+         (o_.max_accel_mps2 + recent_accel_mps2_) * dt_s + difference_noise_mps(o_);
 }
 
 void DvlSpikeTest::set_reference(int64_t t_ns, const Eigen::Vector3d& v_P) {
@@ -21,7 +21,7 @@ void DvlSpikeTest::set_reference(int64_t t_ns, const Eigen::Vector3d& v_P) {
   // The acceleration beyond the noise, from samples close enough in time to show a manoeuvre.
   recent_accel_mps2_ =
       have_reference_ && dt_s > 0 && dt_s <= 1.0
-          ? std::max(0.0, (v_P - reference_P_mps_).norm() - noise_margin_mps()) / dt_s
+          ? std::max(0.0, (v_P - reference_P_mps_).norm() - difference_noise_mps(o_)) / dt_s
           : 0.0;
   have_reference_ = true;
   reference_ns_ = t_ns;

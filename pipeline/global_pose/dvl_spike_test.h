@@ -42,9 +42,10 @@ class DvlSpikeTest {
   void expire(int64_t t_ns);
   // Samples judged spikes so far.
   int spikes() const { return spikes_; }
+  // The margin for noise on the difference of two samples (noise_sigmas of it, all axes).
+  static double difference_noise_mps(const DvlSpikeTestOptions& o);
 
  private:
-  double noise_margin_mps() const;
   bool within_bound(int64_t t_ns, const Eigen::Vector3d& v_P) const;
   void set_reference(int64_t t_ns, const Eigen::Vector3d& v_P);
 

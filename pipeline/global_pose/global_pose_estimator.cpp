@@ -90,19 +90,37 @@ void GlobalPoseEstimator::add(const DvlSample& s) {
     enqueue({s.timestamp_ns, kDvl, s}, arrival_.dvl_velocity);  // counted invalid when applied
     return;
   }
-  // The pen-frame velocity for the spike test: levelled and turned by the attitude (its yaw
-  // offset from P cancels in the difference of two samples), else by the filter's heading.
-  const auto a = attitude_.at(s.timestamp_ns, cfg_.max_attitude_gap_s);
-  const double heading =
-      a && std::isfinite(a->yaw_rad) ? a->yaw_rad : (state_.initialised ? state_.ekf.x(kPsi) : 0.0);
-  const Eigen::Vector3d v_P =
-      rotation_from_rpy(a ? a->roll_rad : 0.0, a ? a->pitch_rad : 0.0, heading) * s.velocity_B_mps;
   const int spikes_before = dvl_spikes_.spikes();
-  for (const DvlSample& r : dvl_spikes_.push(s, v_P))
+  for (const DvlSample& r : dvl_spikes_.push(s, dvl_velocity_P(s))) {
+    // A span predicted with other process noise than its samples show: apply it again.
+    if (const auto from = motion_.add(r.timestamp_ns, dvl_velocity_P(r)))
+      while (!history_.empty() && history_.back().event.t_ns > *from) undo_last_applied();
     enqueue({r.timestamp_ns, kDvl, r}, arrival_.dvl_velocity);
+  }
   if (dvl_spikes_.spikes() > spikes_before)
     warn_once(kWarnDvlSpike, "DVL velocity spike rejected (beyond the vehicle's acceleration)");
 }
+
+Eigen::Vector3d GlobalPoseEstimator::dvl_velocity_P(const DvlSample& s) const {
+  const auto a = attitude_.at(s.timestamp_ns, cfg_.max_attitude_gap_s);
+  const double heading =
+      a && std::isfinite(a->yaw_rad) ? a->yaw_rad : (state_.initialised ? state_.ekf.x(kPsi) : 0.0);
+  return rotation_from_rpy(a ? a->roll_rad : 0.0, a ? a->pitch_rad : 0.0, heading) *
+         s.velocity_B_mps;
+}
+
+ProcessNoise GlobalPoseEstimator::process_noise(int64_t t0_ns, int64_t t1_ns) const {
+  ProcessNoise q = cfg_.noise.process;
+  if (motion_.quiet(t0_ns, t1_ns)) q.horizontal_accel = q.quiet_horizontal_accel;
+  return q;
+}
+
+void GlobalPoseEstimator::undo_last_applied() {
+  state_ = history_.back().before;
+  pending_.insert(pending_.begin(), std::move(history_.back().event));
+  history_.pop_back();
+}
+
 void GlobalPoseEstimator::add(const PressureSample& s) {
   enqueue({s.timestamp_ns, kDepth, s}, arrival_.depth);
 }
@@ -157,11 +175,7 @@ void GlobalPoseEstimator::enqueue(Event e, SensorCounters& arrival) {
     ++arrival.out_of_order;
     warn_once(kWarnOutOfOrder, "out-of-order sample re-applied in timestamp order");
     // Roll back to just before the late sample; what followed it is applied again.
-    while (!history_.empty() && key_less(e, history_.back().event)) {
-      state_ = history_.back().before;
-      pending_.insert(pending_.begin(), std::move(history_.back().event));
-      history_.pop_back();
-    }
+    while (!history_.empty() && key_less(e, history_.back().event)) undo_last_applied();
   }
   pending_.insert(std::upper_bound(pending_.begin(), pending_.end(), e, key_less), std::move(e));
 }
@@ -182,6 +196,7 @@ GlobalPose GlobalPoseEstimator::estimate(int64_t t_ns) {
       history_trimmed_ = true;
     }
     attitude_.trim_before(window_start - static_cast<int64_t>(cfg_.max_attitude_gap_s * 1e9));
+    motion_.trim_before(window_start);
   }
 
   GlobalPose out;
@@ -191,7 +206,7 @@ GlobalPose GlobalPoseEstimator::estimate(int64_t t_ns) {
     return out;
   }
   PenEkf ekf = state_.ekf;
-  ekf.predict_to(t_ns, cfg_.noise.process);
+  ekf.predict_to(t_ns, process_noise(ekf.t_ns, t_ns));
   const StateVector& x = ekf.x;
   const double r = std::hypot(x(kX), x(kY));
   const double rho = std::atan2(x(kY), x(kX));
@@ -243,8 +258,10 @@ GlobalPoseCounters GlobalPoseEstimator::counters() const {
 }
 
 void GlobalPoseEstimator::apply(const Event& e) {
-  if (state_.initialised)
-    state_.ekf.predict_to(std::max(e.t_ns, state_.ekf.t_ns), cfg_.noise.process);
+  if (state_.initialised) {
+    const int64_t t_ns = std::max(e.t_ns, state_.ekf.t_ns);
+    state_.ekf.predict_to(t_ns, process_noise(state_.ekf.t_ns, t_ns));
+  }
   state_.last_time_ns = std::max(state_.last_time_ns, e.t_ns);
   switch (e.kind) {
     case kAttitude:

@@ -3,7 +3,8 @@
 // level the sensors, yaw aids the heading through an estimated offset), pressure depth, the vision
 // fixes (r_g, psi_r from the circle fit; d_net, psi_net from the FFT stage) and the DVL net plane.
 // Every update is gated on its Mahalanobis distance, so a DVL spike or a bad vision frame is
-// rejected and counted instead of moving the estimate.
+// rejected and counted instead of moving the estimate. The horizontal process noise is quiet
+// where the DVL shows quiet motion and an ROV's manoeuvring noise elsewhere (motion_schedule.h).
 //
 // Multi-rate input: samples may be added in any order. They wait in a time-ordered buffer and are
 // applied in timestamp order when estimate(t) is asked for; other sensors' attitude is
@@ -29,6 +30,7 @@
 #include "pipeline/global_pose/dvl_spike_test.h"
 #include "pipeline/global_pose/lock_rule.h"
 #include "pipeline/global_pose/measurements.h"
+#include "pipeline/global_pose/motion_schedule.h"
 #include "pipeline/global_pose/pen_ekf.h"
 #include "pipeline/global_pose/pen_fix.h"
 
@@ -209,6 +211,14 @@ class GlobalPoseEstimator {
   };
 
   void enqueue(Event e, SensorCounters& arrival);
+  // Rolls the filter back to before the latest applied sample, which waits to be applied again.
+  void undo_last_applied();
+  // The DVL velocity in P for the spike test and the motion schedule: levelled and turned by the
+  // attitude (its yaw offset from P cancels in the difference of two samples), else by the
+  // filter's heading.
+  Eigen::Vector3d dvl_velocity_P(const DvlSample& s) const;
+  // The process noise from t0 to t1: quiet where the motion schedule says so.
+  ProcessNoise process_noise(int64_t t0_ns, int64_t t1_ns) const;
   void apply(const Event& e);
   void apply_attitude(const AttitudeSample& s);
   void apply_depth(const PressureSample& s);
@@ -261,6 +271,7 @@ class GlobalPoseEstimator {
   bool history_trimmed_ = false;
   AttitudeSeries attitude_;
   DvlSpikeTest dvl_spikes_;     // on arrival: spikes never reach the buffer
+  MotionSchedule motion_;       // quiet and manoeuvring spans, from the accepted DVL samples
   GlobalPoseCounters arrival_;  // duplicates, out_of_order, too_late, received
   std::array<bool, 16> warned_ = {};
 };

@@ -1,11 +1,15 @@
 // DvlSpikeTest: spikes of one and two samples in any axis are rejected and counted, a sustained
 // change of velocity (a manoeuvre beyond the bound) is released in order, a spike followed by a
 // dropout expires, and steady noisy samples pass. Fresh random noise and spike sizes each run.
+// MotionSchedule (motion_schedule.h), which shares the spike test's bound: quiet spans only after
+// the samples stayed within it for settle_s, manoeuvres and overdue samples are not quiet, and a
+// span predicted with the other noise asks for a re-apply from its start.
 #include <gtest/gtest.h>
 
 #include <random>
 
 #include "pipeline/global_pose/dvl_spike_test.h"
+#include "pipeline/global_pose/motion_schedule.h"
 #include "tests/support/vulkan_fixture.h"
 
 namespace pensight::global_pose {
@@ -69,6 +73,30 @@ TEST(DvlSpikeTest, ASpikeFollowedByADropoutExpires) {
   EXPECT_EQ(test.spikes(), 0);
   test.expire(sample(1).timestamp_ns + 1'100'000'000);
   EXPECT_EQ(test.spikes(), 1);
+}
+
+TEST(MotionSchedule, QuietAfterSettlingManoeuvresAndOverdueSamplesAreNot) {
+  MotionSchedule schedule;  // settle_s 1 s
+  const Eigen::Vector3d along(0, 0.2, 0);
+  EXPECT_FALSE(schedule.add(0, along));
+  EXPECT_FALSE(schedule.quiet(0, kStep / 2));  // one sample vouches for nothing
+  for (int k = 1; k <= 3; ++k) EXPECT_FALSE(schedule.add(k * kStep, along));
+  EXPECT_FALSE(schedule.quiet(2 * kStep, 3 * kStep));  // 0.75 s within the bound: settling
+  // The first quiet span follows manoeuvring ones: predicted with the manoeuvring noise, it is
+  // applied again from its start.
+  EXPECT_EQ(schedule.add(4 * kStep, along), std::optional<int64_t>(3 * kStep));
+  EXPECT_TRUE(schedule.quiet(3 * kStep, 4 * kStep));
+  EXPECT_TRUE(schedule.quiet(4 * kStep, 4 * kStep + kStep / 2));   // the next sample is not due
+  EXPECT_FALSE(schedule.quiet(4 * kStep, 4 * kStep + kStep * 2));  // overdue: maybe held
+  EXPECT_FALSE(schedule.add(5 * kStep, along));
+  // 0.3 m/s more in 0.25 s (1.2 m/s^2): a manoeuvre, in a span predicted as quiet.
+  EXPECT_EQ(schedule.add(6 * kStep, Eigen::Vector3d(0.3, 0.2, 0)),
+            std::optional<int64_t>(5 * kStep));
+  EXPECT_FALSE(schedule.quiet(5 * kStep, 6 * kStep));
+  EXPECT_FALSE(schedule.quiet(6 * kStep, 6 * kStep + kStep / 2));
+  // Steady again: settling restarts.
+  EXPECT_FALSE(schedule.add(7 * kStep, Eigen::Vector3d(0.3, 0.2, 0)));
+  EXPECT_FALSE(schedule.quiet(6 * kStep, 7 * kStep));
 }
 
 }  // namespace
