@@ -86,6 +86,7 @@ int cmd_run(const Args& args) {
   std::optional<ConvertedBag> bag;
   if (is_bag_file(dataset_dir)) {
     bag.emplace(dataset_dir, out_dir, bag_options, quiet);
+    options.input = dataset_dir;
   } else if (any_bag_option_given(bag_options)) {
     throw Error(
         "--scene, --camera, --dvl-sensor, --topics, --water-density and "

@@ -362,7 +362,7 @@ RunSummary run_dataset(const Dataset& dataset, const std::filesystem::path& out_
   summary.timing = timing_table(stages);
   summary.global_pose_counters = global_pose::describe(pipeline.global_pose_counters());
   write_timing_csv(out_dir / kTimingFile, summary.timing);
-  write_report_html(out_dir, &dataset);
+  write_report_html(out_dir, &dataset, options.input);
   return summary;
 }
 

@@ -48,6 +48,9 @@ struct RunOptions {
     std::function<StageStats()> finish;
   };
   std::vector<AttachedStage> stages;
+  // What the user ran on, when not the dataset folder (a bag converted for the run): the report
+  // names it.
+  std::filesystem::path input;
 };
 
 struct RunSummary {

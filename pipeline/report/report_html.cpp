@@ -154,6 +154,7 @@ constexpr const char* kPublishedColour = "#b03060";
 struct Run {
   std::filesystem::path out_dir;
   const Dataset* dataset;
+  std::filesystem::path input;  // the user's input when not the dataset folder
   std::vector<EstimateRow> rows;
   int64_t t0_ns = 0;
   std::vector<EstimateRow> published;
@@ -555,8 +556,13 @@ std::string summary_section(const Run& run) {
   const double span_s = run.rows.empty() ? 0 : run.seconds(run.rows.back().timestamp_ns);
   std::string html =
       "<p>Output folder: <code>" + html_escape(run.out_dir.string()) + "</code><br>\n";
-  html += run.dataset ? "Dataset: <code>" + html_escape(run.dataset->root.string()) + "</code>"
-                      : std::string("Dataset: none given (no ground truth)");
+  if (!run.input.empty()) {
+    html += "Input: <code>" + html_escape(run.input.string()) +
+            "</code> (converted to the dataset layout for the run)";
+  } else {
+    html += run.dataset ? "Dataset: <code>" + html_escape(run.dataset->root.string()) + "</code>"
+                        : std::string("Dataset: none given (no ground truth)");
+  }
   html += "<br>\n" + std::to_string(run.rows.size()) + " frames over " +
           printf_double("%.1f", span_s) + " s (time 0: the first frame, timestamp " +
           std::to_string(run.t0_ns) + " ns); FFT net pose in " + std::to_string(fft) +
@@ -603,13 +609,14 @@ figcaption { font-size: 0.85em; color: #555; }
 
 }  // namespace
 
-void write_report_html(const std::filesystem::path& out_dir, const Dataset* dataset) {
+void write_report_html(const std::filesystem::path& out_dir, const Dataset* dataset,
+                       const std::filesystem::path& input) {
   const std::filesystem::path estimates = out_dir / "estimates.csv";
   if (!std::filesystem::exists(estimates)) {
     throw Error("report: '" + estimates.string() + "' not found; `pensight run DATASET --out " +
                 out_dir.string() + "` writes it, run that first (or pass the folder it wrote)");
   }
-  Run run{out_dir, dataset, read_estimates_csv(estimates), 0, {}, {}, {}, {}, nullptr};
+  Run run{out_dir, dataset, input, read_estimates_csv(estimates), 0, {}, {}, {}, {}, nullptr};
   if (!run.rows.empty()) run.t0_ns = run.rows.front().timestamp_ns;
   if (dataset && dataset->groundtruth0) run.truth = &*dataset->groundtruth0;
   const std::filesystem::path published = out_dir / kPublishedGlobalPoseFile;

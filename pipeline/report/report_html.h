@@ -12,7 +12,9 @@ namespace pensight {
 // the ground truth and the error summary of `pensight evaluate` when it has groundtruth0, and
 // the pen circle to the top view. Optional files that are absent (or unreadable) become sections
 // that say so. Throws pensight::Error naming out_dir/estimates.csv when it is missing or
-// malformed.
-void write_report_html(const std::filesystem::path& out_dir, const Dataset* dataset);
+// malformed. `input`, when given, is what the user ran on where that was not the dataset folder
+// (a bag converted into a temporary dataset for the run): the page names it instead.
+void write_report_html(const std::filesystem::path& out_dir, const Dataset* dataset,
+                       const std::filesystem::path& input = {});
 
 }  // namespace pensight

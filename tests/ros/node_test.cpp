@@ -114,6 +114,7 @@ class NodeTest : public ::testing::Test {
     fs::create_directories(*dir_);
     const std::string uri = "http://127.0.0.1:" + std::to_string(free_port());
     ::setenv("ROS_MASTER_URI", uri.c_str(), 1);
+    ::setenv("ROS_IP", "127.0.0.1", 1);  // a CI machine's host name may not resolve
     ::setenv("ROS_HOME", dir_->c_str(), 1);
     ::setenv("ROS_LOG_DIR", (*dir_ / "log").c_str(), 1);
     roscore_ =

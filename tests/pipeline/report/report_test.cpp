@@ -259,6 +259,17 @@ TEST_F(ReportTest, OptionalFilesAbsent) {
             std::string::npos);
 }
 
+// A bag run through a temporary dataset folder: the page names the bag, not the folder.
+TEST_F(ReportTest, NamesTheInputWhenItWasNotTheDatasetFolder) {
+  write_run(dir_, false);
+  Dataset converted;
+  converted.root = dir_ / ".bag_dataset";
+  write_report_html(dir_, &converted, "dives/net <3>.bag");
+  const std::string html = read_text(dir_ / "report.html");
+  EXPECT_NE(html.find("Input: <code>dives/net &lt;3&gt;.bag</code>"), std::string::npos);
+  EXPECT_EQ(html.find(".bag_dataset"), std::string::npos);
+}
+
 TEST_F(ReportTest, EmptyAndAllNanRuns) {
   EstimatesCsvWriter(dir_ / "estimates.csv").finish();
   write_report_html(dir_, nullptr);
