@@ -49,8 +49,6 @@ constexpr size_t kMaxSamplesBeforeStart = 2048;
 // Frames that wait for the camera's calibration (camera_info may arrive just after the first
 // images); older ones are dropped and counted.
 constexpr size_t kMaxFramesBeforeStart = 10;
-// A beam-ranges message (no header) belongs to the twist received within this of it.
-constexpr double kRangesPairing_s = 0.1;
 
 double ms_since(Clock::time_point t) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
@@ -90,8 +88,6 @@ class PensightNode {
     camera_wait_timer_ =
         nh.createWallTimer(ros::WallDuration(config_.camera_info_timeout_s),
                            [this](const ros::WallTimerEvent&) { warn_if_no_camera(); });
-    pairing_timer_ = nh.createWallTimer(ros::WallDuration(kRangesPairing_s),
-                                        [this](const ros::WallTimerEvent&) { flush_old_twist(); });
   }
 
   // Drains the pipeline (every pushed frame is published) and logs the run's figures.
@@ -230,6 +226,7 @@ class PensightNode {
   void on_frame(int64_t stamp_ns, const std::string& topic, Decode&& decode) {
     const Clock::time_point received = Clock::now();
     flush_twist();  // a DVL sample before the frame reaches the estimator before it
+    ranges_.reset();
     try {
       if (stamp_ns <= last_frame_ns_) {
         throw Error("topic '" + topic + "': frame stamped " + std::to_string(stamp_ns) +
@@ -263,19 +260,19 @@ class PensightNode {
     }
   }
 
-  // The DVL's twist, paired with its beam ranges (a separate message without a header) when the
-  // ranges topic has a publisher: held until its ranges, the next frame or twist, or
-  // kRangesPairing_s.
+  // The DVL's twist and its beam ranges (a separate message without a header) pair by arrival
+  // order, not by a clock that a busy node would misread: while the ranges topic has a publisher
+  // a twist is held until its ranges arrive, or the next twist or frame; ranges that arrive first
+  // wait for the next twist, until a frame or other ranges arrive.
   void on_twist(const boost::shared_ptr<const pensight::msg::TwistWithCovarianceStamped>& m) {
     flush_twist();
     DvlSample s = dvl_sample_from_twist(*m);
-    const ros::WallTime now = ros::WallTime::now();
-    if (ranges_ && (now - ranges_->second).toSec() <= kRangesPairing_s) {
-      s.beam_range_m = ranges_->first;
+    if (ranges_) {
+      s.beam_range_m = *ranges_;
       ranges_.reset();
       push(s);
     } else if (ranges_sub_.getNumPublishers() > 0) {
-      pending_twist_ = {s, now};
+      pending_twist_ = s;
     } else {
       push(s);
     }
@@ -290,24 +287,18 @@ class PensightNode {
       return;
     }
     if (pending_twist_) {
-      pending_twist_->first.beam_range_m = range_m;
-      push(pending_twist_->first);
+      pending_twist_->beam_range_m = range_m;
+      push(*pending_twist_);
       pending_twist_.reset();
     } else {
-      ranges_ = {range_m, ros::WallTime::now()};
+      ranges_ = range_m;
     }
   }
 
   void flush_twist() {
     if (!pending_twist_) return;
-    push(pending_twist_->first);
+    push(*pending_twist_);
     pending_twist_.reset();
-  }
-
-  void flush_old_twist() {
-    if (pending_twist_ &&
-        (ros::WallTime::now() - pending_twist_->second).toSec() > kRangesPairing_s)
-      flush_twist();
   }
 
   void on_pressure(const boost::shared_ptr<const pensight::msg::FluidPressure>& m) {
@@ -379,8 +370,8 @@ class PensightNode {
   std::deque<std::function<void()>> frames_before_start_;
   int64_t last_frame_ns_ = INT64_MIN;
   size_t dropped_before_camera_ = 0, refused_frames_ = 0;
-  std::optional<std::pair<DvlSample, ros::WallTime>> pending_twist_;
-  std::optional<std::pair<std::array<double, 4>, ros::WallTime>> ranges_;
+  std::optional<DvlSample> pending_twist_;
+  std::optional<std::array<double, 4>> ranges_;
 
   std::mutex latency_mutex_;
   std::map<int64_t, Clock::time_point> received_;  // frame stamp -> when its image arrived
@@ -396,7 +387,7 @@ class PensightNode {
   ros::Publisher net_points_pub_, sparse_depth_pub_, net_distance_pub_, net_pitch_pub_,
       net_yaw_pub_, relative_pose_pub_, global_pose_pub_, depth_pub_, tf_pub_, tf_static_pub_,
       map_pub_;
-  ros::WallTimer camera_wait_timer_, pairing_timer_, map_timer_;
+  ros::WallTimer camera_wait_timer_, map_timer_;
 #if PENSIGHT_HAS_MAPPING
   std::unique_ptr<mapping::MappingStage> mapper_;
 #endif
