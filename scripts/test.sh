@@ -8,7 +8,7 @@
 # tests render with the Vulkan renderer there (PENSIGHT_TEST_RENDERER, tests/support/rendered_run.h):
 # lavapipe is not instrumented, the CPU reference is, 15-20x slower. --tsan: the tests labelled `threads` with ThreadSanitizer
 # (build-tsan/). --fuzz: the fuzz targets (same build-asan/): each replays its seed corpus and
-# crash regressions, then fuzzes for 60 s.
+# crash regressions, then fuzzes for 30 s.
 # The default and --sanitize builds include the ROS layer (its packages installed by
 # `scripts/setup.sh --with-ros`), so its tests (tests/ros/) run in CI.
 set -euo pipefail
@@ -33,7 +33,7 @@ elif [ "$mode" = "--fuzz" ]; then
   export ASAN_OPTIONS="detect_leaks=0:abort_on_error=1"
   ctest --test-dir build-asan --output-on-failure -j2 -L fuzz
   mkdir -p .cache/fuzz
-  scripts/fuzz.sh --list | xargs -P 2 -I '{}' sh -c 'scripts/fuzz.sh {} 60 >.cache/fuzz/{}.log 2>&1 ||
+  scripts/fuzz.sh --list | xargs -P 2 -I '{}' sh -c 'scripts/fuzz.sh {} 30 >.cache/fuzz/{}.log 2>&1 ||
     { tail -n 40 .cache/fuzz/{}.log; echo "fuzz: {} failed; its crash input is in .cache/fuzz/crashes/{}/"; exit 255; }'
   exit 0
 elif [ "$mode" = "--tsan" ]; then
