@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "runtime/error.h"
+#include "sim/lamp_veil_table.h"
 #include "sim/marine_snow.h"
 #include "sim/net_geometry.h"
 #include "sim/net_mesh.h"
@@ -192,6 +193,20 @@ std::vector<uint32_t> specialization(const Scenario& s, const RenderOptions& o) 
   return v;
 }
 
+// The veil table of render.comp's VeilBuf; one unused cell without lamps or backscatter.
+std::shared_ptr<const vk::Buffer> veil_buffer(const vk::Context& ctx, const Scenario& s) {
+  std::vector<std::array<float, 4>> cells(1, {0, 0, 0, 0});
+  if (!s.light.lamps.empty() && s.water.lamp_backscatter > 0) {
+    cells =
+        LampVeilTable(s.camera.calibration.camera, lamps_in_camera(s), s.water.attenuation_per_m,
+                      s.water.lamp_backscatter, net_visible_range_m(s.water))
+            .cells();
+  }
+  auto buffer = std::make_shared<vk::Buffer>(ctx, cells.size() * sizeof(cells[0]));
+  buffer->upload(cells.data(), cells.size() * sizeof(cells[0]));
+  return buffer;
+}
+
 uint32_t tile_columns(int width) {
   return (static_cast<uint32_t>(width) + kTilePx - 1) / kTilePx;
 }
@@ -255,9 +270,10 @@ RenderVk::RenderVk(const vk::Context& ctx, const Scenario& s, const RenderOption
       s_(s),
       options_(options),
       pipeline_(&ctx.pipeline({.shader = "sim/render",
-                               .num_buffers = 4,
+                               .num_buffers = 5,
                                .push_constant_bytes = 0,
-                               .specialization = specialization(s, options)})) {}
+                               .specialization = specialization(s, options)})),
+      veil_(veil_buffer(ctx, s)) {}
 
 int RenderVk::width() const {
   return s_.camera.calibration.camera.width_px;
@@ -321,7 +337,8 @@ void RenderVk::record(vk::CommandStream& stream, const vk::Buffer& frame, const 
   const uint32_t columns = static_cast<uint32_t>(width());
   const uint32_t rows =
       (static_cast<uint32_t>(height()) + kRowsPerInvocation - 1) / kRowsPerInvocation;
-  stream.dispatch(*pipeline_, {vk::in(frame), vk::in(tiles), vk::out(image), vk::out(depth)},
+  stream.dispatch(*pipeline_,
+                  {vk::in(frame), vk::in(tiles), vk::out(image), vk::out(depth), vk::in(*veil_)},
                   {(columns + kGroupX - 1) / kGroupX, (rows + kGroupY - 1) / kGroupY, 1}, nullptr,
                   0, "sim_render");
 }

@@ -2,7 +2,8 @@
 // The Vulkan renderer: shaders/sim/render.comp, the same model as render_cpu (the reference it
 // is tested against). Built once per scenario: the image size, supersampling and everything the
 // scenario fixes (net, water, light, lamps in the camera frame, ...) are specialization
-// constants; per frame only a small block (camera pose, fish, marine snow spots) changes.
+// constants, and the lamps' veil a table uploaded once (lamp_veil_table.h); per frame only a
+// small block (camera pose, fish, marine snow spots) changes.
 #include <memory>
 
 #include "runtime/vk_buffer.h"
@@ -45,7 +46,8 @@ class RenderVk {
   const vk::Context* ctx_;
   Scenario s_;
   RenderOptions options_;
-  const vk::Pipeline* pipeline_;  // borrowed from the context's registry
+  const vk::Pipeline* pipeline_;            // borrowed from the context's registry
+  std::shared_ptr<const vk::Buffer> veil_;  // lamp_veil_table.h, read by every frame
   struct Resources;
   std::shared_ptr<Resources> res_;  // created on the first render()
 };

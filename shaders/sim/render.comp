@@ -1,7 +1,8 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 // The camera image (grey levels, already quantised) and the net's z-depth, exactly the model of
-// sim/render_cpu.cpp in float. One invocation renders ROWS pixels of one column, so its 8 x ROWS
+// sim/render_cpu.cpp in float, with the lamps' veil interpolated from a table of that model
+// (sim/lamp_veil_table.h: within 1.5 % of its peak). One invocation renders ROWS pixels of one column, so its 8 x ROWS
 // pixel tile shares one list of marine snow spots. Parameters: sim/render_vk.cpp.
 //
 // Speed on lavapipe (docs/performance.md): every storage-buffer read there is a per-lane loop,
@@ -241,6 +242,11 @@ layout(std430, binding = 2) writeonly buffer ImageBuf {
 };
 layout(std430, binding = 3) writeonly buffer DepthBuf {
   float depth[];
+};
+// The lamps' veil (sim/lamp_veil_table.h): per 8 x 8 pixel cell and node along the ray, the
+// values at the cell's four corners.
+layout(std430, binding = 4) readonly buffer VeilBuf {
+  vec4 veil[];
 };
 
 #include "hash.glsl"
@@ -610,36 +616,36 @@ vec2 first_opaque(vec3 d, vec3 dc) {
 }
 
 // The lamps' beams scattered once towards the camera along the ray up to t_end (cut at the
-// visible range), sim/lamp_veil.cpp's quadrature; in the camera frame, where the lamps are
-// constants and the ray starts at 0.
-const int kLampVeilSamples = 12;    // sim/lamp_veil.h
-const float kLampVeilScale = 0.1;
-float lamp_backscatter(vec3 dc, float t_end) {
-  if (!(LAMP_BACKSCATTER > 0.0)) return 0.0;
-  float dw = log(1.0 + min(t_end, VISIBLE_RANGE) / kLampVeilScale) / float(kLampVeilSamples);
-  float ratio = exp(dw), growth = exp(0.5 * dw), sum = 0.0;
-  for (int k = 0; k < kLampVeilSamples; ++k, growth *= ratio) {
-    float s = kLampVeilScale * (growth - 1.0);
-    for (uint i = 0u; i < NUM_LAMPS; ++i) {
-      vec3 v = s * dc - LAMP_POS(i);
-      float r2 = dot(v, v), r = sqrt(r2);
-      float ca = dot(v, LAMP_DIR(i)) / r;
-      if (ca <= 0.0) continue;
-      sum += LAMP_IE(i).x * (s + kLampVeilScale) *
-             exp(LAMP_IE(i).y * log(ca) - ATTENUATION * (r + s)) / max(r2, 0.01);
-    }
-  }
-  return LAMP_BACKSCATTER * sum * dw;
+// visible range): sim/lamp_veil.cpp's quadrature, tabulated per scenario (sim/lamp_veil_table.h)
+// because the lamps ride with the camera, interpolated bilinearly over the pixel and linearly in
+// ln(1 + t / kLampVeilScale) along the ray.
+const float kLampVeilScale = 0.1;  // sim/lamp_veil.h
+const uint kVeilStepPx = 8u, kVeilNodes = 64u;
+float lamp_backscatter(vec2 px, float t_end) {
+  if (!(LAMP_BACKSCATTER > 0.0) || NUM_LAMPS == 0u) return 0.0;
+  uint cells_x = (WIDTH + kVeilStepPx - 1u) / kVeilStepPx;
+  uint cells_y = (HEIGHT + kVeilStepPx - 1u) / kVeilStepPx;
+  float w_max = log(1.0 + VISIBLE_RANGE / kLampVeilScale);
+  float u = log(1.0 + min(t_end, VISIBLE_RANGE) / kLampVeilScale) / w_max * float(kVeilNodes - 1u);
+  uint j = min(uint(u), kVeilNodes - 2u);
+  vec2 g = max((px + 0.5) / float(kVeilStepPx), vec2(0.0));
+  uvec2 c = min(uvec2(g), uvec2(cells_x - 1u, cells_y - 1u));
+  vec2 f = g - vec2(c);
+  uint k = (c.y * cells_x + c.x) * kVeilNodes + j;
+  vec4 v = mix(veil[k], veil[k + 1u], u - float(j));  // corners x0y0, x1y0, x0y1, x1y1
+  return mix(mix(v.x, v.y, f.x), mix(v.z, v.w, f.x), f.y);
 }
 
-float radiance(vec3 Dc, out float depth_m) {
+// px: where the ray leaves the image (pixel coordinates).
+float radiance(vec2 px, out float depth_m) {
+  vec3 Dc = camera_ray(px);
   float len = length(Dc);
   vec3 Dw = R_wc * Dc, d = Dw / len, dc = Dc / len;
   vec2 opaque = first_opaque(d, dc);
   Hit h;
   depth_m = 0.0;
   if (!intersect_net(origin, d, h) || h.t >= opaque.x) {
-    return opaque.y + lamp_backscatter(dc, opaque.x);
+    return opaque.y + lamp_backscatter(px, opaque.x);
   }
   if (h.t <= VISIBLE_RANGE) depth_m = h.t / len * Dc.z;
   vec4 look = net_look(h, Dw, h.t / len);
@@ -660,7 +666,7 @@ float radiance(vec3 Dc, out float depth_m) {
   float L = cover * twine + (1.0 - cover) * opaque.y;
   if (look.z > 0.0)
     L = look.z * (ROPE_ALBEDO * E * T + background * (1.0 - T)) + (1.0 - look.z) * L;
-  return L + lamp_backscatter(dc, h.t);
+  return L + lamp_backscatter(px, h.t);
 }
 
 float gaussian(uint h1, uint h2) {
@@ -695,13 +701,13 @@ void main() {
       for (uint sx = 0u; sx < SAMPLES; ++sx) {
         vec2 px =
             vec2(float(x) + (float(sx) + 0.5) / n - 0.5, float(y) + (float(sy) + 0.5) / n - 0.5);
-        L += radiance(camera_ray(px), sample_z);
+        L += radiance(px, sample_z);
         if (2u * sx + 1u == SAMPLES && 2u * sy + 1u == SAMPLES) z = sample_z;
       }
     }
     L /= n * n;
     vec3 D0 = camera_ray(vec2(x, y));
-    if (SAMPLES % 2u == 0u) radiance(D0, z);
+    if (SAMPLES % 2u == 0u) radiance(vec2(x, y), z);
     uint i = y * WIDTH + x;
     depth[i] = z;
     if (has(kFeatureSnow)) {

@@ -1,11 +1,14 @@
-// The lamps' backscatter (sim/lamp_veil.h): the 12-point quadrature against a dense one, and a
-// veil that is bright along a lamp's beam and fades outside its cone.
+// The lamps' backscatter (sim/lamp_veil.h): the 12-point quadrature against a dense one, a veil
+// that is bright along a lamp's beam and fades outside its cone, and the Vulkan renderer's table
+// of it (sim/lamp_veil_table.h) against the quadrature.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 
 #include "sim/frame_state.h"
 #include "sim/lamp_veil.h"
+#include "sim/lamp_veil_table.h"
 #include "sim/render_cpu.h"
 #include "tests/sim/sim_test_scenes.h"
 
@@ -66,6 +69,38 @@ TEST(LampVeil, BrightInTheBeamDarkOutsideTheCone) {
   EXPECT_GT(right, 5);
   EXPECT_LT(centre, 0.01 * right);
   EXPECT_LT(left, 0.001 * right);
+}
+
+TEST(LampVeilTable, InterpolatesTheQuadrature) {
+  // Lamps beside the camera and aimed across the view, a distorted lens, rays cut anywhere from
+  // 5 cm to beyond the visible range.
+  std::vector<LampPose> lamps = two_lamps();
+  lamps[0].direction = Eigen::Vector3d(0.3, 0.1, 1).normalized();
+  lamps[1].position_m = {0.2, -0.15, 0.05};
+  PinholeCamera camera;
+  camera.k1 = -0.2;
+  camera.k2 = 0.05;
+  camera.p1 = 0.001;
+  const double c = 0.25, strength = 0.03, range = 15.6;
+  const LampVeilTable table(camera, lamps, c, strength, range);
+  std::mt19937 rng(std::random_device{}());
+  std::uniform_real_distribution<double> x(-0.5, camera.width_px - 0.5),
+      y(-0.5, camera.height_px - 0.5), log_t(std::log(0.05), std::log(30.0));
+  double worst = 0, peak = 0;
+  for (int i = 0; i < 20000; ++i) {
+    const double px = x(rng), py = y(rng), t = std::exp(log_t(rng));
+    const Eigen::Vector3d d = camera.ray({px, py}).normalized();
+    const double exact =
+        strength * lamp_veil(Eigen::Vector3d::Zero(), d, std::min(t, range), lamps, c);
+    worst = std::max(worst, std::abs(table.at(px, py, t) - exact));
+    peak = std::max(peak, exact);
+  }
+  std::printf("  lamp veil table: worst error %.2e of a peak %.2e (%.2f %%)\n", worst, peak,
+              100 * worst / peak);
+  // Measured 0.46-0.66 % over 20,000 draws each (the worst near 0.25 m, where a ray enters a
+  // beam); the veil's peak is about 5 grey levels, so 1.5 % of it is under 0.1 grey.
+  EXPECT_GT(peak, 0);
+  EXPECT_LT(worst, 0.015 * peak);
 }
 
 }  // namespace
