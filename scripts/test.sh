@@ -5,10 +5,11 @@
 # except the accuracy tests over many frames (label `accuracy`; their code, renderer, FFT detector
 # and estimators, runs under ASan in the shorter tests, and their long sequences would take a third
 # of the CI budget there) and the training smoke test (label `training`, Python). The rendered
-# tests render with the Vulkan renderer there (PENSIGHT_TEST_RENDERER, tests/support/rendered_run.h):
-# lavapipe is not instrumented, the CPU reference is, 15-20x slower. --tsan: the tests labelled `threads` with ThreadSanitizer
-# (build-tsan/). --fuzz: the fuzz targets (same build-asan/): each replays its seed corpus and
-# crash regressions, then fuzzes for 30 s.
+# tests render with the Vulkan renderer (PENSIGHT_TEST_RENDERER, tests/support/rendered_run.h),
+# 8x faster than the CPU reference on lavapipe and not instrumented under ASan; the reference keeps
+# its own tests. --tsan: the tests labelled `threads` with ThreadSanitizer (build-tsan/), rendering
+# with the CPU reference, whose rows run on threads. --fuzz: the fuzz targets (same build-asan/):
+# each replays its seed corpus and crash regressions, then fuzzes for 30 s.
 # The default and --sanitize builds include the ROS layer (its packages installed by
 # `scripts/setup.sh --with-ros`), so its tests (tests/ros/) run in CI.
 set -euo pipefail
@@ -22,7 +23,6 @@ if [ "$mode" = "--sanitize" ]; then
   # Mesa's llvmpipe keeps JIT and thread allocations until exit; leaks are not checked here.
   export ASAN_OPTIONS="detect_leaks=0:abort_on_error=1"
   export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
-  export PENSIGHT_TEST_RENDERER=vulkan
   # pensight_node under ASan takes ~0.3 s a frame on 2 cores: its tests play bags at a fifth of
   # real time so that it keeps up (tests/ros/node_test.cpp).
   export PENSIGHT_ROS_PLAY_RATE=0.2
@@ -52,6 +52,7 @@ else
   export PENSIGHT_BUILD_DIR=build
   scripts/setup.sh --with-ros
 fi
+if [ "$mode" != "--tsan" ]; then export PENSIGHT_TEST_RENDERER=vulkan; fi
 
 # ONNX Runtime (Node.js package, from the npm registry) is the independent runtime that exported
 # models are checked against; without npm those checks are skipped and say so.
