@@ -187,8 +187,10 @@ std::vector<uint32_t> specialization(const Scenario& s, const RenderOptions& o) 
                    kSeamTwines * net.twine_width_m}) {
     v.push_back(bits(x));
   }
-  // The last constant_id of render.comp is 160.
-  if (v.size() != 161)
+  v.push_back(LampVeilTable::kStepPx);
+  v.push_back(LampVeilTable::kNodes);
+  // The last constant_id of render.comp is 162.
+  if (v.size() != 163)
     throw Error("render_vk: specialization constants out of step with render.comp");
   return v;
 }

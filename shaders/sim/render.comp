@@ -182,6 +182,9 @@ layout(constant_id = 157) const float ROPE_ALBEDO = 0.6;
 layout(constant_id = 158) const float SEAM_U = 1.0;  // on the wall (closed)
 layout(constant_id = 159) const float SEAM_SPACING = 1.0;
 layout(constant_id = 160) const float SEAM_WIDTH = 0.01;
+// The lamps' veil table (sim/lamp_veil_table.h): its pixel step and nodes along the ray.
+layout(constant_id = 161) const uint VEIL_STEP_PX = 16;
+layout(constant_id = 162) const uint VEIL_NODES = 64;
 
 const uint ROWS = 8;  // pixels per invocation (render_vk.cpp: kRowsPerInvocation)
 
@@ -243,7 +246,7 @@ layout(std430, binding = 2) writeonly buffer ImageBuf {
 layout(std430, binding = 3) writeonly buffer DepthBuf {
   float depth[];
 };
-// The lamps' veil (sim/lamp_veil_table.h): per 8 x 8 pixel cell and node along the ray, the
+// The lamps' veil (sim/lamp_veil_table.h): per 16 x 16 pixel cell and node along the ray, the
 // values at the cell's four corners.
 layout(std430, binding = 4) readonly buffer VeilBuf {
   vec4 veil[];
@@ -620,18 +623,17 @@ vec2 first_opaque(vec3 d, vec3 dc) {
 // because the lamps ride with the camera, interpolated bilinearly over the pixel and linearly in
 // ln(1 + t / kLampVeilScale) along the ray.
 const float kLampVeilScale = 0.1;  // sim/lamp_veil.h
-const uint kVeilStepPx = 8u, kVeilNodes = 64u;
 float lamp_backscatter(vec2 px, float t_end) {
   if (!(LAMP_BACKSCATTER > 0.0) || NUM_LAMPS == 0u) return 0.0;
-  uint cells_x = (WIDTH + kVeilStepPx - 1u) / kVeilStepPx;
-  uint cells_y = (HEIGHT + kVeilStepPx - 1u) / kVeilStepPx;
+  uint cells_x = (WIDTH + VEIL_STEP_PX - 1u) / VEIL_STEP_PX;
+  uint cells_y = (HEIGHT + VEIL_STEP_PX - 1u) / VEIL_STEP_PX;
   float w_max = log(1.0 + VISIBLE_RANGE / kLampVeilScale);
-  float u = log(1.0 + min(t_end, VISIBLE_RANGE) / kLampVeilScale) / w_max * float(kVeilNodes - 1u);
-  uint j = min(uint(u), kVeilNodes - 2u);
-  vec2 g = max((px + 0.5) / float(kVeilStepPx), vec2(0.0));
+  float u = log(1.0 + min(t_end, VISIBLE_RANGE) / kLampVeilScale) / w_max * float(VEIL_NODES - 1u);
+  uint j = min(uint(u), VEIL_NODES - 2u);
+  vec2 g = max((px + 0.5) / float(VEIL_STEP_PX), vec2(0.0));
   uvec2 c = min(uvec2(g), uvec2(cells_x - 1u, cells_y - 1u));
   vec2 f = g - vec2(c);
-  uint k = (c.y * cells_x + c.x) * kVeilNodes + j;
+  uint k = (c.y * cells_x + c.x) * VEIL_NODES + j;
   vec4 v = mix(veil[k], veil[k + 1u], u - float(j));  // corners x0y0, x1y0, x0y1, x1y1
   return mix(mix(v.x, v.y, f.x), mix(v.z, v.w, f.x), f.y);
 }
