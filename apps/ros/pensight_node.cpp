@@ -21,6 +21,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -255,9 +256,21 @@ class PensightNode {
       pipeline_->push(std::move(frame));
     } catch (const Error& e) {
       ++refused_frames_;
-      ROS_ERROR_THROTTLE(5, "pensight_node: %s; frame skipped (%zu so far)", e.what(),
-                         refused_frames_);
+      log_refusal(e.what());
     }
+  }
+
+  // A new kind of refused frame is logged at once, a repeat of the last kind at most every 5 s
+  // (a live camera at 10 Hz would flood the log). The kind is the message without its digits
+  // (stamps, sizes).
+  void log_refusal(const std::string& what) {
+    std::string kind = what;
+    std::erase_if(kind, [](char c) { return c >= '0' && c <= '9'; });
+    const Clock::time_point now = Clock::now();
+    if (kind == last_refusal_kind_ && now - last_refusal_log_ < std::chrono::seconds(5)) return;
+    last_refusal_kind_ = std::move(kind);
+    last_refusal_log_ = now;
+    ROS_ERROR("pensight_node: %s; frame skipped (%zu so far)", what.c_str(), refused_frames_);
   }
 
   // The DVL's twist and its beam ranges (a separate message without a header) pair by arrival
@@ -370,6 +383,8 @@ class PensightNode {
   std::deque<std::function<void()>> frames_before_start_;
   int64_t last_frame_ns_ = INT64_MIN;
   size_t dropped_before_camera_ = 0, refused_frames_ = 0;
+  std::string last_refusal_kind_;
+  Clock::time_point last_refusal_log_;
   std::optional<DvlSample> pending_twist_;
   std::optional<std::array<double, 4>> ranges_;
 

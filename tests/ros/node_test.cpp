@@ -328,7 +328,10 @@ TEST_F(NodeTest, WithoutCameraInfoSaysWhatIsMissingAndKeepsRunning) {
   EXPECT_NE(log.find("0 frames published"), std::string::npos) << log;
 }
 
-TEST_F(NodeTest, AnUnsupportedEncodingIsLoggedAndTheFrameSkipped) {
+// Bad frames from a live camera: an encoding the node does not decode, a frame of another size
+// than camera_info's, a frame whose data is shorter than height x step. Each is logged with what
+// is wrong and skipped; the node keeps running.
+TEST_F(NodeTest, BadFramesAreLoggedAndSkipped) {
   ros::NodeHandle nh;
   auto node = start_node("encoding", {scene_param(), "model:=none", "backend:=cpu"});
   ASSERT_TRUE(wait_for([] { return advertised("/encoding/relative_pose"); }, 30s)) << node->log();
@@ -353,11 +356,31 @@ TEST_F(NodeTest, AnUnsupportedEncodingIsLoggedAndTheFrameSkipped) {
   image_pub.publish(image);
   ASSERT_TRUE(wait_for([&] { return node->log().find("bayer_rggb8") != std::string::npos; }, 30s))
       << node->log();
+  image.header.stamp.fromSec(2.0);
+  image.encoding = "mono8";
+  image.width = 320;
+  image.height = 240;
+  image.step = image.width;
+  image.data.assign(size_t{320} * 240, 128);
+  image_pub.publish(image);
+  ASSERT_TRUE(wait_for(
+      [&] { return node->log().find("image is 320x240 but the camera is") != std::string::npos; },
+      30s))
+      << node->log();
+  image.header.stamp.fromSec(3.0);
+  image.width = info.width;
+  image.height = info.height;
+  image.step = image.width;
+  image.data.assign(size_t{1000}, 128);  // far less than height x step
+  image_pub.publish(image);
+  ASSERT_TRUE(wait_for(
+      [&] { return node->log().find("needs a step of at least") != std::string::npos; }, 30s))
+      << node->log();
   EXPECT_TRUE(node->running());
   EXPECT_EQ(node->stop(30s), 0) << node->log();
   const std::string log = node->log();
   EXPECT_NE(log.find("mono8"), std::string::npos) << log;  // names what it takes
-  EXPECT_NE(log.find("1 refused"), std::string::npos) << log;
+  EXPECT_NE(log.find("3 refused"), std::string::npos) << log;
 }
 
 TEST_F(NodeTest, ABadParameterStopsTheNodeWithItsName) {
