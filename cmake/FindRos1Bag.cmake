@@ -1,6 +1,6 @@
 # Find module for the ROS 1 bag library and the message headers of the ROS layer (ros/): Debian 12's
-# librosbag-storage-dev, libsensor-msgs-dev, libgeometry-msgs-dev and libstd-msgs-dev
-# (scripts/packages-ros.txt). Debian ships ROS 1 without catkin, and its rosbag_storage CMake config
+# librosbag-storage-dev, libsensor-msgs-dev, libgeometry-msgs-dev, libstd-msgs-dev, and the chunk
+# decompressors libroslz4-dev and libbz2-dev (scripts/packages-ros.txt). Debian ships ROS 1 without catkin, and its rosbag_storage CMake config
 # and pkg-config file cannot be used (they need ament's Python package and a pluginlib.pc), so the
 # headers and libraries are found by name here. rosbag/bag.h includes the ROS 2 pluginlib that
 # Debian builds it against, whose headers sit one folder down (/usr/include/pluginlib/pluginlib/).
@@ -8,7 +8,7 @@
 set(_ros1bag_headers
   rosbag/bag.h sensor_msgs/Image.h sensor_msgs/CompressedImage.h sensor_msgs/CameraInfo.h
   sensor_msgs/FluidPressure.h sensor_msgs/Imu.h geometry_msgs/TwistWithCovarianceStamped.h
-  std_msgs/Float64MultiArray.h)
+  std_msgs/Float64MultiArray.h roslz4/lz4s.h bzlib.h)
 set(_ros1bag_vars)
 foreach(header ${_ros1bag_headers})
   string(MAKE_C_IDENTIFIER "Ros1Bag_${header}" var)
@@ -28,7 +28,7 @@ foreach(header ${_ros1bag_nested})
   list(APPEND _ros1bag_nested_dirs ${${var}})
 endforeach()
 set(_ros1bag_libs)
-foreach(lib rosbag_storage roscpp_serialization rostime cpp_common console_bridge)
+foreach(lib rosbag_storage roscpp_serialization rostime cpp_common console_bridge roslz4 bz2)
   find_library(Ros1Bag_${lib}_LIBRARY ${lib})
   list(APPEND _ros1bag_vars Ros1Bag_${lib}_LIBRARY)
   list(APPEND _ros1bag_libs ${Ros1Bag_${lib}_LIBRARY})

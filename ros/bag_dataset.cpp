@@ -13,6 +13,7 @@
 #include "pipeline/dataset/calibration_yaml.h"
 #include "pipeline/dataset/dataset_reader.h"
 #include "pipeline/dataset/dataset_writer.h"
+#include "ros/bag_structure.h"
 #include "ros/message_conversions_detail.h"
 #include "ros/ros_messages_detail.h"
 #include "runtime/error.h"
@@ -31,6 +32,7 @@ using BagIndex = std::map<std::string, TopicInfo>;
 void open_bag(rosbag::Bag& bag, const fs::path& file) {
   if (!fs::exists(file)) throw Error("bag '" + file.string() + "' not found");
   if (!fs::is_regular_file(file)) throw Error("bag '" + file.string() + "' is not a file");
+  check_bag_structure(file);
   try {
     bag.open(file.string(), rosbag::bagmode::Read);
   } catch (const rosbag::BagUnindexedException&) {

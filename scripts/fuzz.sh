@@ -33,6 +33,11 @@ fi
 # PENSIGHT_FUZZ_BUILT=1: the caller has just built (parallel runs must not configure at once).
 if [ "${PENSIGHT_FUZZ_BUILT:-}" != 1 ]; then build >/dev/null; fi
 binary=$build_dir/fuzz/fuzz_$target
+if [ ! -x "$binary" ]; then
+  # fuzz_bag needs the ROS layer (scripts/setup.sh --with-ros); the others are always built.
+  echo "fuzz: $binary was not built (its layer is off in $build_dir); skipped" >&2
+  exit 0
+fi
 mkdir -p .cache/fuzz
 corpus=.cache/fuzz/$target
 seeds=fuzz/corpus/$target

@@ -158,6 +158,50 @@ TEST_F(BagInputErrors, AMissingBagOrAnotherFileIsAnError) {
   expect_error(cut, {"in.bag", "rosbag reindex"});
 }
 
+// Overwrites the 4 or 8 bytes after the first `field=` in `file` with `value` (little endian).
+void patch_field(const fs::path& file, const std::string& field, uint64_t value, int bytes) {
+  std::fstream f(file, std::ios::in | std::ios::out | std::ios::binary);
+  std::string data((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  const size_t at = data.find(field + "=");
+  ASSERT_NE(at, std::string::npos) << field;
+  f.seekp(static_cast<std::streamoff>(at + field.size() + 1));
+  for (int i = 0; i < bytes; ++i) f.put(static_cast<char>((value >> (8 * i)) & 0xff));
+}
+
+// rosbag believes the lengths in a file (it would allocate gigabytes for a damaged one), so the
+// record structure is checked first (ros/bag_structure.h); each damage is named with its offset.
+TEST_F(BagInputErrors, DamagedLengthsAreNamedWithTheirOffset) {
+  fs::path file = bag();
+  {
+    std::fstream f(file, std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(13);  // the bag header record's header length, after the magic line
+    for (int i = 0; i < 4; ++i) f.put(static_cast<char>(i < 3 ? 0xff : 0x7f));
+  }
+  expect_error(file, {"in.bag", "not a readable ROS 1 bag", "byte 13", "runs past the end"});
+  file = bag();
+  patch_field(file, "index_pos", fs::file_size(file) + 100, 8);
+  expect_error(file, {"in.bag", "index position", "outside the file"});
+  file = bag();
+  patch_field(file, "size", 0xfffffff0u, 4);  // the chunk's
+  expect_error(file, {"in.bag", "uncompressed chunk", "says it has 4294967280"});
+  // Compressed chunks are unpacked to check their records; a size field beyond the limit is
+  // refused before any allocation.
+  for (const auto& [name, compression] :
+       {std::pair{"lz4", rosbag::compression::LZ4}, {"bz2", rosbag::compression::BZ2}}) {
+    file = dir_ / (std::string(name) + ".bag");
+    {
+      rosbag::Bag b(file.string(), rosbag::bagmode::Write);
+      b.setCompression(compression);
+      write_camera_info(b);
+      write_frame(b, kSecond_ns);
+    }
+    EXPECT_EQ(convert(file).frames, 1u) << name;
+    fs::remove_all(dir_ / "out");
+    patch_field(file, "size", 0xfffffff0u, 4);
+    expect_error(file, {std::string(name) + ".bag", "unpacks to 4294967280 bytes"});
+  }
+}
+
 TEST_F(BagInputErrors, AnEmptyBagIsAnError) {
   const fs::path file = dir_ / "empty.bag";
   rosbag::Bag(file.string(), rosbag::bagmode::Write).close();
