@@ -265,6 +265,44 @@ TEST_F(NodeTest, PublishesEveryTopicPerFrameAtTheCameraRateWithTheEstimatesOfRun
   EXPECT_GT(with_global_pose, frames / 2);
 }
 
+// The real frame of ../shared/real (a full-scale pen, 1280x720, sheared square mesh), sent as a
+// PNG CompressedImage: the node finds the net in it as `pensight run` does on the same bag.
+TEST_F(NodeTest, FindsTheNetInTheRealFrameAsRunDoes) {
+  const fs::path real = fs::path(PENSIGHT_SHARED_DIR) / "real" / "solaqua_close";
+  const Dataset d = read_dataset(real);
+  testing::BagWriteOptions w;
+  w.image_encoding = "png";
+  const fs::path bag = dir() / "real.bag";
+  testing::dataset_to_bag(d, bag, w);
+  ros::NodeHandle nh;
+  Recorder<node::msg::Float64> distance(nh, "/real/net_distance"), yaw(nh, "/real/net_yaw");
+  auto node = start_node(
+      "real", {"scene:=" + (real / "scene.yaml").string(), "model:=none", "backend:=cpu"});
+  ASSERT_TRUE(wait_for([] { return advertised("/real/net_distance"); }, 30s)) << node->log();
+  std::this_thread::sleep_for(1s);  // subscriptions settle
+  ChildProcess play = play_bag(bag, dir() / "play_real.log");
+  ASSERT_EQ(play.wait(120s), 0) << play.log();
+  wait_for([&] { return distance.size() >= 1 && yaw.size() >= 1; }, 30s);
+  ASSERT_EQ(node->stop(30s), 0) << node->log();
+  ASSERT_EQ(distance.size(), 1u) << node->log();
+  ASSERT_EQ(yaw.size(), 1u);
+
+  BagConversionOptions o;
+  o.scene_file = real / "scene.yaml";
+  bag_to_dataset(bag, dir() / "real_converted", o);
+  RunOptions options;
+  options.detector.backend = Backend::kCpu;
+  options.write_published_global_pose = false;
+  run_dataset(read_dataset(dir() / "real_converted"), dir() / "real_run", options,
+              testing::test_device());
+  const std::vector<EstimateRow> rows = read_estimates_csv(dir() / "real_run" / "estimates.csv");
+  ASSERT_EQ(rows.size(), 1u);
+  // docs/fft_detection.md: 0.355 m and -9.3 deg on this frame.
+  EXPECT_NEAR(rows[0].d_net_fft_m, 0.355, 0.01);
+  expect_same(distance.messages()[0].data, rows[0].d_net_fft_m, "net_distance");
+  expect_same(yaw.messages()[0].data, rows[0].psi_net_fft_rad, "net_yaw");
+}
+
 // With the shipped depth network: ~depth per frame with net priors, at the camera's size, and
 // ~map (the occupied voxels in P) while someone listens.
 TEST_F(NodeTest, PublishesDenseDepthAndTheMapWithTheShippedModel) {
