@@ -88,7 +88,10 @@ bool has_topic(const BagIndex& index, const char* role, const std::string& topic
 template <class Message, class F>
 void for_each_message(rosbag::Bag& bag, const std::string& topic, F&& f) {
   for (const rosbag::MessageInstance& m : rosbag::View(bag, rosbag::TopicQuery(topic))) {
-    const boost::shared_ptr<Message> message = m.instantiate<Message>();
+    const boost::shared_ptr<Message> message = [&] {
+      const msg::MessageBytesLimit limit(m.size());
+      return m.instantiate<Message>();
+    }();
     if (!message) {
       throw Error("topic '" + topic + "': its " + m.getDataType() + " messages have MD5 sum " +
                   m.getMD5Sum() + ", not " + ros::message_traits::MD5Sum<Message>::value() +

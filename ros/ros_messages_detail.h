@@ -13,10 +13,30 @@
 #include <sensor_msgs/Imu.h>
 #include <std_msgs/Float64MultiArray.h>
 
+#include <limits>
 #include <memory>
 #include <string>
 
 namespace pensight::msg {
+
+// The most bytes one array or string of a message being read may hold: no more than the whole
+// serialized message, so a length field beyond it is damage. The deserializer sizes a vector
+// from its length field before it reads the elements (and finds the stream short), so a damaged
+// field would allocate gigabytes. Unlimited except while MessageBytesLimit is alive (per thread).
+inline thread_local size_t message_bytes_limit = std::numeric_limits<size_t>::max();
+
+class MessageBytesLimit {
+ public:
+  explicit MessageBytesLimit(size_t bytes) : previous_(message_bytes_limit) {
+    message_bytes_limit = bytes;
+  }
+  ~MessageBytesLimit() { message_bytes_limit = previous_; }
+  MessageBytesLimit(const MessageBytesLimit&) = delete;
+  MessageBytesLimit& operator=(const MessageBytesLimit&) = delete;
+
+ private:
+  size_t previous_;
+};
 
 template <class T>
 struct RosAllocator : std::allocator<T> {
@@ -28,6 +48,16 @@ struct RosAllocator : std::allocator<T> {
   struct rebind {
     using other = RosAllocator<U>;
   };
+  // Throws ros::serialization::StreamOverrunException (a ros::Exception, as for a short stream)
+  // beyond message_bytes_limit.
+  T* allocate(size_t n) {
+    if (n > message_bytes_limit / sizeof(T)) {
+      throw ros::serialization::StreamOverrunException(
+          "an array of " + std::to_string(n) + " elements in a message of " +
+          std::to_string(message_bytes_limit) + " bytes");
+    }
+    return std::allocator<T>::allocate(n);
+  }
 };
 
 using CameraInfo = sensor_msgs::CameraInfo_<RosAllocator<void>>;

@@ -158,14 +158,18 @@ TEST_F(BagInputErrors, AMissingBagOrAnotherFileIsAnError) {
   expect_error(cut, {"in.bag", "rosbag reindex"});
 }
 
-// Overwrites the 4 or 8 bytes after the first `field=` in `file` with `value` (little endian).
-void patch_field(const fs::path& file, const std::string& field, uint64_t value, int bytes) {
+// Overwrites the `bytes` bytes after the first `marker` in `file` with `value` (little endian).
+void patch_after(const fs::path& file, const std::string& marker, uint64_t value, int bytes) {
   std::fstream f(file, std::ios::in | std::ios::out | std::ios::binary);
   std::string data((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
-  const size_t at = data.find(field + "=");
-  ASSERT_NE(at, std::string::npos) << field;
-  f.seekp(static_cast<std::streamoff>(at + field.size() + 1));
+  const size_t at = data.find(marker);
+  ASSERT_NE(at, std::string::npos) << marker;
+  f.seekp(static_cast<std::streamoff>(at + marker.size()));
   for (int i = 0; i < bytes; ++i) f.put(static_cast<char>((value >> (8 * i)) & 0xff));
+}
+
+void patch_field(const fs::path& file, const std::string& field, uint64_t value, int bytes) {
+  patch_after(file, field + "=", value, bytes);
 }
 
 // rosbag believes the lengths in a file (it would allocate gigabytes for a damaged one), so the
@@ -200,6 +204,28 @@ TEST_F(BagInputErrors, DamagedLengthsAreNamedWithTheirOffset) {
     patch_field(file, "size", 0xfffffff0u, 4);
     expect_error(file, {std::string(name) + ".bag", "unpacks to 4294967280 bytes"});
   }
+}
+
+// A message whose array length field says more elements than the message has bytes: the
+// deserializer would allocate them (here 4 G doubles) before it finds the message short.
+TEST_F(BagInputErrors, AnArrayLongerThanItsMessageIsDamage) {
+  const fs::path file = dir_ / "in.bag";
+  {
+    rosbag::Bag b(file.string(), rosbag::bagmode::Write);
+    msg::CameraInfo m;
+    m.header.stamp = stamp(kSecond_ns);
+    m.width = kWidth;
+    m.height = kHeight;
+    m.distortion_model = "plumb_bob_then_d";  // D's length follows this string
+    m.D = {0, 0, 0, 0, 0};
+    m.K = {10, 0, 3.5, 0, 10, 2.5, 0, 0, 1};
+    b.write("/camera/camera_info", m.header.stamp, m);
+    for (int i = 0; i < 3; ++i) write_frame(b, kSecond_ns + i * kSecond_ns / 10);
+  }
+  EXPECT_EQ(convert(file).frames, 3u);
+  fs::remove_all(dir_ / "out");
+  patch_after(file, "plumb_bob_then_d", 0xfffffff0u, 4);
+  expect_error(file, {"in.bag", "damaged", "an array of 4294967280 elements"});
 }
 
 TEST_F(BagInputErrors, AnEmptyBagIsAnError) {
