@@ -13,22 +13,25 @@
 #include <sensor_msgs/Imu.h>
 #include <std_msgs/Float64MultiArray.h>
 
-#include <limits>
+#include <algorithm>
 #include <memory>
 #include <string>
 
 namespace pensight::msg {
 
-// The most bytes one array or string of a message being read may hold: no more than the whole
-// serialized message, so a length field beyond it is damage. The deserializer sizes a vector
+// The most bytes one array or string of a message may hold. ROS's deserializer sizes a vector
 // from its length field before it reads the elements (and finds the stream short), so a damaged
-// field would allocate gigabytes. Unlimited except while MessageBytesLimit is alive (per thread).
-inline thread_local size_t message_bytes_limit = std::numeric_limits<size_t>::max();
+// field would allocate gigabytes. While MessageBytesLimit is alive (the bag reader, per message)
+// the bound is the serialized message's size; otherwise (the node's subscriptions, which roscpp
+// deserializes) it is kMaxMessageArrayBytes: no message this project reads or writes comes near
+// it (a 4K colour image is 25 MB).
+inline constexpr size_t kMaxMessageArrayBytes = size_t{256} << 20;
+inline thread_local size_t message_bytes_limit = kMaxMessageArrayBytes;
 
 class MessageBytesLimit {
  public:
   explicit MessageBytesLimit(size_t bytes) : previous_(message_bytes_limit) {
-    message_bytes_limit = bytes;
+    message_bytes_limit = std::min(bytes, previous_);
   }
   ~MessageBytesLimit() { message_bytes_limit = previous_; }
   MessageBytesLimit(const MessageBytesLimit&) = delete;
@@ -53,8 +56,8 @@ struct RosAllocator : std::allocator<T> {
   T* allocate(size_t n) {
     if (n > message_bytes_limit / sizeof(T)) {
       throw ros::serialization::StreamOverrunException(
-          "an array of " + std::to_string(n) + " elements in a message of " +
-          std::to_string(message_bytes_limit) + " bytes");
+          "an array of " + std::to_string(n) + " elements of " + std::to_string(sizeof(T)) +
+          " bytes where at most " + std::to_string(message_bytes_limit) + " bytes can be");
     }
     return std::allocator<T>::allocate(n);
   }

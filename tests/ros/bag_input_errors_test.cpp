@@ -225,7 +225,33 @@ TEST_F(BagInputErrors, AnArrayLongerThanItsMessageIsDamage) {
   EXPECT_EQ(convert(file).frames, 3u);
   fs::remove_all(dir_ / "out");
   patch_after(file, "plumb_bob_then_d", 0xfffffff0u, 4);
-  expect_error(file, {"in.bag", "damaged", "an array of 4294967280 elements"});
+  expect_error(file, {"in.bag", "damaged", "an array of 4294967280 elements", "bytes can be"});
+  try {  // bounded by the message's own size, not by kMaxMessageArrayBytes
+    convert(file);
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()).find(std::to_string(msg::kMaxMessageArrayBytes)),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+// Outside the bag reader (roscpp deserializing the node's subscriptions) the bound is
+// kMaxMessageArrayBytes: a damaged length is an exception roscpp reports, not 2 GB zeroed.
+TEST(RosMessages, AnArrayBeyondTheBoundIsAStreamError) {
+  msg::CameraInfo m;
+  m.distortion_model = "plumb_bob_then_d";
+  m.D = {0, 0, 0, 0, 0};
+  std::vector<uint8_t> buffer(ros::serialization::serializationLength(m));
+  ros::serialization::OStream out(buffer.data(), static_cast<uint32_t>(buffer.size()));
+  ros::serialization::serialize(out, m);
+  const std::string bytes(buffer.begin(), buffer.end());
+  const size_t at = bytes.find("plumb_bob_then_d") + 16;
+  const uint32_t doubles = (msg::kMaxMessageArrayBytes / 8) + 1;
+  for (int i = 0; i < 4; ++i) buffer[at + i] = static_cast<uint8_t>(doubles >> (8 * i));
+  msg::CameraInfo read;
+  ros::serialization::IStream in(buffer.data(), static_cast<uint32_t>(buffer.size()));
+  EXPECT_THROW(ros::serialization::deserialize(in, read),
+               ros::serialization::StreamOverrunException);
 }
 
 TEST_F(BagInputErrors, AnEmptyBagIsAnError) {
