@@ -90,6 +90,9 @@ class Recorder {
     std::lock_guard lock(mutex_);
     return messages_.size();
   }
+  // Connected to a publisher (roscpp sets up subscriptions asynchronously: what a publisher
+  // sends before is not delivered).
+  bool connected() const { return sub_.getNumPublishers() > 0; }
 
  private:
   void on_message(const boost::shared_ptr<const Message>& m) {
@@ -102,6 +105,15 @@ class Recorder {
   std::vector<Message> messages_;
   std::vector<double> arrivals_s_;
 };
+
+// Until every recorder is connected to its publisher (at most 30 s), then half a second more for
+// the connections' handshakes.
+template <class... Recorders>
+bool connected(const Recorders&... recorders) {
+  const bool all = wait_for([&] { return (recorders.connected() && ...); }, 30s);
+  std::this_thread::sleep_for(500ms);
+  return all;
+}
 
 class NodeTest : public ::testing::Test {
  protected:
@@ -198,8 +210,7 @@ TEST_F(NodeTest, PublishesEveryTopicPerFrameAtTheCameraRateWithTheEstimatesOfRun
   Recorder<node::msg::TFMessage> tf(nh, "/tf");
   auto node = start_node("pensight", {scene_param(), "model:=none", "backend:=cpu"});
   ASSERT_TRUE(wait_for([] { return advertised("/pensight/relative_pose"); }, 30s)) << node->log();
-  ASSERT_TRUE(wait_for([&] { return distance.size() == 0; }, 1s));  // subscriptions settle
-  std::this_thread::sleep_for(1s);
+  ASSERT_TRUE(connected(relative, distance, pitch, yaw, points, sparse, global, tf)) << node->log();
 
   ChildProcess play = play_bag(bag_file(), dir() / "play.log");
   ASSERT_EQ(play.wait(120s), 0) << play.log();
@@ -279,7 +290,7 @@ TEST_F(NodeTest, FindsTheNetInTheRealFrameAsRunDoes) {
   auto node = start_node(
       "real", {"scene:=" + (real / "scene.yaml").string(), "model:=none", "backend:=cpu"});
   ASSERT_TRUE(wait_for([] { return advertised("/real/net_distance"); }, 30s)) << node->log();
-  std::this_thread::sleep_for(1s);  // subscriptions settle
+  ASSERT_TRUE(connected(distance, yaw)) << node->log();
   ChildProcess play = play_bag(bag, dir() / "play_real.log");
   ASSERT_EQ(play.wait(120s), 0) << play.log();
   wait_for([&] { return distance.size() >= 1 && yaw.size() >= 1; }, 30s);
@@ -313,7 +324,7 @@ TEST_F(NodeTest, PublishesDenseDepthAndTheMapWithTheShippedModel) {
   auto node =
       start_node("depth_node", {scene_param(), "model:=auto", "backend:=cpu", "map_rate_hz:=4.0"});
   ASSERT_TRUE(wait_for([] { return advertised("/depth_node/relative_pose"); }, 30s)) << node->log();
-  std::this_thread::sleep_for(1s);
+  ASSERT_TRUE(connected(depth, relative)) << node->log();  // ~map is advertised with the camera
   ChildProcess play = play_bag(bag_file(), dir() / "play_depth.log");
   ASSERT_EQ(play.wait(120s), 0) << play.log();
   const size_t frames = original().frames.size();
