@@ -3,7 +3,6 @@
 #include <bzlib.h>
 #include <roslz4/lz4s.h>
 
-#include <cstring>
 #include <fstream>
 #include <map>
 #include <set>
@@ -36,7 +35,6 @@ class Records {
       : file_(file), in_(in), pos_(begin), end_(end), where_(std::move(where)) {}
 
   bool done() const { return pos_ >= end_; }
-  uint64_t pos() const { return pos_; }
 
   struct Record {
     uint64_t offset = 0;  // of its header length

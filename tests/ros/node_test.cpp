@@ -176,6 +176,21 @@ class NodeTest : public ::testing::Test {
     return false;
   }
 
+  // `pensight run` on `bag` (as `pensight run BAG --scene SCENE`), its outputs in dir()/name:
+  // the rows of its estimates.csv.
+  static std::vector<EstimateRow> run_estimates(const fs::path& bag, const fs::path& scene,
+                                                const std::string& name) {
+    BagConversionOptions o;
+    o.scene_file = scene;
+    bag_to_dataset(bag, dir() / (name + "_dataset"), o);
+    RunOptions options;
+    options.detector.backend = Backend::kCpu;
+    options.write_published_global_pose = false;
+    run_dataset(read_dataset(dir() / (name + "_dataset")), dir() / name, options,
+                testing::test_device());
+    return read_estimates_csv(dir() / name / "estimates.csv");
+  }
+
   static std::string scene_param() { return "scene:=" + (original().root / "scene.yaml").string(); }
 
  private:
@@ -235,15 +250,8 @@ TEST_F(NodeTest, PublishesEveryTopicPerFrameAtTheCameraRateWithTheEstimatesOfRun
   EXPECT_NEAR((t.back() - t.front()) / static_cast<double>(frames - 1), 0.1 / play_rate(),
               0.02 / play_rate());
 
-  // `pensight run` on the same bag (as `pensight run BAG --scene`).
-  BagConversionOptions o;
-  o.scene_file = original().root / "scene.yaml";
-  bag_to_dataset(bag_file(), dir() / "converted", o);
-  RunOptions options;
-  options.detector.backend = Backend::kCpu;
-  options.write_published_global_pose = false;
-  run_dataset(read_dataset(dir() / "converted"), dir() / "run", options, testing::test_device());
-  const std::vector<EstimateRow> rows = read_estimates_csv(dir() / "run" / "estimates.csv");
+  const std::vector<EstimateRow> rows =
+      run_estimates(bag_file(), original().root / "scene.yaml", "run");
   ASSERT_EQ(rows.size(), frames);
 
   const auto rel = relative.messages();
@@ -298,15 +306,7 @@ TEST_F(NodeTest, FindsTheNetInTheRealFrameAsRunDoes) {
   ASSERT_EQ(distance.size(), 1u) << node->log();
   ASSERT_EQ(yaw.size(), 1u);
 
-  BagConversionOptions o;
-  o.scene_file = real / "scene.yaml";
-  bag_to_dataset(bag, dir() / "real_converted", o);
-  RunOptions options;
-  options.detector.backend = Backend::kCpu;
-  options.write_published_global_pose = false;
-  run_dataset(read_dataset(dir() / "real_converted"), dir() / "real_run", options,
-              testing::test_device());
-  const std::vector<EstimateRow> rows = read_estimates_csv(dir() / "real_run" / "estimates.csv");
+  const std::vector<EstimateRow> rows = run_estimates(bag, real / "scene.yaml", "real_run");
   ASSERT_EQ(rows.size(), 1u);
   // docs/fft_detection.md: 0.355 m and -9.3 deg on this frame.
   EXPECT_NEAR(rows[0].d_net_fft_m, 0.355, 0.01);
