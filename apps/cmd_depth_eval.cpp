@@ -34,8 +34,9 @@ int cmd_depth_eval(const Args& args) {
     return cli.exit(e);
   }
   std::printf(
-      "| dataset | frames | AbsRel net | AbsRel S1 | AbsRel FFT plane | delta1 net | RMSE net m | "
-      "d_net_depth median | psi_net_depth median deg |\n|---|---|---|---|---|---|---|---|---|\n");
+      "| dataset | frames | AbsRel net | AbsRel S1 | AbsRel FFT plane | AbsRel prior surface | "
+      "delta1 net | RMSE net m | d_net_depth median | psi_net_depth median deg |\n"
+      "|---|---|---|---|---|---|---|---|---|---|\n");
   Device device;
   for (const std::string& dir : datasets) {
     const Dataset dataset = read_dataset(dir);
@@ -49,10 +50,10 @@ int cmd_depth_eval(const Args& args) {
     DepthEstimator estimator(dataset.cam0.camera,
                              {.model = file, .backend = parse_depth_backend(backend)}, device);
     const DepthAccuracy a = depth_accuracy(dataset, detector, estimator, stride);
-    std::printf("| %s | %zu | %.4f | %.4f | %.4f | %.4f | %.4f | %.2f %% | %.2f |\n",
+    std::printf("| %s | %zu | %.4f | %.4f | %.4f | %.4f | %.4f | %.4f | %.2f %% | %.2f |\n",
                 std::filesystem::path(dir).filename().c_str(), a.frames, a.network.abs_rel,
-                a.s1.abs_rel, a.fft_plane.abs_rel, a.network.delta1, a.network.rmse_m,
-                100 * a.d_net_median_rel, rad_to_deg(a.psi_median_rad));
+                a.s1.abs_rel, a.fft_plane.abs_rel, a.surface.abs_rel, a.network.delta1,
+                a.network.rmse_m, 100 * a.d_net_median_rel, rad_to_deg(a.psi_median_rad));
     std::fflush(stdout);
   }
   return 0;

@@ -9,12 +9,14 @@ DIR is a `pensight depth-data` folder (sim/depth_training.h): depth_data.txt ("k
 lines), image.u8 (N*H*W grey), depth_mm.u16 (N*H*W ground-truth z-depth in mm, 0 = no net),
 points.f32 (N*max_points*4: x_px, y_px, depth_m, quality) and num_points.i32 (N).
 
-The network sees the grey image and TRUDepth's prior maps S1/S2 (kernels/sparse_prior): for
+The network sees the grey image, TRUDepth's prior maps S1/S2 (kernels/sparse_prior): for
 every pixel the nearest sparse point after snapping to the pixel grid, S1 = its depth and
-S2 = exp(-r^2 / (2 sigma^2)). Samples without points are skipped (the pipeline does not run the
-network without priors). Without --val the last 10 % of DIR's samples are the validation set.
+S2 = exp(-r^2 / (2 sigma^2)), and the prior surface Q (pipeline/depth/prior_surface.h: a
+quadric in inverse depth fitted through the points), and predicts a correction factor to Q.
+Samples without points are skipped (the pipeline does not run the network without priors).
+Without --val the last 10 % of DIR's samples are the validation set.
 
-Writes FILE.onnx (opset 17, static 1x1xHxW "image" and 1x2xHxW "prior" in, 1x1xHxW "depth" in
+Writes FILE.onnx (opset 17, static 1x1xHxW "image" and 1x3xHxW "prior" in, 1x1xHxW "depth" in
 metres out, BatchNorm folded into the convolutions) and FILE.onnx.json, the one-line JSON summary
 that also goes to stdout. Exit code 2 on unusable input (missing or inconsistent data files, a
 checkpoint that cannot be resumed).
@@ -99,6 +101,42 @@ def snap(v):
     return torch.floor(v.float() + 0.5).long()
 
 
+# pipeline/depth/prior_surface.h's ridge, relative to the sum of the weights: none on the
+# constant, a token one on the slopes (a row of points leaves the slope across it at 0), and one
+# on the curvatures that only points spread over the image overcome.
+SURFACE_RIDGE = np.array([0.0, 1e-6, 1e-6, 1e-3, 1e-3, 1e-3])
+
+
+def fit_prior_surface(x, y, depth, quality, height, width):
+    """pipeline/depth/prior_surface.h's fit_prior_surface in float64: the quadric
+    t = m_ref / z = c0 + c1 u + c2 v + c3 u^2 + c4 u v + c5 v^2 over u = (x - (W-1)/2) / (W/2),
+    v = (y - (H-1)/2) / (W/2), least squares weighted by the quality (all 1 when none is
+    positive) with SURFACE_RIDGE. Returns (c [6], m_ref, t_min, t_max)."""
+    x, y, z = (np.asarray(a, np.float64) for a in (x, y, depth))
+    w = np.asarray(quality, np.float64)
+    w = np.where(np.isfinite(w) & (w > 0), w, 0.0)
+    if not w.sum() > 0:
+        w = np.ones_like(z)
+    m_ref = float((w * z).sum() / w.sum())
+    half = width / 2
+    u, v = (x - (width - 1) / 2) / half, (y - (height - 1) / 2) / half
+    a = np.stack([np.ones_like(u), u, v, u * u, u * v, v * v], 1)
+    t = m_ref / z
+    normal = a.T @ (w[:, None] * a) + np.diag(SURFACE_RIDGE * w.sum())
+    c = np.linalg.solve(normal, a.T @ (w * t))
+    return c, m_ref, float(t.min()), float(t.max())
+
+
+def render_prior_surface(fit, height, width):
+    """Q = m_ref / clamp(t(u, v), t_min / 2, 2 t_max) at every pixel centre, [H, W] float32."""
+    c, m_ref, t_min, t_max = fit
+    half = width / 2
+    u = (np.arange(width, dtype=np.float64) - (width - 1) / 2)[None, :] / half
+    v = (np.arange(height, dtype=np.float64) - (height - 1) / 2)[:, None] / half
+    t = c[0] + c[1] * u + c[2] * v + c[3] * u * u + c[4] * u * v + c[5] * v * v
+    return (m_ref / np.clip(t, t_min / 2, 2 * t_max)).astype(np.float32)
+
+
 def nearest_labels(xs, ys, height, width, max_points):
     """Index of the nearest point per pixel ([H, W] int16), ties to the lowest index.
 
@@ -150,6 +188,7 @@ class DepthData:
         self.ys = torch.zeros(len(self.samples), k, dtype=torch.int32)
         self.point_depth = torch.zeros(len(self.samples), k)
         self.labels = torch.empty(len(self.samples), h, w, dtype=torch.int16)
+        self.surfaces = []
         for i, s in enumerate(self.samples):
             p = torch.from_numpy(np.array(points[s, :counts[s]]))
             x, y = snap(p[:, 0]), snap(p[:, 1])
@@ -161,6 +200,8 @@ class DepthData:
                                  f"finite or lies outside the {w}x{h} image")
             self.xs[i, :len(p)], self.ys[i, :len(p)], self.point_depth[i, :len(p)] = x, y, p[:, 2]
             self.labels[i] = nearest_labels(x, y, h, w, k)
+            self.surfaces.append(fit_prior_surface(p[:, 0].numpy(), p[:, 1].numpy(),
+                                                   p[:, 2].numpy(), p[:, 3].numpy(), h, w))
         self.u = torch.arange(w, dtype=torch.int32).view(1, 1, w)
         self.v = torch.arange(h, dtype=torch.int32).view(1, h, 1)
         # float32 like the C++ kernels, so that S2 rounds the same way.
@@ -170,8 +211,8 @@ class DepthData:
         return len(self.samples)
 
     def batch(self, rows):
-        """image [B,1,H,W] in 0..1, prior [B,2,H,W] (S1 in m, S2), ground truth [B,1,H,W] in m
-        (0 = no net) of the usable samples `rows` (indices into self.samples)."""
+        """image [B,1,H,W] in 0..1, prior [B,3,H,W] (S1 in m, S2, Q in m), ground truth
+        [B,1,H,W] in m (0 = no net) of the usable samples `rows` (indices into self.samples)."""
         rows = np.asarray(rows)
         files = self.samples[rows]
         image = torch.from_numpy(self.image[files].astype(np.float32) / 255)
@@ -183,12 +224,15 @@ class DepthData:
         dx = self.u - self.xs[t].gather(1, label).view(size)
         dy = self.v - self.ys[t].gather(1, label).view(size)
         s2 = torch.exp(-(dx * dx + dy * dy).float() * self.inv_two_sigma2)
-        return image[:, None], torch.stack([s1, s2], 1), gt[:, None]
+        q = torch.from_numpy(np.stack([render_prior_surface(self.surfaces[r], self.height,
+                                                            self.width) for r in rows]))
+        return image[:, None], torch.stack([s1, s2, q], 1), gt[:, None]
 
 
 def augment(image, prior, gt, rng, crop):
-    """Flips, brightness/contrast, depth scale (S1 and ground truth together) and an optional
-    random crop, drawn per sample."""
+    """Flips, brightness/contrast, depth scale (S1, Q and ground truth together) and an optional
+    random crop, drawn per sample. A flip of the points flips their surface exactly (its
+    coordinates are centred and its ridge symmetric)."""
     out = []
     for i in range(image.shape[0]):
         im, pr, g = image[i], prior[i], gt[i]
@@ -197,7 +241,7 @@ def augment(image, prior, gt, rng, crop):
                 im, pr, g = im.flip(axis), pr.flip(axis), g.flip(axis)
         im = (im * rng.uniform(0.6, 1.4) + rng.uniform(-0.1, 0.1)).clamp(0, 1)
         scale = math.exp(rng.uniform(math.log(0.8), math.log(1.25)))
-        pr = torch.stack([pr[0] * scale, pr[1]])
+        pr = torch.stack([pr[0] * scale, pr[1], pr[2] * scale])
         g = g * scale
         if crop:
             top = int(rng.integers(0, im.shape[-2] - crop[0] + 1))
@@ -218,38 +262,45 @@ def conv_bn_relu(cin, cout, stride=1):
 
 
 class CompactDepthNet(nn.Module):
-    """U-Net depth completion, scale-equivariant through the per-frame prior depth m.
+    """U-Net depth completion: a correction factor to the prior surface Q, scale-equivariant
+    through the per-frame prior depth m.
 
-    m = mean(S1) + 1e-3; the encoder sees (image, S1/m, S2); the decoder concatenates the
+    m = mean(S1) + 1e-3; the encoder sees (image, S1/m, S2, Q/m); the decoder concatenates the
     encoder skip and the normalized prior (average-pooled) at /16, /8, /4 and /2; the head
-    predicts depth / m through a softplus at /2, upsampled to the input size. Input sizes must
-    be multiples of 16 (240 x 320 is). Only ops of pensight's ONNX importer are exported: the
-    channel split of the prior is a constant 1x1 Conv and elementwise ops rather than a Slice.
+    predicts the factor through a softplus at /2 (1 before training: the output starts as Q),
+    upsampled to the input size and multiplied by Q. Input sizes must be multiples of 16
+    (240 x 320 is). Only ops of pensight's ONNX importer are exported: channel picks are constant
+    1x1 Convs and elementwise ops rather than Slices.
     """
 
     ENCODER = (16, 32, 64, 96, 128)  # channels at /2, /4, /8, /16, /32
     DECODER = (96, 48, 24, 16)  # channels at /16, /8, /4, /2
+    PRIORS = 3  # S1, S2, Q
 
     def __init__(self):
         super().__init__()
         # Fixed 1x1 convolutions (OpenCV 4.6 cannot broadcast a computed [1,1,1,1] tensor against
-        # a constant): (S1, S2) -> S1 + 1e-3, and m -> the divisor (m, 1).
-        self.register_buffer("pick_s1", torch.tensor([1.0, 0.0]).view(1, 2, 1, 1), persistent=False)
+        # a constant): (S1, S2, Q) -> S1 + 1e-3 and -> Q, and m -> the divisor (m, 1, m).
+        self.register_buffer("pick_s1", torch.tensor([1.0, 0.0, 0.0]).view(1, 3, 1, 1),
+                             persistent=False)
+        self.register_buffer("pick_q", torch.tensor([0.0, 0.0, 1.0]).view(1, 3, 1, 1),
+                             persistent=False)
         self.register_buffer("eps", torch.tensor([1e-3]), persistent=False)
-        self.register_buffer("spread_w", torch.tensor([1.0, 0.0]).view(2, 1, 1, 1), persistent=False)
-        self.register_buffer("spread_b", torch.tensor([0.0, 1.0]), persistent=False)
-        encoder, cin = [], 3
+        self.register_buffer("spread_w", torch.tensor([1.0, 0.0, 1.0]).view(3, 1, 1, 1),
+                             persistent=False)
+        self.register_buffer("spread_b", torch.tensor([0.0, 1.0, 0.0]), persistent=False)
+        encoder, cin = [], 1 + self.PRIORS
         for c in self.ENCODER:
             encoder.append(nn.Sequential(conv_bn_relu(cin, c, 2), conv_bn_relu(c, c)))
             cin = c
         self.encoder = nn.ModuleList(encoder)
         decoder = []
         for skip, c in zip(self.ENCODER[-2::-1], self.DECODER):
-            decoder.append(conv_bn_relu(cin + skip + 2, c))
+            decoder.append(conv_bn_relu(cin + skip + self.PRIORS, c))
             cin = c
         self.decoder = nn.ModuleList(decoder)
         self.head = nn.Conv2d(cin, 1, 3, 1, 1)
-        # softplus(bias) = 1: the untrained network predicts the mean prior depth.
+        # softplus(bias) = 1: the untrained network returns the prior surface.
         nn.init.normal_(self.head.weight, std=1e-3)
         nn.init.constant_(self.head.bias, math.log(math.e - 1))
 
@@ -260,8 +311,9 @@ class CompactDepthNet(nn.Module):
         # shapes are equal.
         size = prior.shape[-2:]
         m_map = F.interpolate(m, size=size, mode="nearest")
-        divisor = F.conv2d(m, self.spread_w, self.spread_b)  # (m, 1)
+        divisor = F.conv2d(m, self.spread_w, self.spread_b)  # (m, 1, m)
         p = prior / F.interpolate(divisor, size=size, mode="nearest")
+        surface = F.conv2d(p, self.pick_q)  # Q / m
         x = torch.cat([image, p], 1)
         skips = []
         for level in self.encoder:
@@ -278,7 +330,7 @@ class CompactDepthNet(nn.Module):
             d = conv(torch.cat([d, skip, q], 1))
         y = F.softplus(self.head(d))
         y = F.interpolate(y, size=image.shape[-2:], mode="bilinear", align_corners=False)
-        return y * m_map
+        return y * surface * m_map
 
 
 def conv_gflop(model, height, width):
@@ -292,7 +344,7 @@ def conv_gflop(model, height, width):
     was_training = model.training
     model.eval()
     with torch.no_grad():
-        model(torch.zeros(1, 1, height, width), torch.ones(1, 2, height, width))
+        model(torch.zeros(1, 1, height, width), torch.ones(1, 3, height, width))
     model.train(was_training)
     for h in handles:
         h.remove()
@@ -317,25 +369,29 @@ def silog_rmse_loss(pred, gt):
 
 
 class Metrics:
-    """AbsRel, delta < 1.25 and RMSE of the network, and AbsRel of S1 alone, over all pixels
-    with ground truth."""
+    """AbsRel, delta < 1.25 and RMSE of the network, and AbsRel of S1 alone and of the prior
+    surface Q alone, over all pixels with ground truth."""
 
     def __init__(self):
-        self.pixels = self.absrel = self.delta1 = self.sq = self.s1_absrel = 0.0
+        self.pixels = self.absrel = self.delta1 = self.sq = 0.0
+        self.s1_absrel = self.surface_absrel = 0.0
 
-    def add(self, pred, s1, gt):
-        mask = gt > 0
-        p, s, t = pred[mask].double(), s1[mask].double(), gt[mask].double()
+    def add(self, pred, prior, gt):
+        mask = gt[:, 0] > 0
+        t = gt[:, 0][mask].double()
+        p, s, q = (a[mask].double() for a in (pred[:, 0], prior[:, 0], prior[:, 2]))
         self.pixels += t.numel()
         self.absrel += float(((p - t).abs() / t).sum())
         self.delta1 += float((torch.maximum(p / t, t / p.clamp_min(1e-6)) < 1.25).sum())
         self.sq += float(((p - t) ** 2).sum())
         self.s1_absrel += float(((s - t).abs() / t).sum())
+        self.surface_absrel += float(((q - t).abs() / t).sum())
 
     def result(self):
         n = max(self.pixels, 1)
         return {"val_absrel": self.absrel / n, "val_delta1": self.delta1 / n,
-                "val_rmse_m": math.sqrt(self.sq / n), "s1_absrel": self.s1_absrel / n}
+                "val_rmse_m": math.sqrt(self.sq / n), "s1_absrel": self.s1_absrel / n,
+                "surface_absrel": self.surface_absrel / n}
 
 
 def evaluate(model, data, batch):
@@ -344,7 +400,7 @@ def evaluate(model, data, batch):
     with torch.no_grad():
         for start in range(0, len(data), batch):
             image, prior, gt = data.batch(range(start, min(start + batch, len(data))))
-            metrics.add(model(image, prior), prior[:, :1], gt)
+            metrics.add(model(image, prior), prior, gt)
     model.train()
     return metrics.result()
 
@@ -488,7 +544,7 @@ def fold_shape_arithmetic(model):
 def export_onnx(model, height, width, path):
     """Static-shape fp32 export; written next to `path` and renamed into place."""
     model.eval()
-    inputs = (torch.rand(1, 1, height, width), torch.rand(1, 2, height, width) * 4)
+    inputs = (torch.rand(1, 1, height, width), torch.rand(1, 3, height, width) * 4)
     tmp = path + ".tmp"
     with torch.no_grad(), warnings.catch_warnings():
         # torch 1.13's Resize symbolic warns about its own constants; the sizes are folded below.
@@ -597,7 +653,8 @@ def train(args):
         checkpoint()
         print(f"{label}, step {step}: train loss {np.mean(losses) if losses else math.nan:.4f} | "
               f"val AbsRel {metrics['val_absrel']:.4f} delta1 {metrics['val_delta1']:.4f} "
-              f"RMSE {metrics['val_rmse_m']:.4f} m | S1 AbsRel {metrics['s1_absrel']:.4f} | "
+              f"RMSE {metrics['val_rmse_m']:.4f} m | S1 AbsRel {metrics['s1_absrel']:.4f} "
+              f"Q AbsRel {metrics['surface_absrel']:.4f} | "
               f"{time.monotonic() - t_epoch:.1f} s, "
               f"{np.mean(step_s) if step_s else math.nan:.3f} s/step", flush=True)
     if evaluated_at != step:

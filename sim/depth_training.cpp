@@ -191,12 +191,7 @@ DepthSample make_depth_sample(uint64_t seed, int width, int height) {
       out.depth_mm.at(x, y) = full_mm.at(sx, sy);
     }
   }
-  const std::vector<kernels::SparsePoint> pts =
-      network_points(detection.depths, cam.width_px, cam.height_px, width, height);
-  // network_points keeps the input order when nothing is dropped, so qualities pair by index.
-  for (size_t i = 0; i < pts.size(); ++i) {
-    out.points.push_back({pts[i], detection.depths[i].quality});
-  }
+  out.points = network_depths(detection.depths, cam.width_px, cam.height_px, width, height);
   return out;
 }
 

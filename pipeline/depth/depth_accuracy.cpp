@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "kernels/sparse_prior/sparse_prior.h"
+#include "pipeline/depth/prior_surface.h"
 #include "pipeline/median.h"
 #include "runtime/error.h"
 
@@ -38,7 +39,7 @@ DepthAccuracy depth_accuracy(const Dataset& dataset, NetDetector& detector,
   const PinholeCamera& cam = dataset.cam0.camera;
   const kernels::SparsePriorShape camera_shape{cam.width_px, cam.height_px};  // S1 only
   const PixelRays rays(cam);
-  Sums network, s1, plane;
+  Sums network, s1, plane, surface;
   std::vector<double> d_errors, psi_errors;
   DepthAccuracy out;
   for (size_t i = 0; i < dataset.frames.size(); i += std::max<size_t>(stride, 1)) {
@@ -54,6 +55,9 @@ DepthAccuracy depth_accuracy(const Dataset& dataset, NetDetector& detector,
     for (const SparseDepth& d : detection.depths) points.push_back(d.point);
     std::vector<float> s1_maps(2 * static_cast<size_t>(cam.width_px) * cam.height_px);
     kernels::sparse_prior_cpu(camera_shape, points, s1_maps);
+    std::vector<float> surface_m(static_cast<size_t>(cam.width_px) * cam.height_px);
+    render_prior_surface(fit_prior_surface(detection.depths, cam.width_px, cam.height_px),
+                         surface_m);
     const double a = std::tan(detection.pose.psi_net_rad);
     const double b = std::tan(detection.pose.pitch_net_rad);
     const ImageU16 truth_mm = dataset.load_depth_mm(i);
@@ -63,6 +67,7 @@ DepthAccuracy depth_accuracy(const Dataset& dataset, NetDetector& detector,
       const Eigen::Vector2f& r = rays.xy[p];
       network.add(dense.depth_m.pixels[p], z_true);
       s1.add(s1_maps[p], z_true);
+      surface.add(surface_m[p], z_true);
       const double denom = 1 - a * r.x() - b * r.y();
       // A ray parallel to (or beyond) the plane gets no extrapolated depth: counted as its worst.
       plane.add(denom > 1e-3 ? detection.pose.d_net_m / denom : 1e3, z_true);
@@ -76,6 +81,7 @@ DepthAccuracy depth_accuracy(const Dataset& dataset, NetDetector& detector,
   out.network = network.errors();
   out.s1 = s1.errors();
   out.fft_plane = plane.errors();
+  out.surface = surface.errors();
   if (!d_errors.empty()) {
     out.d_net_median_rel = median(d_errors);
     out.psi_median_rad = median(psi_errors);

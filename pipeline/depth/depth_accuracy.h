@@ -2,7 +2,9 @@
 // Accuracy of the dense-depth stage on a rendered dataset against its ground-truth depth
 // (groundtruth0/depth/), with the two baselines it must beat measured on the same frames and
 // pixels: S1 alone (every pixel the nearest prior's depth, in camera pixels) and the FFT plane
-// extrapolated to every pixel (z = d_net / (1 - tan(psi) x - tan(pitch) y) on each pixel's ray).
+// extrapolated to every pixel (z = d_net / (1 - tan(psi) x - tan(pitch) y) on each pixel's ray);
+// and, beside them, the prior surface the network corrects (pipeline/depth/prior_surface.h,
+// fitted in camera pixels).
 // Only frames with an FFT pose count (the network runs on those); only pixels whose truth sees
 // the net (> 0). The relative pose from dense depth is compared with groundtruth0's d_net and
 // psi_net. Cost per frame: one detection, one network run, O(pixels) sums.
@@ -24,7 +26,7 @@ struct DepthErrors {
 
 struct DepthAccuracy {
   size_t frames = 0;  // with an FFT pose and ground truth
-  DepthErrors network, s1, fft_plane;
+  DepthErrors network, s1, fft_plane, surface;
   double d_net_median_rel = 0;  // median |d_net_depth - d_net| / d_net
   double psi_median_rad = 0;    // median |psi_net_depth - psi_net|
   size_t pose_frames = 0;       // frames with a dense-depth pose and a truth d_net

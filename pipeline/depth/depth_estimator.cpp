@@ -13,6 +13,7 @@
 #include "kernels/nn/nn_onnx.h"
 #include "kernels/sparse_prior/sparse_prior.h"
 #include "pipeline/depth/depth_input.h"
+#include "pipeline/depth/prior_surface.h"
 #include "pipeline/median.h"
 #include "runtime/error.h"
 #include "runtime/file_bytes.h"
@@ -47,12 +48,17 @@ DepthBackend parse_depth_backend(const std::string& name) {
 
 namespace {
 
-// Checks the model against the contract and returns its H x W.
-std::pair<int, int> contract_size(const nn::Graph& g, const std::string& file) {
+struct ContractShape {
+  int width = 0, height = 0;
+  int prior_channels = 2;  // S1, S2 and, with 3, the prior surface Q
+};
+
+// Checks the model against the contract and returns its input shape.
+ContractShape contract_shape(const nn::Graph& g, const std::string& file) {
   auto fail = [&](const std::string& what) {
     throw Error(file + " is not a depth network: " + what +
-                " (expected inputs image [1,1,H,W] and prior [1,2,H,W], output depth [1,1,H,W]; "
-                "see models/README.md)");
+                " (expected inputs image [1,1,H,W] and prior [1,2,H,W] or [1,3,H,W], output "
+                "depth [1,1,H,W]; see models/README.md)");
   };
   if (g.inputs().size() != 2 || g.outputs().size() != 1) {
     fail(std::to_string(g.inputs().size()) + " inputs and " + std::to_string(g.outputs().size()) +
@@ -69,11 +75,12 @@ std::pair<int, int> contract_size(const nn::Graph& g, const std::string& file) {
   };
   if (image.shape.size() != 4) fail("image has rank " + std::to_string(image.shape.size()));
   const int64_t h = image.shape[2], w = image.shape[3];
-  if (!is(image.shape, 1, h, w) || !is(prior.shape, 2, h, w) || !is(depth.shape, 1, h, w) ||
-      h < 16 || w < 16) {
+  const int64_t c = prior.shape.size() == 4 ? prior.shape[1] : 0;
+  if (!is(image.shape, 1, h, w) || (c != 2 && c != 3) || !is(prior.shape, c, h, w) ||
+      !is(depth.shape, 1, h, w) || h < 16 || w < 16) {
     fail("shapes do not match");
   }
-  return {static_cast<int>(w), static_cast<int>(h)};
+  return {static_cast<int>(w), static_cast<int>(h), static_cast<int>(c)};
 }
 
 cv::Mat as_mat(std::vector<float>& data, std::initializer_list<int> dims) {
@@ -104,10 +111,11 @@ struct VulkanNet {
 // weighs a common scale error lightly (0.15 of its variance term), so the network leaves about
 // 1 % of scale that the priors, accurate to a few per mille on a frontal net, pin down.
 void align_scale_to_priors(std::vector<float>& depth, const kernels::SparsePriorShape& shape,
-                           std::span<const kernels::SparsePoint> points) {
+                           std::span<const SparseDepth> depths) {
   std::vector<double> ratios;
-  ratios.reserve(points.size());
-  for (const kernels::SparsePoint& p : points) {
+  ratios.reserve(depths.size());
+  for (const SparseDepth& d : depths) {
+    const kernels::SparsePoint& p = d.point;
     const int x = static_cast<int>(std::floor(p.x_px + 0.5f));
     const int y = static_cast<int>(std::floor(p.y_px + 0.5f));
     const float z = depth[static_cast<size_t>(y) * shape.width + x];
@@ -125,6 +133,7 @@ struct DepthEstimator::Impl {
   DepthEstimatorConfig config;
   nn::Graph graph;
   kernels::SparsePriorShape shape;
+  int prior_channels = 2;
   DepthBackend backend = DepthBackend::kEngineCpu;
   int threads = 1;
   std::optional<cv::dnn::Net> opencv;
@@ -133,31 +142,43 @@ struct DepthEstimator::Impl {
   std::optional<PixelRays> rays;  // of the camera scaled to the network's grid
 
   // Network output (H x W, metres) for one frame.
-  std::vector<float> run(const ImageU8& small, std::span<const kernels::SparsePoint> points) {
+  std::vector<float> run(const ImageU8& small, std::span<const SparseDepth> depths) {
     const size_t n = static_cast<size_t>(shape.width) * shape.height;
     std::vector<float> image(n);
     std::transform(small.pixels.begin(), small.pixels.end(), image.begin(),
                    [](uint8_t v) { return v / 255.0f; });
+    std::vector<float> surface;
+    if (prior_channels == 3) {
+      surface.resize(n);
+      render_prior_surface(fit_prior_surface(depths, shape.width, shape.height), surface);
+    }
+    const std::vector<kernels::SparsePoint> points = points_of(depths);
     if (vulkan) {
       vulkan->model.input_buffer(0).upload(image.data(), n * sizeof(float));
-      vulkan->points.upload(points);
+      if (!surface.empty()) {
+        vulkan->model.input_buffer(1).upload(surface.data(), n * sizeof(float),
+                                             2 * n * sizeof(float));
+      }
+      vulkan->points.upload(std::span<const kernels::SparsePoint>(points));
       vulkan->params.fill({static_cast<uint32_t>(points.size())});
       vulkan->stream.submit_and_wait();
       std::vector<float> out(n);
       vulkan->model.output_buffer(0).download(out.data(), n * sizeof(float));
       return out;
     }
-    std::vector<float> prior(2 * n);
+    std::vector<float> prior(prior_channels * n);
     kernels::sparse_prior_cpu(shape, points, prior);
+    std::copy(surface.begin(), surface.end(), prior.begin() + 2 * n);
     if (opencv) {
       opencv->setInput(as_mat(image, {1, 1, shape.height, shape.width}), "image");
-      opencv->setInput(as_mat(prior, {1, 2, shape.height, shape.width}), "prior");
+      opencv->setInput(as_mat(prior, {1, prior_channels, shape.height, shape.width}), "prior");
       const cv::Mat out = opencv->forward("depth");
       const cv::Mat flat = out.isContinuous() ? out : out.clone();
       return std::vector<float>(flat.ptr<float>(), flat.ptr<float>() + n);
     }
-    const nn::Tensor inputs[] = {{{1, 1, shape.height, shape.width}, std::move(image)},
-                                 {{1, 2, shape.height, shape.width}, std::move(prior)}};
+    const nn::Tensor inputs[] = {
+        {{1, 1, shape.height, shape.width}, std::move(image)},
+        {{1, prior_channels, shape.height, shape.width}, std::move(prior)}};
     return std::move(nn::run_cpu(graph, inputs)[0].data);
   }
 };
@@ -176,8 +197,9 @@ DepthEstimator::DepthEstimator(const PinholeCamera& camera, const DepthEstimator
                 "--no-depth");
   }
   m.graph = nn::import_onnx_bytes(*bytes, file);
-  const auto [w, h] = contract_size(m.graph, file);
+  const auto [w, h, prior_channels] = contract_shape(m.graph, file);
   m.shape = {w, h, config.sigma_px};
+  m.prior_channels = prior_channels;
   if (static_cast<int64_t>(w) * camera.height_px != static_cast<int64_t>(h) * camera.width_px) {
     throw Error(file + " takes " + std::to_string(w) + "x" + std::to_string(h) +
                 " images, not of the camera's aspect (" + std::to_string(camera.width_px) + "x" +
@@ -277,11 +299,11 @@ DenseDepth DepthEstimator::estimate(const ImageU8& image, std::span<const Sparse
   }
   Stopwatch sw;
   const ImageU8 small = resize_area(image, m.shape.width, m.shape.height);
-  const std::vector<kernels::SparsePoint> points =
-      network_points(priors, image.width, image.height, m.shape.width, m.shape.height);
-  kernels::validate(m.shape, points);
-  std::vector<float> net = m.run(small, points);
-  align_scale_to_priors(net, m.shape, points);
+  const std::vector<SparseDepth> depths =
+      network_depths(priors, image.width, image.height, m.shape.width, m.shape.height);
+  kernels::validate(m.shape, points_of(depths));
+  std::vector<float> net = m.run(small, depths);
+  align_scale_to_priors(net, m.shape, depths);
   // The pose comes from the network's own grid (every pixel it estimated, none interpolated).
   ImageF32 small_depth(m.shape.width, m.shape.height);
   small_depth.pixels = std::move(net);

@@ -21,9 +21,8 @@ ImageU8 resize_area(const ImageU8& image, int width, int height) {
   return out;
 }
 
-std::vector<kernels::SparsePoint> network_points(std::span<const SparseDepth> depths,
-                                                 int camera_width, int camera_height, int width,
-                                                 int height) {
+std::vector<SparseDepth> network_depths(std::span<const SparseDepth> depths, int camera_width,
+                                        int camera_height, int width, int height) {
   std::vector<size_t> order(depths.size());
   std::iota(order.begin(), order.end(), size_t{0});
   if (order.size() > static_cast<size_t>(kernels::kMaxSparsePoints)) {
@@ -34,13 +33,21 @@ std::vector<kernels::SparsePoint> network_points(std::span<const SparseDepth> de
   }
   const double sx = static_cast<double>(width) / camera_width;
   const double sy = static_cast<double>(height) / camera_height;
-  std::vector<kernels::SparsePoint> out;
+  std::vector<SparseDepth> out;
   out.reserve(order.size());
   for (const size_t i : order) {
     const kernels::SparsePoint& p = depths[i].point;
-    out.push_back({static_cast<float>((p.x_px + 0.5) * sx - 0.5),
-                   static_cast<float>((p.y_px + 0.5) * sy - 0.5), p.depth_m});
+    out.push_back({{static_cast<float>((p.x_px + 0.5) * sx - 0.5),
+                    static_cast<float>((p.y_px + 0.5) * sy - 0.5), p.depth_m},
+                   depths[i].quality});
   }
+  return out;
+}
+
+std::vector<kernels::SparsePoint> points_of(std::span<const SparseDepth> depths) {
+  std::vector<kernels::SparsePoint> out(depths.size());
+  std::transform(depths.begin(), depths.end(), out.begin(),
+                 [](const SparseDepth& d) { return d.point; });
   return out;
 }
 

@@ -20,10 +20,12 @@ inline constexpr int kDepthNetWidth = 320, kDepthNetHeight = 240;
 ImageU8 resize_area(const ImageU8& image, int width, int height);
 
 // Sparse depths from camera pixels (centres at integers) into a width x height image of the same
-// view: x' = (x + 0.5) * width / camera_width - 0.5, likewise y; depth and order unchanged. At
-// most kMaxSparsePoints are kept, highest quality first when there are more.
-std::vector<kernels::SparsePoint> network_points(std::span<const SparseDepth> depths,
-                                                 int camera_width, int camera_height, int width,
-                                                 int height);
+// view: x' = (x + 0.5) * width / camera_width - 0.5, likewise y; depth, quality and order
+// unchanged. At most kMaxSparsePoints are kept, highest quality first when there are more.
+std::vector<SparseDepth> network_depths(std::span<const SparseDepth> depths, int camera_width,
+                                        int camera_height, int width, int height);
+
+// The points of network_depths() without their quality, as the S1/S2 kernels take them.
+std::vector<kernels::SparsePoint> points_of(std::span<const SparseDepth> depths);
 
 }  // namespace pensight

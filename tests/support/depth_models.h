@@ -9,4 +9,8 @@ namespace pensight::testing {
 // network's input.
 void write_s1_depth_model(const std::filesystem::path& file, int width, int height, float gain = 1);
 
+// depth = Q, the third prior channel (pipeline/depth/prior_surface.h): a model with the
+// three-channel prior input that returns the surface the stage fed it.
+void write_surface_depth_model(const std::filesystem::path& file, int width, int height);
+
 }  // namespace pensight::testing

@@ -42,24 +42,25 @@ TEST(DepthInput, ResizeAreaIsTheBoxMean) {
   EXPECT_THROW(resize_area(image, 0, 240), Error);
 }
 
-TEST(DepthInput, NetworkPointsScaleAboutPixelCentresAndKeepTheBest) {
+TEST(DepthInput, NetworkDepthsScaleAboutPixelCentresAndKeepTheBest) {
   std::vector<SparseDepth> depths = {
       {{0, 0, 1.0f}, 0.5f}, {{719, 539, 2.0f}, 0.2f}, {{359.5f, 269.5f, 3.0f}, 0.1f}};
-  const auto pts = network_points(depths, 720, 540, 320, 240);
+  const auto pts = points_of(network_depths(depths, 720, 540, 320, 240));
   ASSERT_EQ(pts.size(), 3u);
   EXPECT_NEAR(pts[0].x_px, 0.5 * 320 / 720 - 0.5, 1e-6);
   EXPECT_NEAR(pts[1].y_px, 539.5 * 240 / 540 - 0.5, 1e-4);
   EXPECT_NEAR(pts[2].x_px, 159.5, 1e-4);  // the image centre stays the centre
   EXPECT_EQ(pts[2].depth_m, 3.0f);
+  EXPECT_EQ(network_depths(depths, 720, 540, 320, 240)[1].quality, 0.2f);
 
   std::vector<SparseDepth> many(kernels::kMaxSparsePoints + 10);
   for (size_t i = 0; i < many.size(); ++i) {
     many[i] = {{static_cast<float>(i % 720), 10, static_cast<float>(i)},
                i < 10 ? 0.0f : 1.0f};  // the first ten are the worst
   }
-  const auto kept = network_points(many, 720, 540, 320, 240);
+  const auto kept = network_depths(many, 720, 540, 320, 240);
   ASSERT_EQ(kept.size(), static_cast<size_t>(kernels::kMaxSparsePoints));
-  EXPECT_EQ(kept.front().depth_m, 10.0f);  // order kept, the ten worst dropped
+  EXPECT_EQ(kept.front().point.depth_m, 10.0f);  // order kept, the ten worst dropped
 }
 
 }  // namespace

@@ -1,0 +1,98 @@
+#include "pipeline/depth/prior_surface.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "runtime/error.h"
+
+namespace pensight {
+
+namespace {
+
+constexpr std::array<double, 6> kRidge = {0, 1e-6, 1e-6, 1e-3, 1e-3, 1e-3};
+
+Eigen::Matrix<double, 6, 1> basis(double u, double v) {
+  Eigen::Matrix<double, 6, 1> a;
+  a << 1, u, v, u * u, u * v, v * v;
+  return a;
+}
+
+}  // namespace
+
+PriorSurface fit_prior_surface(std::span<const SparseDepth> depths, int width, int height) {
+  if (depths.empty() || width < 1 || height < 1) {
+    throw Error("prior surface: needs at least one sparse depth and a positive image size");
+  }
+  double sum_w = 0, sum_wz = 0, sum_z = 0;
+  for (const SparseDepth& d : depths) {
+    const double z = d.point.depth_m;
+    if (!(z > 0) || !std::isfinite(z)) {
+      throw Error("prior surface: sparse depth " + std::to_string(z) + " m at (" +
+                  std::to_string(d.point.x_px) + ", " + std::to_string(d.point.y_px) +
+                  ") is not positive and finite");
+    }
+    const double q = d.quality;
+    if (q > 0 && std::isfinite(q)) {
+      sum_w += q;
+      sum_wz += q * z;
+    }
+    sum_z += z;
+  }
+  const bool unweighted = !(sum_w > 0);
+  auto weight = [&](const SparseDepth& d) {
+    if (unweighted) return 1.0;
+    const double q = d.quality;
+    return q > 0 && std::isfinite(q) ? q : 0.0;
+  };
+  if (unweighted) {
+    sum_w = static_cast<double>(depths.size());
+    sum_wz = sum_z;
+  }
+  PriorSurface s;
+  s.width = width;
+  s.height = height;
+  s.m_ref_m = sum_wz / sum_w;
+  s.t_min = s.t_max = s.m_ref_m / depths.front().point.depth_m;
+  const double half = width / 2.0, cx = (width - 1) / 2.0, cy = (height - 1) / 2.0;
+  Eigen::Matrix<double, 6, 6> normal = Eigen::Matrix<double, 6, 6>::Zero();
+  Eigen::Matrix<double, 6, 1> rhs = Eigen::Matrix<double, 6, 1>::Zero();
+  for (const SparseDepth& d : depths) {
+    const double t = s.m_ref_m / d.point.depth_m;
+    s.t_min = std::min(s.t_min, t);
+    s.t_max = std::max(s.t_max, t);
+    const double w = weight(d);
+    const auto a = basis((d.point.x_px - cx) / half, (d.point.y_px - cy) / half);
+    normal.noalias() += w * a * a.transpose();
+    rhs.noalias() += w * t * a;
+  }
+  for (int i = 0; i < 6; ++i) normal(i, i) += kRidge[i] * sum_w;
+  const Eigen::Matrix<double, 6, 1> c = normal.ldlt().solve(rhs);
+  std::copy(c.data(), c.data() + 6, s.c.begin());
+  return s;
+}
+
+void render_prior_surface(const PriorSurface& s, std::span<float> out) {
+  const size_t n = static_cast<size_t>(s.width) * s.height;
+  if (out.size() < n) {
+    throw Error("prior surface: output holds " + std::to_string(out.size()) + " values, " +
+                std::to_string(s.width) + "x" + std::to_string(s.height) + " needs " +
+                std::to_string(n));
+  }
+  const double half = s.width / 2.0, cx = (s.width - 1) / 2.0, cy = (s.height - 1) / 2.0;
+  const double lo = s.t_min / 2, hi = 2 * s.t_max;
+  const auto& c = s.c;
+  for (int y = 0; y < s.height; ++y) {
+    const double v = (y - cy) / half;
+    const double row0 = c[0] + c[2] * v + c[5] * v * v, row1 = c[1] + c[4] * v;
+    float* o = out.data() + static_cast<size_t>(y) * s.width;
+    for (int x = 0; x < s.width; ++x) {
+      const double u = (x - cx) / half;
+      const double t = row0 + u * (row1 + c[3] * u);
+      o[x] = static_cast<float>(s.m_ref_m / std::clamp(t, lo, hi));
+    }
+  }
+}
+
+}  // namespace pensight

@@ -1,0 +1,41 @@
+#pragma once
+// The prior surface: the smooth surface through a frame's sparse depths that the depth network
+// corrects (its third prior channel, Q). A quadric in inverse depth,
+//   t(u, v) = m_ref / z = c0 + c1 u + c2 v + c3 u^2 + c4 u v + c5 v^2,
+// over u = (x - (W-1)/2) / (W/2), v = (y - (H-1)/2) / (W/2) (pixel centres at integers), fitted
+// by least squares weighted by the points' quality (all 1 when none is positive), where m_ref is
+// the weighted mean depth. A plane in the camera frame is linear in inverse depth over the image
+// (1/z = (n . ray) / d), so t is exact for a flat net and its quadratic terms take a cylinder's
+// curvature and the slow bends of a deformed net.
+//
+// Ridge (relative to the sum of the weights): 0 on c0; 1e-6 on the slopes, so that a row of
+// points leaves the slope across it at 0 instead of undetermined; 1e-3 on the curvatures, so
+// that points from one ROI (spread over a tenth of the image, u^4 ~ 1e-4) give a plane while
+// points over the frame (u^4 ~ 0.1) move them by about 1 %. scripts/train_depth.py repeats this
+// fit in numpy for the training data; the two must stay equal.
+//
+// Cost: O(points) for the fit (a 6x6 solve), O(W H) to render. Method: weighted ridge least
+// squares (Hoerl and Kennard 1970) on the normal equations, solved by Eigen's LDLT.
+#include <array>
+#include <span>
+
+#include "pipeline/net_geometry.h"
+
+namespace pensight {
+
+struct PriorSurface {
+  std::array<double, 6> c{};    // c0 .. c5 above
+  double m_ref_m = 0;           // weighted mean depth of the points
+  double t_min = 0, t_max = 0;  // m_ref / z over the points
+  int width = 0, height = 0;    // the pixel grid u, v refer to
+};
+
+// depths: in the width x height image's pixels (e.g. network_depths()). Throws pensight::Error
+// when there is no point or a depth is not positive and finite.
+PriorSurface fit_prior_surface(std::span<const SparseDepth> depths, int width, int height);
+
+// Q = m_ref / clamp(t(u, v), t_min / 2, 2 t_max) at every pixel centre (depth in metres, between
+// half the nearest and twice the farthest point's depth), row-major into out[0, W*H).
+void render_prior_surface(const PriorSurface& surface, std::span<float> out);
+
+}  // namespace pensight
