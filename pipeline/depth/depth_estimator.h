@@ -8,12 +8,14 @@
 // called per frame.
 //
 // Model contract (models/README.md): inputs "image" [1,1,H,W] (grey / 255) and "prior" [1,2,H,W]
-// (S1 in metres, S2; sparse_prior.h), output "depth" [1,1,H,W] in metres. H x W is the model's;
-// the image is area-resized to it and the priors moved into its pixels (depth_input.h).
+// (S1 in metres, S2; sparse_prior.h) or [1,3,H,W] (S1, S2 and the prior surface Q in metres,
+// prior_surface.h; the shipped model's form), output "depth" [1,1,H,W] in metres. H x W is the
+// model's; the image is area-resized to it and the priors moved into its pixels (depth_input.h).
 //
 // Backends: OpenCV DNN (Debian's, the fastest correct CPU path, measured in docs/dense_depth.md),
 // the engine's CPU reference executor, or the engine's Vulkan executor with S1/S2 computed on the
-// device straight into the network's input. kAuto: Vulkan on a real GPU, else OpenCV DNN, else
+// device straight into the network's input (Q, a 6-coefficient surface, is rendered on the CPU
+// and uploaded beside them). kAuto: Vulkan on a real GPU, else OpenCV DNN, else
 // the engine's CPU executor (a model OpenCV cannot read).
 #include <filesystem>
 #include <memory>
