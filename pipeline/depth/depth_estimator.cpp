@@ -14,7 +14,6 @@
 #include "kernels/sparse_prior/sparse_prior.h"
 #include "pipeline/depth/depth_input.h"
 #include "pipeline/depth/prior_surface.h"
-#include "pipeline/median.h"
 #include "runtime/error.h"
 #include "runtime/file_bytes.h"
 #include "runtime/timing.h"
@@ -106,25 +105,6 @@ struct VulkanNet {
     model.record(stream);
   }
 };
-
-// The network's depth scaled by the median ratio prior / network at the priors' pixels. SILog
-// weighs a common scale error lightly (0.15 of its variance term), so the network leaves about
-// 1 % of scale that the priors, accurate to a few per mille on a frontal net, pin down.
-void align_scale_to_priors(std::vector<float>& depth, const kernels::SparsePriorShape& shape,
-                           std::span<const SparseDepth> depths) {
-  std::vector<double> ratios;
-  ratios.reserve(depths.size());
-  for (const SparseDepth& d : depths) {
-    const kernels::SparsePoint& p = d.point;
-    const int x = static_cast<int>(std::floor(p.x_px + 0.5f));
-    const int y = static_cast<int>(std::floor(p.y_px + 0.5f));
-    const float z = depth[static_cast<size_t>(y) * shape.width + x];
-    if (z > 0 && std::isfinite(z)) ratios.push_back(p.depth_m / z);
-  }
-  if (ratios.empty()) return;
-  const float scale = static_cast<float>(median(std::move(ratios)));
-  for (float& z : depth) z *= scale;
-}
 
 }  // namespace
 
@@ -303,7 +283,10 @@ DenseDepth DepthEstimator::estimate(const ImageU8& image, std::span<const Sparse
       network_depths(priors, image.width, image.height, m.shape.width, m.shape.height);
   kernels::validate(m.shape, points_of(depths));
   std::vector<float> net = m.run(small, depths);
-  align_scale_to_priors(net, m.shape, depths);
+  // SILog weighs a common scale error lightly (0.15 of its variance term), and a network trained
+  // on many pens carries their average curvature into a frame whose priors say otherwise: both
+  // are smooth over the image, so a surface through the ratios prior / network takes them out.
+  align_to_priors(net, m.shape.width, m.shape.height, depths);
   // The pose comes from the network's own grid (every pixel it estimated, none interpolated).
   ImageF32 small_depth(m.shape.width, m.shape.height);
   small_depth.pixels = std::move(net);

@@ -95,4 +95,23 @@ void render_prior_surface(const PriorSurface& s, std::span<float> out) {
   }
 }
 
+void align_to_priors(std::vector<float>& depth_m, int width, int height,
+                     std::span<const SparseDepth> depths) {
+  std::vector<SparseDepth> ratios;
+  ratios.reserve(depths.size());
+  for (const SparseDepth& d : depths) {
+    const int x = static_cast<int>(std::floor(d.point.x_px + 0.5f));
+    const int y = static_cast<int>(std::floor(d.point.y_px + 0.5f));
+    if (x < 0 || y < 0 || x >= width || y >= height) continue;
+    const float z = depth_m[static_cast<size_t>(y) * width + x];
+    if (z > 0 && std::isfinite(z) && d.point.depth_m > 0 && std::isfinite(d.point.depth_m)) {
+      ratios.push_back({{d.point.x_px, d.point.y_px, d.point.depth_m / z}, d.quality});
+    }
+  }
+  if (ratios.empty()) return;
+  std::vector<float> factor(depth_m.size());
+  render_prior_surface(fit_prior_surface(ratios, width, height), factor);
+  for (size_t i = 0; i < depth_m.size(); ++i) depth_m[i] *= factor[i];
+}
+
 }  // namespace pensight

@@ -18,6 +18,7 @@
 // squares (Hoerl and Kennard 1970) on the normal equations, solved by Eigen's LDLT.
 #include <array>
 #include <span>
+#include <vector>
 
 #include "pipeline/net_geometry.h"
 
@@ -37,5 +38,13 @@ PriorSurface fit_prior_surface(std::span<const SparseDepth> depths, int width, i
 // Q = m_ref / clamp(t(u, v), t_min / 2, 2 t_max) at every pixel centre (depth in metres, between
 // half the nearest and twice the farthest point's depth), row-major into out[0, W*H).
 void render_prior_surface(const PriorSurface& surface, std::span<float> out);
+
+// A depth grid (width x height, row-major, metres; e.g. a network's output) multiplied by the
+// prior surface fitted through the ratios prior / grid at the priors' pixels (snapped to the
+// grid; pixels without a positive finite value are skipped; none left: unchanged). The priors,
+// accurate to a few per mille on a frontal net, fix the metric scale and the slow shape; the grid
+// keeps its detail between and beyond them. Cost: O(points + W H).
+void align_to_priors(std::vector<float>& depth_m, int width, int height,
+                     std::span<const SparseDepth> depths);
 
 }  // namespace pensight

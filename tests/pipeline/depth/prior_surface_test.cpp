@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -152,6 +153,49 @@ TEST(PriorSurface, WeightsByQualityAndTakesARowOfPoints) {
   for (auto& p : points) p.quality = 0;  // none weighted: all count alike
   const PriorSurface s = fit_prior_surface(points, kW, kH);
   EXPECT_GT(s.m_ref_m, 2.0);
+}
+
+// A grid off by a smooth factor (a scale, a tilt and a bend, as a network's learned average
+// curvature) is brought back to the priors' surface.
+TEST(PriorSurface, AlignmentTakesOutASmoothError) {
+  const uint64_t seed = testing::fresh_seed();
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> err(-0.03, 0.03);
+  std::vector<double> left;
+  for (int trial = 0; trial < 20; ++trial) {
+    const Plane plane = random_plane(rng);
+    const auto points = roi_points(rng, 20, [&](double x, double y) { return plane.depth(x, y); });
+    const double s = err(rng), a = err(rng), b = err(rng);
+    std::vector<float> grid(kW * kH);
+    double before = 0, after = 0;
+    for (int y = 0; y < kH; ++y) {
+      for (int x = 0; x < kW; ++x) {
+        const double u = (x - (kW - 1) / 2.0) / (kW / 2.0);
+        grid[y * kW + x] = static_cast<float>(plane.depth(x, y) * (1 + s + a * u + b * u * u));
+      }
+    }
+    std::vector<float> aligned = grid;
+    align_to_priors(aligned, kW, kH, points);
+    const auto [lo, hi] = clamp_range(points);
+    int n = 0;
+    for (int y = 0; y < kH; y += 3) {
+      for (int x = 0; x < kW; x += 3) {
+        const double truth = plane.depth(x, y);
+        if (!(truth > lo && truth < hi)) continue;
+        before += std::abs(grid[y * kW + x] - truth) / truth;
+        after += std::abs(aligned[y * kW + x] - truth) / truth;
+        ++n;
+      }
+    }
+    ASSERT_GT(n, 100);
+    // The factor 1 + s + a u + b u^2 is not exactly a quadric in inverse depth, the ridge
+    // shrinks its bend and the edges lie beyond the ROIs: over 600 trials a median 2.3 %, p95
+    // 9.8 %, worst 58 % of the error is left (a common scale alone leaves most of a u + b u^2).
+    EXPECT_LT(after, 0.8 * before) << "seed " << seed << " trial " << trial;
+    left.push_back(after / before);
+  }
+  std::nth_element(left.begin(), left.begin() + 10, left.end());
+  EXPECT_LT(left[10], 0.1) << "seed " << seed;
 }
 
 // scripts/train_depth.py fits the training data's surfaces in numpy; these are its numbers for
