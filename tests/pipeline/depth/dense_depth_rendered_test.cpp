@@ -1,7 +1,7 @@
 // The shipped depth network on held-out renders of shipped scenarios (never in its training
-// draw), through the depth stage: within bounds of 3x what docs/dense_depth.md measured on their
-// first 40 frames (the renders are deterministic per scenario, so there is no seed tail), and no
-// worse than 3x S1 alone on the same pixels. Full table: pensight depth-eval.
+// draw), through the depth stage: within bounds set from what docs/dense_depth.md measured on
+// their first 40 frames (the renders are deterministic per scenario, so there is no seed tail),
+// and no worse than 3x S1 alone on the same pixels. Full table: pensight depth-eval.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -45,8 +45,10 @@ TEST_P(DenseDepthRendered, ShippedModelWithinBounds) {
   EXPECT_LE(a.psi_median_rad, c.psi_rad);
 }
 
-// Measured (40 frames): follow AbsRel 0.49 %, d_net 0.21 %, psi 0.08 deg; lowlight 0.84 %,
-// 0.16 %, 0.07 deg; along_12m 0.35 %, 0.21 %, 0.12 deg.
+// Measured (40 frames, 2026-12-03 model): follow AbsRel 0.35 %, d_net 0.39 %, psi 0.09 deg;
+// lowlight 0.28 %, 0.27 %, 0.03 deg; along_12m 0.34 %, 0.38 %, 0.14 deg. The bounds are 3x the
+// 2026-12-02 model's AbsRel (0.49 / 0.84 / 0.35 %) and d_net (0.21 %); the present model is
+// within all of them.
 INSTANTIATE_TEST_SUITE_P(Shipped, DenseDepthRendered,
                          ::testing::Values(Case{"follow", 0.015, 0.0065, 0.0042},
                                            Case{"lowlight", 0.025, 0.005, 0.0037},
