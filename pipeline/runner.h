@@ -55,7 +55,7 @@ struct RunOptions {
 
 struct RunSummary {
   std::string backend;        // e.g. "cpu (FFTW, 2 threads)"
-  std::string depth_backend;  // e.g. "opencv dnn (2 threads), 320x240, 1.19 GFLOP"; empty when off
+  std::string depth_backend;  // e.g. "opencv dnn (2 threads), 320x240, 1.20 GFLOP"; empty when off
   size_t frames_with_depth = 0;
   size_t frames = 0;
   size_t frames_skipped = 0;  // unreadable or wrong-size images: NaN rows, with a warning each
