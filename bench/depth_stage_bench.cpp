@@ -1,11 +1,11 @@
 // The dense-depth stage per frame on the shipped model (models/compact_depth.onnx) at 320x240:
-// area resize, priors -> S1/S2, network, scale alignment, bilinear resize to 720x540 and the pose
-// (DepthEstimator::estimate; the counter network_ms leaves the pose out) on each backend side by
-// side: OpenCV DNN, the engine's CPU executor, the
-// engine's Vulkan executor (lavapipe on a machine without a GPU; S1/S2 on the device). ONNX
-// Runtime CPU as the peer: node bench/ort_bench.js models/compact_depth.onnx 20
-// image=1x1x240x320 prior=1x2x240x320. Then the pose from dense depth (every pixel, IRLS).
-// Counters: GFLOP per frame and achieved GFLOP/s. The frame: follow.yaml's first, rendered.
+// area resize, priors -> S1/S2 and Q, network, alignment to the priors, bilinear resize to 720x540
+// and the pose (DepthEstimator::estimate; the counter network_ms leaves the pose out) on each
+// backend side by side: OpenCV DNN, the engine's CPU executor, the engine's Vulkan executor
+// (lavapipe on a machine without a GPU; S1/S2 on the device). ONNX Runtime CPU as the peer: node
+// bench/ort_bench.js models/compact_depth.onnx 20 image=1x1x240x320 prior=1x2x240x320. Then the
+// pose from dense depth (every pixel, IRLS). Counters: GFLOP per frame and achieved GFLOP/s. The
+// frame: follow.yaml's first, rendered.
 #include <benchmark/benchmark.h>
 
 #include <filesystem>

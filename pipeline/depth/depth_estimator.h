@@ -1,9 +1,10 @@
 #pragma once
 // The dense-depth stage: a frame's image and the FFT detector's sparse priors -> a depth-completion
-// network (image + S1 + S2 -> metric z-depth, TRUDepth's input form) -> depth at the camera's
-// resolution and the net-relative pose from it (depth_plane.h). The network's output is scaled by
-// the median ratio prior / network at the priors' pixels before it is resized: the priors fix the
-// metric scale, the network the shape between them. Built once per camera and model
+// network (image + S1 + S2 (+ the prior surface Q) -> metric z-depth, TRUDepth's input form) ->
+// depth at the camera's resolution and the net-relative pose from it (depth_plane.h). The
+// network's output is multiplied by a surface through the ratios prior / network at the priors'
+// pixels before it is resized (align_to_priors, prior_surface.h): the priors fix the metric scale
+// and the slow shape, the network the detail between them. Built once per camera and model
 // (the network is loaded, planned and, on Vulkan, recorded in the constructor); estimate() is
 // called per frame.
 //
