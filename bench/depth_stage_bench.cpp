@@ -3,7 +3,7 @@
 // and the pose (DepthEstimator::estimate; the counter network_ms leaves the pose out) on each
 // backend side by side: OpenCV DNN, the engine's CPU executor, the engine's Vulkan executor
 // (lavapipe on a machine without a GPU; S1/S2 on the device). ONNX Runtime CPU as the peer: node
-// bench/ort_bench.js models/compact_depth.onnx 20 image=1x1x240x320 prior=1x2x240x320. Then the
+// bench/ort_bench.js models/compact_depth.onnx 20 image=1x1x240x320 prior=1x3x240x320. Then the
 // pose from dense depth (every pixel, IRLS). Counters: GFLOP per frame and achieved GFLOP/s. The
 // frame: follow.yaml's first, rendered.
 #include <benchmark/benchmark.h>
