@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "kernels/sparse_prior/sparse_prior.h"
+#include "pipeline/depth/depth_input.h"
 #include "pipeline/depth/prior_surface.h"
 #include "pipeline/median.h"
 #include "runtime/error.h"
@@ -51,10 +52,8 @@ DepthAccuracy depth_accuracy(const Dataset& dataset, NetDetector& detector,
     const DenseDepth dense = estimator.estimate(image, detection.depths);
     if (!dense.reason.empty()) continue;
     ++out.frames;
-    std::vector<kernels::SparsePoint> points;
-    for (const SparseDepth& d : detection.depths) points.push_back(d.point);
     std::vector<float> s1_maps(2 * static_cast<size_t>(cam.width_px) * cam.height_px);
-    kernels::sparse_prior_cpu(camera_shape, points, s1_maps);
+    kernels::sparse_prior_cpu(camera_shape, points_of(detection.depths), s1_maps);
     std::vector<float> surface_m(static_cast<size_t>(cam.width_px) * cam.height_px);
     render_prior_surface(fit_prior_surface(detection.depths, cam.width_px, cam.height_px),
                          surface_m);

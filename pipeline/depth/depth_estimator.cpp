@@ -122,24 +122,23 @@ struct DepthEstimator::Impl {
   std::optional<PixelRays> rays;  // of the camera scaled to the network's grid
 
   // Network output (H x W, metres) for one frame.
-  std::vector<float> run(const ImageU8& small, std::span<const SparseDepth> depths) {
+  // depths: the priors in the network's pixels; points: the same without their quality.
+  std::vector<float> run(const ImageU8& small, std::span<const SparseDepth> depths,
+                         std::span<const kernels::SparsePoint> points) {
     const size_t n = static_cast<size_t>(shape.width) * shape.height;
     std::vector<float> image(n);
     std::transform(small.pixels.begin(), small.pixels.end(), image.begin(),
                    [](uint8_t v) { return v / 255.0f; });
-    std::vector<float> surface;
-    if (prior_channels == 3) {
-      surface.resize(n);
-      render_prior_surface(fit_prior_surface(depths, shape.width, shape.height), surface);
-    }
-    const std::vector<kernels::SparsePoint> points = points_of(depths);
+    std::optional<PriorSurface> surface;
+    if (prior_channels == 3) surface = fit_prior_surface(depths, shape.width, shape.height);
     if (vulkan) {
       vulkan->model.input_buffer(0).upload(image.data(), n * sizeof(float));
-      if (!surface.empty()) {
-        vulkan->model.input_buffer(1).upload(surface.data(), n * sizeof(float),
-                                             2 * n * sizeof(float));
+      if (surface) {
+        std::vector<float> q(n);
+        render_prior_surface(*surface, q);
+        vulkan->model.input_buffer(1).upload(q.data(), n * sizeof(float), 2 * n * sizeof(float));
       }
-      vulkan->points.upload(std::span<const kernels::SparsePoint>(points));
+      vulkan->points.upload(points);
       vulkan->params.fill({static_cast<uint32_t>(points.size())});
       vulkan->stream.submit_and_wait();
       std::vector<float> out(n);
@@ -148,7 +147,7 @@ struct DepthEstimator::Impl {
     }
     std::vector<float> prior(prior_channels * n);
     kernels::sparse_prior_cpu(shape, points, prior);
-    std::copy(surface.begin(), surface.end(), prior.begin() + 2 * n);
+    if (surface) render_prior_surface(*surface, std::span<float>(prior).subspan(2 * n));
     if (opencv) {
       opencv->setInput(as_mat(image, {1, 1, shape.height, shape.width}), "image");
       opencv->setInput(as_mat(prior, {1, prior_channels, shape.height, shape.width}), "prior");
@@ -281,8 +280,9 @@ DenseDepth DepthEstimator::estimate(const ImageU8& image, std::span<const Sparse
   const ImageU8 small = resize_area(image, m.shape.width, m.shape.height);
   const std::vector<SparseDepth> depths =
       network_depths(priors, image.width, image.height, m.shape.width, m.shape.height);
-  kernels::validate(m.shape, points_of(depths));
-  std::vector<float> net = m.run(small, depths);
+  const std::vector<kernels::SparsePoint> points = points_of(depths);
+  kernels::validate(m.shape, points);
+  std::vector<float> net = m.run(small, depths, points);
   // SILog weighs a common scale error lightly (0.15 of its variance term), and a network trained
   // on many pens carries their average curvature into a frame whose priors say otherwise: both
   // are smooth over the image, so a surface through the ratios prior / network takes them out.

@@ -25,7 +25,14 @@ PriorSurface fit_prior_surface(std::span<const SparseDepth> depths, int width, i
   if (depths.empty() || width < 1 || height < 1) {
     throw Error("prior surface: needs at least one sparse depth and a positive image size");
   }
-  double sum_w = 0, sum_wz = 0, sum_z = 0;
+  auto usable = [](double q) { return q > 0 && std::isfinite(q); };
+  const bool weighted = std::any_of(depths.begin(), depths.end(),
+                                    [&](const SparseDepth& d) { return usable(d.quality); });
+  auto weight = [&](const SparseDepth& d) {
+    if (!weighted) return 1.0;
+    return usable(d.quality) ? static_cast<double>(d.quality) : 0.0;
+  };
+  double sum_w = 0, sum_wz = 0;
   for (const SparseDepth& d : depths) {
     const double z = d.point.depth_m;
     if (!(z > 0) || !std::isfinite(z)) {
@@ -33,22 +40,9 @@ PriorSurface fit_prior_surface(std::span<const SparseDepth> depths, int width, i
                   std::to_string(d.point.x_px) + ", " + std::to_string(d.point.y_px) +
                   ") is not positive and finite");
     }
-    const double q = d.quality;
-    if (q > 0 && std::isfinite(q)) {
-      sum_w += q;
-      sum_wz += q * z;
-    }
-    sum_z += z;
-  }
-  const bool unweighted = !(sum_w > 0);
-  auto weight = [&](const SparseDepth& d) {
-    if (unweighted) return 1.0;
-    const double q = d.quality;
-    return q > 0 && std::isfinite(q) ? q : 0.0;
-  };
-  if (unweighted) {
-    sum_w = static_cast<double>(depths.size());
-    sum_wz = sum_z;
+    const double w = weight(d);
+    sum_w += w;
+    sum_wz += w * z;
   }
   PriorSurface s;
   s.width = width;
