@@ -79,6 +79,7 @@ struct NetDetector::Impl {
   std::optional<kernels::FftRoiCpu> cpu;
   std::optional<VulkanStage> vulkan;
   MeshAngleFilter mesh_filter{std::nullopt};
+  TexturePatch previous_patch;  // the previous frame's, for NetDetection::texture
 
   // Net points of every ROI for a cell of the given opening angle.
   void model_points(NetDetection& d, double opening_angle_rad, const Eigen::Vector3d* normal) {
@@ -227,6 +228,12 @@ NetDetection NetDetector::detect(const ImageU8& image, int64_t timestamp_ns) {
                                            : m.config.mesh_type.value_or(MeshType::kSquare);
   for (const RoiNetPoint& p : d.points) d.reduced_rois += p.reduced ? 1 : 0;
   d.depths = roi_surface_priors(d.points, d.pose, m.config.grid.size_px, m.camera, m.config.priors);
+  if (m.config.texture.enabled) {
+    TexturePatch patch = texture_patch(image, m.camera, timestamp_ns, m.config.texture);
+    d.texture = texture_step(m.previous_patch, patch, d.points, d.pose, m.camera, m.config.mesh_m,
+                             m.config.texture);
+    m.previous_patch = std::move(patch);
+  }
   d.pose_ms = sw.elapsed_ms();
   return d;
 }

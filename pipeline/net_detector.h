@@ -14,6 +14,7 @@
 #include "pipeline/depth_priors.h"
 #include "pipeline/mesh_angle.h"
 #include "pipeline/net_geometry.h"
+#include "pipeline/net_texture.h"
 #include "pipeline/relative_pose_fft.h"
 #include "runtime/device.h"
 
@@ -31,8 +32,9 @@ struct NetDetectorConfig {
   kernels::PeakParams peaks;
   NetPointParams points;
   RelativePoseFftParams pose;
-  DepthPriorParams priors;  // NetDetection::depths
-  double mesh_m = 0.030;    // bar length, from scene.yaml net_mesh_size_m
+  DepthPriorParams priors;   // NetDetection::depths
+  NetTextureParams texture;  // NetDetection::texture
+  double mesh_m = 0.030;     // bar length, from scene.yaml net_mesh_size_m
   // scene.yaml's optional net_mesh_type and net_mesh_angle_deg: a prior; estimated when absent.
   std::optional<MeshType> mesh_type;
   std::optional<double> mesh_angle_rad;
@@ -52,6 +54,9 @@ struct NetDetection {
   // when the pose is NaN.
   std::vector<SparseDepth> depths;
   FftRelativePose pose;
+  // The move of the net point at the image centre since the previous frame, in bars
+  // (net_texture.h); valid = false on the first frame and where the lattice is not clear.
+  TextureStep texture;
   // The net's opening angle (mesh_angle.h) the points were modelled with: smoothed over frames;
   // NaN until a frame has measured it (or the scene gave it).
   double mesh_angle_rad = kNaN;

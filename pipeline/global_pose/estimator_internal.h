@@ -12,7 +12,15 @@
 
 namespace pensight::global_pose::internal {
 
-enum Sensor : int { kDvlVelocity, kDvlPlane, kDepthSensor, kAttitudeYaw, kVisionFix, kVisionRel };
+enum Sensor : int {
+  kDvlVelocity,
+  kDvlPlane,
+  kDepthSensor,
+  kAttitudeYaw,
+  kVisionFix,
+  kVisionRel,
+  kNetTexture
+};
 
 enum Warning : int {
   kWarnNoAttitudeAt,
@@ -30,7 +38,8 @@ enum Warning : int {
 
 inline const char* sensor_name(int s) {
   static const char* names[] = {"DVL velocity", "DVL plane",        "pressure depth",
-                                "attitude yaw", "vision r_g/psi_r", "vision d_net/psi_net"};
+                                "attitude yaw", "vision r_g/psi_r", "vision d_net/psi_net",
+                                "net texture"};
   return names[s];
 }
 
@@ -40,6 +49,7 @@ inline constexpr int kVisionStates[] = {kX, kY, kPsi, kFixHeadingBias};
 inline constexpr int kVelocityStates[] = {kU, kV, kW, kDvlBiasU, kDvlBiasV};
 inline constexpr int kDepthStates[] = {kZ};
 inline constexpr int kYawStates[] = {kPsi, kYawBias};
+inline constexpr int kTextureStates[] = {kX, kY, kZ, kPsi, kNetTextureOffset};
 
 template <int M>
 Eigen::Matrix<double, M, M> diag(const Eigen::Matrix<double, M, 1>& sigma) {

@@ -191,6 +191,7 @@ void GlobalPoseEstimator::apply_camera(const NetObservation& obs) {
       state_.rejected_fixes.clear();
     }
   }
+  apply_texture(obs, roll, pitch);
   // Before the lock (a frame without a circle fit) d_net / psi_net have no state to correct and
   // are not counted, like the frames whose fix was not lockable.
   if (!cfg_.use_vision_relative || !state_.initialised) return;
@@ -210,6 +211,121 @@ void GlobalPoseEstimator::apply_camera(const NetObservation& obs) {
       kVisionRel, cr, Eigen::Vector2d(obs.d_net_m, obs.psi_net_rad), model,
       diag<2>(Eigen::Vector2d(cfg_.noise.d_net_frac * obs.d_net_m, cfg_.noise.psi_net_rad)),
       {false, true}, kVisionStates);
+}
+
+std::optional<Eigen::Vector3d> GlobalPoseEstimator::centre_ray_point(const StateVector& x,
+                                                                     const Eigen::Vector3d& ray_C,
+                                                                     double roll,
+                                                                     double pitch) const {
+  const Eigen::Isometry3d T = T_pen_body(x, roll, pitch) * cfg_.T_body_camera;
+  const Eigen::Vector3d dir = (T.linear() * ray_C).normalized();
+  const auto range = wall_.ray_distance(T.translation(), dir);
+  if (!range) return std::nullopt;
+  return Eigen::Vector3d(T.translation() + *range * dir);
+}
+
+void GlobalPoseEstimator::start_texture_chain(const NetObservation& obs, double roll,
+                                              double pitch) {
+  FilterState::TextureChain& chain = state_.texture;
+  StateVector& x = state_.ekf.x;
+  StateMatrix& P = state_.ekf.P;
+  const Eigen::Vector3d ray = obs.texture.ray_C;
+  const auto hit = centre_ray_point(x, ray, roll, pitch);
+  chain.active = hit.has_value();
+  if (!hit) return;
+  // Reading = the point's along coordinate now, so the offset is 0 and its error is the point's:
+  // the offset's covariance row is that of along(point(x)), by central differences.
+  Eigen::Matrix<double, 1, kStateDim> J = Eigen::Matrix<double, 1, kStateDim>::Zero();
+  for (const int j :
+       {static_cast<int>(kX), static_cast<int>(kY), static_cast<int>(kZ), static_cast<int>(kPsi)}) {
+    const double step = 1e-6 * std::max(1.0, std::abs(x(j)));
+    StateVector xp = x, xm = x;
+    xp(j) += step;
+    xm(j) -= step;
+    const auto a = centre_ray_point(xp, ray, roll, pitch);
+    const auto b = centre_ray_point(xm, ray, roll, pitch);
+    if (!a || !b) {
+      chain.active = false;
+      return;
+    }
+    J(j) = wall_.along_change_m(b->head<2>(), a->head<2>()) / (2 * step);
+  }
+  x(kNetTextureOffset) = 0;
+  P.row(kNetTextureOffset).setZero();
+  P.col(kNetTextureOffset).setZero();
+  const Eigen::Matrix<double, 1, kStateDim> JP = J * P;
+  P.row(kNetTextureOffset) = JP;
+  P.col(kNetTextureOffset) = JP.transpose();
+  P(kNetTextureOffset, kNetTextureOffset) = JP.dot(J) + std::pow(cfg_.noise.net_texture_m, 2);
+  chain.last_ns = obs.t_ns;
+  chain.hit_P = *hit;
+  chain.hit_along_m = 0;
+  chain.reading_m = 0;
+}
+
+void GlobalPoseEstimator::apply_texture(const NetObservation& obs, double roll, double pitch) {
+  FilterState::TextureChain& chain = state_.texture;
+  const TextureStep& step = obs.texture;
+  if (!cfg_.use_net_texture || !state_.initialised || !step.valid) {
+    chain.active = false;
+    return;
+  }
+  SensorCounters& c = state_.counts.net_texture;
+  ++c.received;
+  if (!chain.active || chain.last_ns != step.from_ns) {
+    start_texture_chain(obs, roll, pitch);
+    ++c.accepted;
+    return;
+  }
+  StateVector& x = state_.ekf.x;
+  const auto hit = centre_ray_point(x, step.ray_C, roll, pitch);
+  if (!hit) {
+    ++c.invalid;
+    chain.active = false;
+    return;
+  }
+  // Whole bars: those that bring the measured move nearest to the filter's predicted one.
+  const Eigen::Matrix3d R_P_C =
+      rotation_from_rpy(roll, pitch, x(kPsi)) * cfg_.T_body_camera.linear();
+  Eigen::Matrix<double, 3, 2> bars;
+  bars << R_P_C * step.bars_C[0], R_P_C * step.bars_C[1];
+  const Eigen::Vector2d predicted = bars.colPivHouseholderQr().solve(*hit - chain.hit_P);
+  Eigen::Vector2d moved;
+  for (int i = 0; i < 2; ++i) {
+    const double m = step.moved_bars[static_cast<size_t>(i)];
+    moved(i) = m + std::round(predicted(i) - m);
+  }
+  const Eigen::Vector3d measured_hit = chain.hit_P + bars * moved;
+  const double step_m = wall_.along_change_m(chain.hit_P.head<2>(), measured_hit.head<2>());
+  chain.reading_m += step_m;
+  const MeasurementNoise& n = cfg_.noise;
+  state_.ekf.P(kNetTextureOffset, kNetTextureOffset) +=
+      std::pow(n.net_texture_step_m, 2) + std::pow(n.net_texture_step_frac * step_m, 2);
+  const Eigen::Vector3d from_P = chain.hit_P;
+  const double from_along = chain.hit_along_m;
+  const auto model = [&](const StateVector& xs) {
+    const auto p = centre_ray_point(xs, step.ray_C, roll, pitch);
+    return Eigen::Matrix<double, 1, 1>(
+        p ? from_along + wall_.along_change_m(from_P.head<2>(), p->head<2>()) -
+                xs(kNetTextureOffset)
+          : kNaN);
+  };
+  const UpdateOutcome outcome = gated_update<1>(
+      kNetTexture, c, Eigen::Matrix<double, 1, 1>(chain.reading_m), model,
+      Eigen::Matrix<double, 1, 1>(n.net_texture_m * n.net_texture_m), {false}, kTextureStates);
+  if (outcome != UpdateOutcome::kAccepted) {
+    // A slipped bar or a frame that disagrees: the odometer restarts here.
+    start_texture_chain(obs, roll, pitch);
+    return;
+  }
+  const auto now = centre_ray_point(x, step.ray_C, roll, pitch);
+  if (!now) {
+    chain.active = false;
+    return;
+  }
+  chain.hit_along_m += wall_.along_change_m(chain.hit_P.head<2>(), now->head<2>());
+  chain.hit_P = *now;
+  chain.last_ns = obs.t_ns;
 }
 
 }  // namespace pensight::global_pose

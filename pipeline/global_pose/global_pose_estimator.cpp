@@ -20,7 +20,8 @@ std::string describe(const GlobalPoseCounters& c) {
   const std::pair<const char*, const SensorCounters*> rows[] = {
       {"DVL velocity", &c.dvl_velocity}, {"DVL plane", &c.dvl_plane},
       {"pressure depth", &c.depth},      {"attitude", &c.attitude},
-      {"vision fix", &c.vision_fix},     {"vision d_net/psi_net", &c.vision_relative}};
+      {"vision fix", &c.vision_fix},     {"vision d_net/psi_net", &c.vision_relative},
+      {"net texture", &c.net_texture}};
   for (const auto& [name, s] : rows) {
     char line[256];
     std::snprintf(line, sizeof(line),

@@ -53,6 +53,13 @@ struct MeasurementNoise {
   double psi_net_rad = 0.035;
   double dvl_plane_distance_m = 0.03;
   double dvl_plane_heading_rad = 0.06;
+  // Net texture odometry (net_texture.h): the odometer's reading against the along-wall
+  // coordinate of the centre ray's net point, and the error each step adds to the odometer, a
+  // constant part (the lattice phase's noise) and one in proportion to the step (the bars'
+  // direction on the net).
+  double net_texture_m = 0.001;
+  double net_texture_step_m = 0.0005;
+  double net_texture_step_frac = 0.01;
   ProcessNoise process;
 };
 
@@ -90,6 +97,7 @@ struct GlobalPoseEstimatorConfig {
   bool use_attitude_yaw = true;     // aid the heading with the attitude sensor's yaw
   bool use_vision_relative = true;  // fuse d_net / psi_net when given
   bool use_dvl_plane = true;
+  bool use_net_texture = true;  // the net texture odometry of NetObservation::texture
   // radius_m is overwritten with pen_radius_m, or kFlatPanelFitRadius_m on a flat panel.
   CircleFitOptions circle;
   MeasurementNoise noise;
@@ -140,7 +148,7 @@ struct SensorCounters {
 };
 
 struct GlobalPoseCounters {
-  SensorCounters dvl_velocity, dvl_plane, depth, attitude, vision_fix, vision_relative;
+  SensorCounters dvl_velocity, dvl_plane, depth, attitude, vision_fix, vision_relative, net_texture;
 };
 
 // One line per sensor, e.g. for the end-of-run report.
@@ -192,7 +200,7 @@ class GlobalPoseEstimator {
     double last_depth_m = kNaN;
     Eigen::Vector3d last_velocity_L = Eigen::Vector3d::Constant(kNaN);
     GlobalPoseCounters counts;  // applied-sample counters
-    std::array<int, 6> consecutive_rejections = {};
+    std::array<int, 7> consecutive_rejections = {};
     // The latest valid DVL net plane, to check a fix against before it sets the position.
     int64_t plane_ns = kNever;
     DvlSample plane_sample;
@@ -204,6 +212,16 @@ class GlobalPoseEstimator {
       Eigen::Vector2d innovation;
     };
     std::vector<RejectedFix> rejected_fixes;
+    // The net texture odometer (apply_texture): the frame it last read, its reading [m] and the
+    // filter's centre-ray net point then, in P, with that point's along-wall coordinate.
+    struct TextureChain {
+      bool active = false;
+      int64_t last_ns = 0;
+      double reading_m = 0;
+      Eigen::Vector3d hit_P = Eigen::Vector3d::Zero();
+      double hit_along_m = 0;
+    };
+    TextureChain texture;
   };
   struct Applied {
     Event event;
@@ -224,6 +242,19 @@ class GlobalPoseEstimator {
   void apply_depth(const PressureSample& s);
   void apply_dvl(const DvlSample& s);
   void apply_camera(const NetObservation& obs);
+  // Net texture odometry: the odometer sums the centre ray's net point's moves over the net
+  // (NetObservation::texture, whole bars resolved with the filter's predicted move) into an
+  // along-wall reading; the filter measures reading = along(point) - net_texture_offset. The
+  // point moves by r dpsi when the vehicle turns but by only d dpsi of the heading error, so the
+  // heading's few tenths of a degree cost millimetres along the net, not the R dpsi of the
+  // circle fit's azimuth. A step that does not follow the odometer's last frame, or a rejected
+  // one, restarts it at the filter's point.
+  void apply_texture(const NetObservation& obs, double roll, double pitch);
+  // The filter's centre-ray net point in P for a camera ray, nullopt where it misses the wall.
+  std::optional<Eigen::Vector3d> centre_ray_point(const StateVector& x,
+                                                  const Eigen::Vector3d& ray_C, double roll,
+                                                  double pitch) const;
+  void start_texture_chain(const NetObservation& obs, double roll, double pitch);
   void initialise(const PenFix& fix, int64_t t_ns);
   // Releases the motion states a DVL velocity or attitude yaw measures (see
   // motion_relock_after_rejections).

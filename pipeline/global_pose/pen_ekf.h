@@ -11,9 +11,13 @@
 //   fix_heading_bias  the vision heading's (circle fit psi_r, FFT psi_net) slowly varying error
 //                 [rad]: it comes from the same net points frame after frame, so it is a
 //                 first-order Gauss-Markov process, not white noise
+//   net_texture_offset [m]  the along-wall coordinate of the net point on the camera's centre
+//                 ray minus the net texture odometer's reading (apply_texture in
+//                 global_pose_estimator.h): constant but for the odometer's own step errors,
+//                 which are added to its variance at each step
 // Process: constant velocity in L and constant yaw rate, driven by white acceleration noise; the
 // levelled velocity turns with the vehicle (du = r v dt, dv = -r u dt). Measurements are any
-// function h(x); Jacobians are taken by central differences (the state is 11 numbers, so this
+// function h(x); Jacobians are taken by central differences (the state is 13 numbers, so this
 // costs well under a microsecond per measurement row and keeps models and their Jacobians from
 // disagreeing). Every update is gated on its Mahalanobis distance.
 #include <Eigen/Cholesky>
@@ -38,6 +42,7 @@ enum StateIndex : int {
   kDvlBiasU,
   kDvlBiasV,
   kFixHeadingBias,
+  kNetTextureOffset,
   kStateDim
 };
 using StateVector = Eigen::Matrix<double, kStateDim, 1>;

@@ -47,6 +47,11 @@ double NetWall::distance_m(const Eigen::Vector2d& xy) const {
   return flat ? plane_normal.dot(plane_point_m - xy) : radius_m - xy.norm();
 }
 
+double NetWall::along_change_m(const Eigen::Vector2d& from, const Eigen::Vector2d& to) const {
+  if (flat) return Eigen::Vector2d(-plane_normal.y(), plane_normal.x()).dot(to - from);
+  return radius_m * wrap_angle(std::atan2(to.y(), to.x()) - std::atan2(from.y(), from.x()));
+}
+
 double NetWall::normal_bearing_rad(const Eigen::Vector2d& xy) const {
   return flat ? std::atan2(plane_normal.y(), plane_normal.x()) : std::atan2(xy.y(), xy.x());
 }

@@ -54,6 +54,10 @@ struct NetWall {
   // the cylinder, the panel's fixed normal on a flat panel. A heading relative to the wall is
   // psi - normal_bearing_rad (psi_r on the cylinder).
   double normal_bearing_rad(const Eigen::Vector2d& xy) const;
+  // How far `to` lies from `from` along the wall's horizontal direction [m]: the arc R times the
+  // change of azimuth (wrapped to +-pi) on the cylinder, the move along the panel (positive with
+  // increasing azimuth, as on the cylinder) on a flat panel.
+  double along_change_m(const Eigen::Vector2d& from, const Eigen::Vector2d& to) const;
   // The position at azimuth rho_rad (atan2(y, x) = rho) that lies `distance_m` in front of the
   // wall; nullopt when the azimuth's ray misses the panel there.
   std::optional<Eigen::Vector2d> position_at(double rho_rad, double distance_m) const;
