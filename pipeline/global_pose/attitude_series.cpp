@@ -48,6 +48,26 @@ std::optional<AttitudeSample> AttitudeSeries::at(int64_t t_ns, double max_gap_s)
   return s;
 }
 
+std::optional<double> AttitudeSeries::yaw_rate(int64_t t_ns, double window_s) const {
+  const int64_t from_ns = t_ns - static_cast<int64_t>(window_s * 1e9);
+  auto it = std::lower_bound(samples_.begin(), samples_.end(), from_ns, earlier);
+  double n = 0, st = 0, sy = 0, stt = 0, sty = 0, yaw = 0, previous = 0;
+  for (; it != samples_.end() && it->timestamp_ns <= t_ns; ++it) {
+    if (!std::isfinite(it->yaw_rad)) return std::nullopt;
+    yaw = n == 0 ? 0.0 : yaw + wrap_angle(it->yaw_rad - previous);
+    previous = it->yaw_rad;
+    const double t = seconds_between(from_ns, it->timestamp_ns);
+    n += 1;
+    st += t;
+    sy += yaw;
+    stt += t * t;
+    sty += t * yaw;
+  }
+  const double det = n * stt - st * st;
+  if (n < 3 || !(det > 0)) return std::nullopt;
+  return (n * sty - st * sy) / det;
+}
+
 void AttitudeSeries::trim_before(int64_t t_ns) {
   while (samples_.size() > 1 && samples_[1].timestamp_ns < t_ns) samples_.pop_front();
 }

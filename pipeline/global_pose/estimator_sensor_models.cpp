@@ -258,6 +258,9 @@ void GlobalPoseEstimator::start_texture_chain(const NetObservation& obs, double 
   P.col(kNetTextureOffset) = JP.transpose();
   P(kNetTextureOffset, kNetTextureOffset) = JP.dot(J) + std::pow(cfg_.noise.net_texture_m, 2);
   chain.last_ns = obs.t_ns;
+  chain.x = x;
+  chain.roll_rad = roll;
+  chain.pitch_rad = pitch;
   chain.hit_P = *hit;
   chain.hit_along_m = 0;
   chain.reading_m = 0;
@@ -277,28 +280,52 @@ void GlobalPoseEstimator::apply_texture(const NetObservation& obs, double roll, 
     ++c.accepted;
     return;
   }
-  StateVector& x = state_.ekf.x;
-  const auto hit = centre_ray_point(x, step.ray_C, roll, pitch);
-  if (!hit) {
+  // Whole bars: those that bring the measured move nearest to a move predicted from the
+  // filter's pose at the odometer's last frame (its roll and pitch too) moved on by the latest
+  // DVL velocity and the attitude's yaw rate. Not by the filter's own velocity and yaw rate: the
+  // odometer corrects those, so a slipped bar would turn into a yaw rate that predicts the next
+  // slip. Nor by the filter's pose now: the fixes move its heading by tenths of a degree between
+  // frames, centimetres at the net.
+  const MeasurementNoise& n = cfg_.noise;
+  const double dt = seconds_between(chain.last_ns, obs.t_ns);
+  const double yaw_rate =
+      attitude_.yaw_rate(obs.t_ns, n.net_texture_yaw_rate_window_s).value_or(chain.x(kPsiRate));
+  const Eigen::Vector3d v_L = state_.last_velocity_L.allFinite()
+                                  ? state_.last_velocity_L
+                                  : Eigen::Vector3d(chain.x.segment<3>(kU));
+  StateVector to = chain.x;
+  const double psi_mid = chain.x(kPsi) + 0.5 * dt * yaw_rate;
+  to(kX) += dt * (std::cos(psi_mid) * v_L.x() - std::sin(psi_mid) * v_L.y());
+  to(kY) += dt * (std::sin(psi_mid) * v_L.x() + std::cos(psi_mid) * v_L.y());
+  to(kZ) += dt * v_L.z();
+  to(kPsi) = wrap_angle(chain.x(kPsi) + dt * yaw_rate);
+  const auto predicted_hit = centre_ray_point(to, step.ray_C, chain.roll_rad, chain.pitch_rad);
+  if (!predicted_hit) {
     ++c.invalid;
     chain.active = false;
     return;
   }
-  // Whole bars: those that bring the measured move nearest to the filter's predicted one.
   const Eigen::Matrix3d R_P_C =
-      rotation_from_rpy(roll, pitch, x(kPsi)) * cfg_.T_body_camera.linear();
+      rotation_from_rpy(chain.roll_rad, chain.pitch_rad, to(kPsi)) * cfg_.T_body_camera.linear();
   Eigen::Matrix<double, 3, 2> bars;
   bars << R_P_C * step.bars_C[0], R_P_C * step.bars_C[1];
-  const Eigen::Vector2d predicted = bars.colPivHouseholderQr().solve(*hit - chain.hit_P);
+  const Eigen::Vector2d predicted = bars.colPivHouseholderQr().solve(*predicted_hit - chain.hit_P);
   Eigen::Vector2d moved;
   for (int i = 0; i < 2; ++i) {
     const double m = step.moved_bars[static_cast<size_t>(i)];
-    moved(i) = m + std::round(predicted(i) - m);
+    const double whole = std::round(predicted(i) - m);
+    // Near half a bar either count is as likely: the odometer restarts rather than slip a bar.
+    if (std::abs(predicted(i) - m - whole) > n.net_texture_max_unwrap_bars) {
+      ++c.invalid;
+      start_texture_chain(obs, roll, pitch);
+      return;
+    }
+    moved(i) = m + whole;
   }
+  StateVector& x = state_.ekf.x;
   const Eigen::Vector3d measured_hit = chain.hit_P + bars * moved;
   const double step_m = wall_.along_change_m(chain.hit_P.head<2>(), measured_hit.head<2>());
   chain.reading_m += step_m;
-  const MeasurementNoise& n = cfg_.noise;
   state_.ekf.P(kNetTextureOffset, kNetTextureOffset) +=
       std::pow(n.net_texture_step_m, 2) + std::pow(n.net_texture_step_frac * step_m, 2);
   const Eigen::Vector3d from_P = chain.hit_P;
@@ -326,6 +353,9 @@ void GlobalPoseEstimator::apply_texture(const NetObservation& obs, double roll, 
   chain.hit_along_m += wall_.along_change_m(chain.hit_P.head<2>(), now->head<2>());
   chain.hit_P = *now;
   chain.last_ns = obs.t_ns;
+  chain.x = x;
+  chain.roll_rad = roll;
+  chain.pitch_rad = pitch;
 }
 
 }  // namespace pensight::global_pose

@@ -29,6 +29,7 @@ ImageU8 render_net(const PinholeCamera& camera, const NetScene& s) {
   bars << bar1 * s.mesh_m, bar2 * s.mesh_m;
   const Eigen::Matrix<double, 3, 2> dual = bars * (bars.transpose() * bars).inverse();
   const Eigen::Vector3d e1 = dual.col(0), e2 = dual.col(1);
+  const Eigen::Vector3d lattice_shift = s.shift_right_m * u1 - s.shift_up_m * u2;
   std::mt19937_64 rng(s.seed);
   std::uniform_real_distribution<double> phase(0, 1);
   const double ph1 = phase(rng), ph2 = phase(rng);
@@ -94,7 +95,8 @@ ImageU8 render_net(const PinholeCamera& camera, const NetScene& s) {
         const Eigen::Vector3d dy = (*py1 - *py0) / (y > 0 && y < h - 1 ? 2.0 : 1.0);
         const double s1 = sigma_px * std::hypot(dx.dot(e1), dy.dot(e1));
         const double s2 = sigma_px * std::hypot(dx.dot(e2), dy.dot(e2));
-        const double q1 = p->dot(e1) + ph1, q2 = p->dot(e2) + ph2;
+        const double q1 = (*p - lattice_shift).dot(e1) + ph1,
+                     q2 = (*p - lattice_shift).dot(e2) + ph2;
         const double c1 = stripe(q1, s1, duty, twine_amplitude);
         const double c2 = stripe(q2, s2, duty, twine_amplitude);
         double twine = c1 + c2 - c1 * c2;

@@ -31,6 +31,9 @@ struct NetScene {
   double blur_sigma_px = 0.6;  // Gaussian PSF of lens and sensor (no real camera has none)
   double noise_sigma = 2;      // Gaussian pixel noise, grey levels
   double edge_m = 1e9;         // the net ends this far right of the optical axis, in the net plane
+  // The lattice moved within the net plane along the net's right and up (the unrotated ones), as
+  // when the camera moves the other way along the net.
+  double shift_right_m = 0, shift_up_m = 0;
   uint64_t seed = 1;
 };
 

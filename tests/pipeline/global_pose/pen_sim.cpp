@@ -34,6 +34,35 @@ DvlCalibration forward_dvl() {
   return dvl;
 }
 
+void add_texture_steps(Sequence& seq, double radius_m, const Eigen::Isometry3d& T_body_camera,
+                       double bar_m, double sigma_bars, std::mt19937_64& rng) {
+  std::normal_distribution<double> unit(0.0, 1.0);
+  const auto axis_point = [&](const Pose& pose) {
+    const Eigen::Isometry3d T = pose.T_pen_body() * T_body_camera;
+    const Eigen::Vector3d dir = T.linear().col(2);
+    return Eigen::Vector3d(T.translation() +
+                           ray_to_cylinder(T.translation(), dir, radius_m).value() * dir);
+  };
+  for (size_t k = 1; k < seq.camera.size(); ++k) {
+    const Eigen::Vector3d a = axis_point(seq.truth[k - 1]), b = axis_point(seq.truth[k]);
+    const double azimuth = std::atan2(b.y(), b.x());
+    // The mesh's bars at b: along the wall (increasing azimuth) and down.
+    const Eigen::Vector3d along(-std::sin(azimuth), std::cos(azimuth), 0);
+    const double moved[2] = {radius_m * wrap_angle(azimuth - std::atan2(a.y(), a.x())) / bar_m,
+                             (b.z() - a.z()) / bar_m};
+    const Eigen::Matrix3d R_C_P = (seq.truth[k].T_pen_body() * T_body_camera).linear().transpose();
+    TextureStep& s = seq.camera[k].texture;
+    s.valid = true;
+    s.from_ns = seq.camera[k - 1].t_ns;
+    s.ray_C = Eigen::Vector3d::UnitZ();
+    s.bars_C = {bar_m * R_C_P * along, bar_m * R_C_P * Eigen::Vector3d::UnitZ()};
+    for (size_t i = 0; i < 2; ++i) {
+      const double m = moved[i] + sigma_bars * unit(rng);
+      s.moved_bars[i] = m - std::floor(m + 0.5);
+    }
+  }
+}
+
 NetObservation net_observation(const Pose& pose, double radius_m,
                                const Eigen::Isometry3d& T_body_camera, const PointNoise& noise,
                                std::mt19937_64& rng, const PinholeCamera& camera) {

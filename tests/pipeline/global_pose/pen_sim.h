@@ -88,6 +88,12 @@ Sequence make_sequence(const Trajectory& traj, const SensorNoise& noise, uint64_
                        const Eigen::Isometry3d& T_body_camera = forward_camera(),
                        const DvlCalibration& dvl = forward_dvl());
 
+// Fills every camera frame's texture step but the first (net_texture.h): the optical axis' net
+// point's true move over a square mesh of bar_m (horizontal and vertical bars) since the previous
+// frame, in bars with white noise of sigma_bars, wrapped to [-0.5, 0.5).
+void add_texture_steps(Sequence& seq, double radius_m, const Eigen::Isometry3d& T_body_camera,
+                       double bar_m, double sigma_bars, std::mt19937_64& rng);
+
 // Calls the visitor with every sample of the sequence in timestamp order.
 struct Visitor {
   std::function<void(const DvlSample&)> dvl;
