@@ -2,8 +2,8 @@
 // published node, and the fused estimator with one frame's worth of samples (camera 10 Hz, DVL
 // 4 Hz with beam ranges, pressure 8 Hz, attitude 20 Hz). The published ROS node took 8.7 ms per
 // update on a Jetson Orin. Floor: the fit is ~10 Gauss-Newton passes over 30 points (~6k flops);
-// an EKF update of 11 states with numeric Jacobians is ~20 model evaluations and a few 11x11
-// products (~10k flops), about 8 of them per frame.
+// an EKF update of 13 states with numeric Jacobians is ~20 model evaluations and a few 13x13
+// products (~10k flops), about 9 of them per frame (the net texture odometry's included).
 #include <benchmark/benchmark.h>
 
 #include <cmath>
@@ -64,6 +64,28 @@ int64_t ns(double s) {
   return static_cast<int64_t>(std::llround(s * 1e9));
 }
 
+// The optical axis' net point's move from t0 to t1 over a square 30 mm mesh (net_texture.h).
+TextureStep texture_step_at(double t0, double t1, const Eigen::Isometry3d& T_bc) {
+  const auto axis_point = [&](double t) {
+    const Eigen::Isometry3d T = pose_at(t) * T_bc;
+    const Eigen::Vector3d dir = T.linear().col(2);
+    return Eigen::Vector3d(T.translation() +
+                           ray_to_cylinder(T.translation(), dir, kRadius).value_or(0) * dir);
+  };
+  const Eigen::Vector3d a = axis_point(t0), b = axis_point(t1);
+  const double azimuth = std::atan2(b.y(), b.x()), bar = 0.030;
+  const Eigen::Matrix3d R_C_P = (pose_at(t1) * T_bc).linear().transpose();
+  TextureStep s;
+  s.valid = true;
+  s.from_ns = ns(t0);
+  s.bars_C = {bar * R_C_P * Eigen::Vector3d(-std::sin(azimuth), std::cos(azimuth), 0),
+              bar * R_C_P * Eigen::Vector3d::UnitZ()};
+  const double moved[2] = {kRadius * wrap_angle(azimuth - std::atan2(a.y(), a.x())) / bar,
+                           (b.z() - a.z()) / bar};
+  for (size_t i = 0; i < 2; ++i) s.moved_bars[i] = moved[i] - std::floor(moved[i] + 0.5);
+  return s;
+}
+
 std::vector<Frame> make_frames() {
   std::mt19937_64 rng(7);
   std::normal_distribution<double> n01(0.0, 1.0);
@@ -86,6 +108,7 @@ std::vector<Frame> make_frames() {
     const auto rel = net_relative_pose(T_pc, NetWall::cylinder(kRadius));
     fr.camera.d_net_m = rel.d_net_m;
     fr.camera.psi_net_rad = rel.psi_net_rad;
+    if (f > 0) fr.camera.texture = texture_step_at(t - 0.1, t, T_bc);
     for (const double s : {t + 0.007, t + 0.057}) {
       const Eigen::Matrix3d R = pose_at(s).linear();
       fr.attitude.push_back({ns(s), 0.0, 0.0, std::atan2(R(1, 0), R(0, 0)) + 0.5});
@@ -144,12 +167,14 @@ void BM_PublishedNode_PerFrame(benchmark::State& state) {
 BENCHMARK(BM_PublishedNode_PerFrame)->Unit(benchmark::kMicrosecond);
 
 // Fused estimator: adding a frame's samples and asking for the frame's estimate. Restarts (a new
-// estimator) every kFrames frames, less than 0.2 % of the iterations.
+// estimator) every kFrames frames, less than 0.2 % of the iterations. Arg: the net texture
+// odometry off (0) or on (1).
 void BM_Estimator_PerFrame(benchmark::State& state) {
   GlobalPoseEstimatorConfig cfg;
   cfg.pen_radius_m = kRadius;
   cfg.T_body_camera = forward_mount(0.3, 0.1);
   cfg.dvl_beams = dvl_config();
+  cfg.use_net_texture = state.range(0) != 0;
   auto est = std::make_unique<GlobalPoseEstimator>(cfg);
   size_t f = 0;
   for (auto _ : state) {
@@ -166,6 +191,6 @@ void BM_Estimator_PerFrame(benchmark::State& state) {
     }
   }
 }
-BENCHMARK(BM_Estimator_PerFrame)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_Estimator_PerFrame)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
