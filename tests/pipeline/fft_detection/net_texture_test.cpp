@@ -7,9 +7,12 @@
 #include <Eigen/QR>
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <random>
 
+#include "pipeline/dataset/dataset_reader.h"
 #include "pipeline/net_detector.h"
+#include "pipeline/runner.h"
 #include "runtime/error.h"
 #include "runtime/units.h"
 #include "tests/support/net_image.h"
@@ -78,6 +81,47 @@ TEST(NetTexture, MovedBarsAreTheLatticesMove) {
     for (const Eigen::Vector3d& bar : second.texture.bars_C) {
       EXPECT_NEAR(bar.norm(), scene.mesh_m, 1e-12);
       EXPECT_NEAR(bar.dot(m), 0.0, 0.05 * scene.mesh_m) << "a bar leaves the net plane";
+    }
+  }
+}
+
+// The real frame of a full-scale pen (../shared/real/solaqua_close: sheared, fouled, soft square
+// mesh) and the same frame moved by whole pixels: the step is the move of the image lattice of the
+// ROI nearest the centre, f . shift in its duals' cycles. Measured: within 0.007 bar for these
+// shifts (0.004-0.007 bar).
+TEST(NetTexture, RealFrameMovedByWholePixels) {
+  const std::filesystem::path dir =
+      std::filesystem::path(PENSIGHT_SHARED_DIR) / "real" / "solaqua_close";
+  ASSERT_TRUE(std::filesystem::exists(dir / "scene.yaml"))
+      << dir << " is missing: the project expects ../shared/ beside its checkout";
+  const Dataset d = read_dataset(dir);
+  const ImageU8 image = d.load_frame(0);
+  for (const Eigen::Vector2i& shift : {Eigen::Vector2i(7, -4), Eigen::Vector2i(-3, 11)}) {
+    NetDetector detector(d.cam0.camera, detector_config(d.scene, {.backend = Backend::kCpu}),
+                         testing::test_device());
+    detector.detect(image, 0);
+    ImageU8 moved(image.width, image.height);
+    for (int y = 0; y < image.height; ++y)
+      for (int x = 0; x < image.width; ++x)
+        moved.at(x, y) = image.at(std::clamp(x - shift.x(), 0, image.width - 1),
+                                  std::clamp(y - shift.y(), 0, image.height - 1));
+    const NetDetection det = detector.detect(moved, 1);
+    ASSERT_TRUE(det.texture.valid) << "shift " << shift.transpose();
+    const Eigen::Vector2d centre(d.cam0.camera.cx_px, d.cam0.camera.cy_px);
+    const RoiNetPoint* nearest = nullptr;
+    for (const RoiNetPoint& p : det.points)
+      if (p.valid() &&
+          (!nearest || (p.centre_px - centre).norm() < (nearest->centre_px - centre).norm()))
+        nearest = &p;
+    ASSERT_NE(nearest, nullptr);
+    Eigen::Matrix2d lattice;
+    lattice << nearest->lattice1_px, nearest->lattice2_px;
+    const Eigen::Vector2d expected = -lattice.inverse() * shift.cast<double>();
+    for (int i = 0; i < 2; ++i) {
+      const double off = det.texture.moved_bars[static_cast<size_t>(i)] - expected(i);
+      std::printf("shift (%d, %d) px, bar %d: moved %.4f, expected %.4f (mod 1)\n", shift.x(),
+                  shift.y(), i, det.texture.moved_bars[static_cast<size_t>(i)], expected(i));
+      EXPECT_NEAR(off - std::round(off), 0.0, 0.03) << "shift " << shift.transpose();
     }
   }
 }
