@@ -87,8 +87,8 @@ TEST(NetTexture, MovedBarsAreTheLatticesMove) {
 
 // The real frame of a full-scale pen (../shared/real/solaqua_close: sheared, fouled, soft square
 // mesh) and the same frame moved by whole pixels: the step is the move of the image lattice of the
-// ROI nearest the centre, f . shift in its duals' cycles. Measured: within 0.007 bar for these
-// shifts (0.004-0.007 bar).
+// ROI nearest the centre, f . shift in its duals' cycles. Measured: 0.004-0.007 bar for these
+// shifts.
 TEST(NetTexture, RealFrameMovedByWholePixels) {
   const std::filesystem::path dir =
       std::filesystem::path(PENSIGHT_SHARED_DIR) / "real" / "solaqua_close";
