@@ -45,6 +45,10 @@ int cmd_run(const Args& args) {
   bool no_published = false;
   cli.add_flag("--no-published", no_published,
                "do not run the published global-pose node (OUT/global_pose_published.csv)");
+  bool no_net_texture = false;
+  cli.add_flag("--no-net-texture", no_net_texture,
+               "do not measure the net texture's move at the image centre (the global pose's "
+               "along-net odometry, docs/global_pose.md)");
   cli.add_flag("--realtime", options.realtime,
                "push each sample at its timestamp (the timing a vehicle sees) instead of as fast "
                "as possible");
@@ -80,6 +84,7 @@ int cmd_run(const Args& args) {
 
   options.detector.backend = parse_backend(backend);
   options.write_published_global_pose = !no_published;
+    options.detector.texture.enabled = !no_net_texture;
   ProgressBar bar("run");
   if (!quiet) options.on_progress = [&](size_t done, size_t total) { bar.update(done, total); };
   // A bag runs as the dataset it converts to, so every output is that of a dataset folder.
