@@ -225,6 +225,26 @@ TEST(GlobalPoseEstimator, DvlSpikeIsRejectedAndRecoversWithin2s) {
   EXPECT_GT(pub_after, 0.5);  // the published node keeps a ~0.9 m jump
 }
 
+// Following the net at 0.2 m/s, 0.85-1.25 m from it, with a vehicle's sensors: DVL 5 mm/s
+// without bias, attitude 0.2 deg without drift.
+sim::Sequence following_sequence(double radius_m, double duration_s, uint64_t seed) {
+  sim::Trajectory traj;
+  traj.radius_m = radius_m;
+  traj.duration_s = duration_s;
+  traj.speed_mps = 0.2;
+  traj.mean_distance_m = 1.05;
+  traj.distance_amp_m = 0.2;
+  traj.psi_r_amp_rad = 0.06;
+  sim::SensorNoise noise;
+  noise.dvl_sigma_mps = 0.005;
+  noise.dvl_scale_error = 0;
+  noise.dvl_bias_mps.setZero();
+  noise.yaw_sigma_rad = 0.0035;
+  noise.attitude_sigma_rad = 0.0035;
+  noise.yaw_drift_radps = 0;
+  return sim::make_sequence(traj, noise, seed);
+}
+
 // The along-net position over 15 s of following with a vehicle's sensors (DVL 5 mm/s, attitude
 // yaw 0.2 deg, no DVL bias) and DVL spikes of 0.3-0.8 m/s in each axis: every spiked sample is
 // rejected and counted, and the along-net error stays within 10 cm (a 0.8 m/s spike let through
@@ -236,21 +256,7 @@ TEST(GlobalPoseEstimator, DvlSpikeIsRejectedAndRecoversWithin2s) {
 TEST(GlobalPoseEstimator, AlongNetOver15sAndEverySpikeRejected) {
   std::mt19937_64 rng(testing::fresh_seed());
   for (const double radius : {12.0, 25.0}) {
-    sim::Trajectory traj;
-    traj.radius_m = radius;
-    traj.duration_s = 15;
-    traj.speed_mps = 0.2;
-    traj.mean_distance_m = 1.05;
-    traj.distance_amp_m = 0.2;
-    traj.psi_r_amp_rad = 0.06;
-    sim::SensorNoise noise;
-    noise.dvl_sigma_mps = 0.005;
-    noise.dvl_scale_error = 0;
-    noise.dvl_bias_mps.setZero();
-    noise.yaw_sigma_rad = 0.0035;
-    noise.attitude_sigma_rad = 0.0035;
-    noise.yaw_drift_radps = 0;
-    sim::Sequence seq = sim::make_sequence(traj, noise, rng());
+    sim::Sequence seq = following_sequence(radius, 15, rng());
     struct Spike {
       double t_s, duration_s;
       Eigen::Vector3d v;
@@ -289,21 +295,7 @@ TEST(GlobalPoseEstimator, AlongNetOver15sAndEverySpikeRejected) {
 TEST(GlobalPoseEstimator, AlongNetWithNetTextureOver60s) {
   std::mt19937_64 rng(testing::fresh_seed());
   for (const double radius : {12.0, 25.0}) {
-    sim::Trajectory traj;
-    traj.radius_m = radius;
-    traj.duration_s = 60;
-    traj.speed_mps = 0.2;
-    traj.mean_distance_m = 1.05;
-    traj.distance_amp_m = 0.2;
-    traj.psi_r_amp_rad = 0.06;
-    sim::SensorNoise noise;
-    noise.dvl_sigma_mps = 0.005;
-    noise.dvl_scale_error = 0;
-    noise.dvl_bias_mps.setZero();
-    noise.yaw_sigma_rad = 0.0035;
-    noise.attitude_sigma_rad = 0.0035;
-    noise.yaw_drift_radps = 0;
-    sim::Sequence seq = sim::make_sequence(traj, noise, rng());
+    sim::Sequence seq = following_sequence(radius, 60, rng());
     sim::add_texture_steps(seq, radius, sim::forward_camera(), 0.03, 0.01, rng);
     int n_spiked = 0;
     for (auto& s : seq.dvl) {
