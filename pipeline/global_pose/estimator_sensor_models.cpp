@@ -288,8 +288,23 @@ void GlobalPoseEstimator::apply_texture(const NetObservation& obs, double roll, 
   // frames, centimetres at the net.
   const MeasurementNoise& n = cfg_.noise;
   const double dt = seconds_between(chain.last_ns, obs.t_ns);
-  const double yaw_rate =
-      attitude_.yaw_rate(obs.t_ns, n.net_texture_yaw_rate_window_s).value_or(chain.x(kPsiRate));
+  const double window_s = n.net_texture_yaw_rate_window_s;
+  const auto rate_now = attitude_.yaw_rate(obs.t_ns, window_s);
+  const auto rate_before =
+      attitude_.yaw_rate(obs.t_ns - static_cast<int64_t>(window_s * 1e9), window_s);
+  // In a turn the prediction is too coarse to count bars by: a yaw rate that changed between the
+  // last two windows by enough to move the point by the allowed ambiguity over the interval (the
+  // sweep's 2.5 rad/s turns; following changes it by hundredths of a rad/s).
+  const double range_m = (chain.hit_P - T_pen_body(chain.x, chain.roll_rad, chain.pitch_rad) *
+                                            cfg_.T_body_camera.translation())
+                             .norm();
+  const double rate_change = rate_now && rate_before ? std::abs(*rate_now - *rate_before) : 0.0;
+  if (range_m * rate_change * dt > n.net_texture_max_unwrap_bars * step.bars_C[0].norm()) {
+    ++c.invalid;
+    start_texture_chain(obs, roll, pitch);
+    return;
+  }
+  const double yaw_rate = rate_now.value_or(chain.x(kPsiRate));
   const Eigen::Vector3d v_L = state_.last_velocity_L.allFinite()
                                   ? state_.last_velocity_L
                                   : Eigen::Vector3d(chain.x.segment<3>(kU));
