@@ -84,7 +84,7 @@ int cmd_run(const Args& args) {
 
   options.detector.backend = parse_backend(backend);
   options.write_published_global_pose = !no_published;
-    options.detector.texture.enabled = !no_net_texture;
+  options.detector.texture.enabled = !no_net_texture;
   ProgressBar bar("run");
   if (!quiet) options.on_progress = [&](size_t done, size_t total) { bar.update(done, total); };
   // A bag runs as the dataset it converts to, so every output is that of a dataset folder.

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <exception>
+#include <iterator>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -221,10 +222,12 @@ class RunWriter {
   // The samples each sensor had applied and refused since the previous frame.
   void count_outcomes(const global_pose::GlobalPoseCounters& c, DiagnosticsRow& diag) {
     const global_pose::SensorCounters* now[] = {&c.dvl_velocity, &c.dvl_plane,  &c.depth,
-                                                &c.attitude,     &c.vision_fix, &c.vision_relative};
-    const global_pose::SensorCounters* before[] = {&last_.dvl_velocity, &last_.dvl_plane,
-                                                   &last_.depth,        &last_.attitude,
-                                                   &last_.vision_fix,   &last_.vision_relative};
+                                                &c.attitude,     &c.vision_fix, &c.vision_relative,
+                                                &c.net_texture};
+    const global_pose::SensorCounters* before[] = {
+        &last_.dvl_velocity, &last_.dvl_plane,       &last_.depth,      &last_.attitude,
+        &last_.vision_fix,   &last_.vision_relative, &last_.net_texture};
+    static_assert(std::size(now) == kDiagnosticsSensors.size());
     for (size_t i = 0; i < kDiagnosticsSensors.size(); ++i) {
       diag.accepted[i] =
           (now[i]->accepted + now[i]->relocked) - (before[i]->accepted + before[i]->relocked);

@@ -3,8 +3,8 @@
 // camera frame saying why an estimate is what it is. Columns (docs/diagnostics.md):
 //   #timestamp [ns],valid_rois,inlier_rois,plane_rms [m],fft_reason,mesh_angle [deg],
 //   dvl_plane_d [m],dvl_plane_psi [rad], then <sensor>_accepted,<sensor>_rejected for each of
-//   dvl_velocity, dvl_plane, depth, attitude, vision_fix, vision_relative; then mesh_type,
-//   reduced_rois
+//   dvl_velocity, dvl_plane, depth, attitude, vision_fix, vision_relative, net_texture; then
+//   mesh_type, reduced_rois
 // fft_reason is empty when the FFT pose is valid; commas in it are written as ';'. The sensor
 // columns count the samples applied (accepted or re-locked) and refused (gated out or invalid)
 // since the previous row. Written whole like estimates.csv.
@@ -19,8 +19,9 @@
 namespace pensight {
 
 inline constexpr const char* kDiagnosticsFile = "diagnostics.csv";
-inline constexpr std::array<const char*, 6> kDiagnosticsSensors = {
-    "dvl_velocity", "dvl_plane", "depth", "attitude", "vision_fix", "vision_relative"};
+inline constexpr std::array<const char*, 7> kDiagnosticsSensors = {
+    "dvl_velocity", "dvl_plane",       "depth",      "attitude",
+    "vision_fix",   "vision_relative", "net_texture"};
 
 struct DiagnosticsRow {
   int64_t timestamp_ns = 0;
@@ -30,7 +31,7 @@ struct DiagnosticsRow {
   std::string fft_reason;
   double mesh_angle_deg = kNaN;  // the detector's smoothed opening angle (mesh_angle.h)
   double dvl_plane_d_m = kNaN, dvl_plane_psi_rad = kNaN;
-  std::array<int, 6> accepted = {}, rejected = {};  // kDiagnosticsSensors order
+  std::array<int, kDiagnosticsSensors.size()> accepted = {}, rejected = {};  // in that order
   std::string mesh_type;  // "square" | "diamond"; empty for a skipped frame
   int reduced_rois = 0;   // ROIs whose spectral basis held a diagonal, reduced to the bars
 };

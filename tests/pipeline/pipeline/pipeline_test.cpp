@@ -204,7 +204,9 @@ TEST(Pipeline, RunWritesDiagnosticsAndTiming) {
   options.detector.backend = Backend::kCpu;
   const RunSummary summary = run_dataset(d, out, options, test_device());
   const std::vector<EstimateRow> rows = read_estimates_csv(out / "estimates.csv");
-  const CsvTable diag(out / kDiagnosticsFile, 22, 22);
+  // 8 leading columns, an accepted and a rejected one per sensor, mesh_type and reduced_rois.
+  const size_t columns = 8 + 2 * kDiagnosticsSensors.size() + 2;
+  const CsvTable diag(out / kDiagnosticsFile, columns, columns);
   ASSERT_EQ(diag.rows(), d.frames.size());
   int nan_frames = 0;
   for (size_t i = 0; i < diag.rows(); ++i) {

@@ -127,9 +127,9 @@ class ReportTest : public ::testing::Test {
       if (nan_frame) d.fft_reason = i % 2 ? "too few ROIs <3> & no plane" : "open water";
       d.dvl_plane_d_m = g.d_net_m + 0.03;
       d.dvl_plane_psi_rad = i % 4 ? g.psi_net_rad : kNaN;
-      for (int k = 0; k < 6; ++k) {
-        d.accepted[k] = (k + i) % 3;
-        d.rejected[k] = k == 1 && i % 7;
+      for (int k = 0; k < static_cast<int>(kDiagnosticsSensors.size()); ++k) {
+        d.accepted[static_cast<size_t>(k)] = (k + i) % 3;
+        d.rejected[static_cast<size_t>(k)] = k == 1 && i % 7;
       }
       diagnostics.write(d);
     }
