@@ -23,10 +23,8 @@ std::vector<std::complex<double>> phasors(double f_cpp, int first, int n, double
 
 // The patch's Fourier coefficient at f (cycles per pixel), phase taken at the patch centre.
 std::complex<double> coefficient(const TexturePatch& p, const Eigen::Vector2d& f_cpp) {
-  const int first_x = static_cast<int>(std::lround(p.centre_px.x() - 0.5 * (p.size_px - 1)));
-  const int first_y = static_cast<int>(std::lround(p.centre_px.y() - 0.5 * (p.size_px - 1)));
-  const auto ex = phasors(f_cpp.x(), first_x, p.size_px, p.centre_px.x());
-  const auto ey = phasors(f_cpp.y(), first_y, p.size_px, p.centre_px.y());
+  const auto ex = phasors(f_cpp.x(), p.first_px.x(), p.size_px, p.centre_px.x());
+  const auto ey = phasors(f_cpp.y(), p.first_px.y(), p.size_px, p.centre_px.y());
   std::complex<double> sum = 0;
   for (int y = 0; y < p.size_px; ++y) {
     const float* row = p.pixels.data() + static_cast<size_t>(y) * p.size_px;
@@ -78,6 +76,7 @@ TexturePatch texture_patch(const ImageU8& image, const PinholeCamera& camera, in
       sq += v * v;
     }
   p.rms = std::sqrt(sq / (static_cast<double>(n) * n));
+  p.first_px = Eigen::Vector2i(first_x, first_y);
   p.size_px = n;
   return p;
 }

@@ -38,6 +38,7 @@ struct NetTextureParams {
 struct TexturePatch {
   int64_t t_ns = 0;
   Eigen::Vector2d centre_px = Eigen::Vector2d::Zero();
+  Eigen::Vector2i first_px = Eigen::Vector2i::Zero();  // the image pixel of pixels[0]
   int size_px = 0;
   std::vector<float> pixels;  // row-major size_px^2, windowed, zero weighted mean
   double rms = 0;             // of the windowed pixels

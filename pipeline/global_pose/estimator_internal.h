@@ -49,6 +49,7 @@ inline constexpr int kVisionStates[] = {kX, kY, kPsi, kFixHeadingBias};
 inline constexpr int kVelocityStates[] = {kU, kV, kW, kDvlBiasU, kDvlBiasV};
 inline constexpr int kDepthStates[] = {kZ};
 inline constexpr int kYawStates[] = {kPsi, kYawBias};
+inline constexpr int kPoseStates3D[] = {kX, kY, kZ, kPsi};
 inline constexpr int kTextureStates[] = {kX, kY, kZ, kPsi, kNetTextureOffset};
 
 template <int M>

@@ -234,21 +234,17 @@ void GlobalPoseEstimator::start_texture_chain(const NetObservation& obs, double 
   chain.active = hit.has_value();
   if (!hit) return;
   // Reading = the point's along coordinate now, so the offset is 0 and its error is the point's:
-  // the offset's covariance row is that of along(point(x)), by central differences.
-  Eigen::Matrix<double, 1, kStateDim> J = Eigen::Matrix<double, 1, kStateDim>::Zero();
-  for (const int j :
-       {static_cast<int>(kX), static_cast<int>(kY), static_cast<int>(kZ), static_cast<int>(kPsi)}) {
-    const double step = 1e-6 * std::max(1.0, std::abs(x(j)));
-    StateVector xp = x, xm = x;
-    xp(j) += step;
-    xm(j) -= step;
-    const auto a = centre_ray_point(xp, ray, roll, pitch);
-    const auto b = centre_ray_point(xm, ray, roll, pitch);
-    if (!a || !b) {
-      chain.active = false;
-      return;
-    }
-    J(j) = wall_.along_change_m(b->head<2>(), a->head<2>()) / (2 * step);
+  // the offset's covariance row is that of along(point(x)).
+  const auto along = [&](const StateVector& xs) {
+    const auto p = centre_ray_point(xs, ray, roll, pitch);
+    return Eigen::Matrix<double, 1, 1>(p ? wall_.along_change_m(hit->head<2>(), p->head<2>())
+                                         : kNaN);
+  };
+  const Eigen::Matrix<double, 1, kStateDim> J =
+      numeric_jacobian<1>(x, along, kPoseStates3D, {false});
+  if (!J.allFinite()) {
+    chain.active = false;
+    return;
   }
   x(kNetTextureOffset) = 0;
   P.row(kNetTextureOffset).setZero();

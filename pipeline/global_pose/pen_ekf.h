@@ -22,6 +22,8 @@
 // disagreeing). Every update is gated on its Mahalanobis distance.
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <span>
 
@@ -69,6 +71,26 @@ struct ProcessNoise {
   double fix_heading_bias_time_s = 30.0;
 };
 
+// dh/dx at x by central differences over the states in `depends_on` (the other columns are
+// zero); rows marked in `angles` wrap at +-pi. Not finite where h is not at a perturbed state.
+template <int M, class H>
+Eigen::Matrix<double, M, kStateDim> numeric_jacobian(const StateVector& x, H&& h,
+                                                     std::span<const int> depends_on,
+                                                     std::array<bool, M> angles) {
+  Eigen::Matrix<double, M, kStateDim> J = Eigen::Matrix<double, M, kStateDim>::Zero();
+  for (const int j : depends_on) {
+    const double step = 1e-6 * std::max(1.0, std::abs(x(j)));
+    StateVector xp = x, xm = x;
+    xp(j) += step;
+    xm(j) -= step;
+    Eigen::Matrix<double, M, 1> diff = h(xp) - h(xm);
+    for (int i = 0; i < M; ++i)
+      if (angles[static_cast<size_t>(i)]) diff(i) = wrap_angle(diff(i));
+    J.col(j) = diff / (2 * step);
+  }
+  return J;
+}
+
 // Chi-square quantiles at p = 0.999 for 1, 2 and 3 degrees of freedom.
 inline constexpr double kGateChi2[4] = {0.0, 10.83, 13.82, 16.27};
 
@@ -101,17 +123,7 @@ UpdateOutcome PenEkf::update(const Eigen::Matrix<double, M, 1>& z, H&& h,
   using Vec = Eigen::Matrix<double, M, 1>;
   const Vec hx = h(x);
   if (!hx.allFinite() || !z.allFinite()) return UpdateOutcome::kSkipped;
-  Eigen::Matrix<double, M, kStateDim> H_ = Eigen::Matrix<double, M, kStateDim>::Zero();
-  for (const int j : depends_on) {
-    const double step = 1e-6 * std::max(1.0, std::abs(x(j)));
-    StateVector xp = x, xm = x;
-    xp(j) += step;
-    xm(j) -= step;
-    Vec diff = h(xp) - h(xm);
-    for (int i = 0; i < M; ++i)
-      if (angles[static_cast<size_t>(i)]) diff(i) = wrap_angle(diff(i));
-    H_.col(j) = diff / (2 * step);
-  }
+  const Eigen::Matrix<double, M, kStateDim> H_ = numeric_jacobian<M>(x, h, depends_on, angles);
   if (!H_.allFinite()) return UpdateOutcome::kSkipped;
   Vec nu = z - hx;
   for (int i = 0; i < M; ++i)
