@@ -271,6 +271,13 @@ void GlobalPoseEstimator::apply_texture(const NetObservation& obs, double roll, 
   }
   SensorCounters& c = state_.counts.net_texture;
   ++c.received;
+  if (!std::isfinite(step.moved_bars[0]) || !std::isfinite(step.moved_bars[1]) ||
+      !step.bars_C[0].allFinite() || !step.bars_C[1].allFinite() || !step.ray_C.allFinite() ||
+      !(step.bars_C[0].norm() > 0) || !(step.bars_C[1].norm() > 0)) {
+    ++c.invalid;
+    chain.active = false;
+    return;
+  }
   if (!chain.active || chain.last_ns != step.from_ns) {
     start_texture_chain(obs, roll, pitch);
     ++c.accepted;
