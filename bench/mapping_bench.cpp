@@ -16,7 +16,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdlib>
-#include <ctime>
 #include <filesystem>
 #include <functional>
 #include <map>
@@ -24,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/process_cpu.h"
 #include "mapping/map_io.h"
 #include "mapping/projective_integrator.h"
 #include "mapping/raycast_integrator.h"
@@ -38,6 +38,7 @@
 namespace {
 
 using namespace pensight;
+using bench::process_cpu_s;
 
 constexpr int kThreads = 2;
 
@@ -67,12 +68,6 @@ const Sequence& sequence(int seq) {
     q.depth_m[f] = sim::truth_depth(s, net, q.camera, q.T_pen_camera[f]);
   });
   return cache.emplace(seq, std::move(q)).first->second;
-}
-
-double process_cpu_s() {
-  timespec t{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
 }
 
 // What a map says around the measured points (every 16th pixel per axis of every integrated

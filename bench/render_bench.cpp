@@ -5,8 +5,8 @@
 #include <benchmark/benchmark.h>
 
 #include <cstdlib>
-#include <ctime>
 
+#include "bench/process_cpu.h"
 #include "runtime/vk_context.h"
 #include "sim/frame_state.h"
 #include "sim/render_cpu.h"
@@ -16,14 +16,7 @@
 namespace {
 
 using namespace pensight;
-
-// CPU seconds of the whole process (every thread, lavapipe's included): on a shared machine
-// this moves far less with the load than wall time does.
-double process_cpu_s() {
-  timespec t{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
-}
+using bench::process_cpu_s;
 
 void set_counters(benchmark::State& state, double cpu_s) {
   const auto n = static_cast<double>(state.iterations());

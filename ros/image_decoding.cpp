@@ -9,12 +9,10 @@
 #include <utility>
 
 #include "runtime/error.h"
+#include "runtime/image.h"
 
 namespace pensight {
 namespace {
-
-// The largest side read, as for cam0/sensor.yaml's resolution.
-constexpr uint32_t kMaxSidePx = 16384;
 
 ImageU8 to_image(const cv::Mat& grey) {
   ImageU8 img(grey.cols, grey.rows);
@@ -77,9 +75,11 @@ ImageU8 grey_from_raw_image(uint32_t width, uint32_t height, uint32_t step,
                 "' is not supported; pensight reads " + kSupportedImageEncodings +
                 " (convert the images in the bag, or publish one of these)");
   }
-  if (width == 0 || height == 0 || width > kMaxSidePx || height > kMaxSidePx) {
+  constexpr auto kMaxSide = static_cast<uint32_t>(kMaxImageSidePx);
+  if (width == 0 || height == 0 || width > kMaxSide || height > kMaxSide) {
     throw Error("topic '" + topic + "': image of " + std::to_string(width) + "x" +
-                std::to_string(height) + " px; pensight reads 1 to 16384 px per side");
+                std::to_string(height) + " px; pensight reads 1 to " + std::to_string(kMaxSide) +
+                " px per side");
   }
   if (uint64_t{step} < uint64_t{width} * channels ||
       data.size() < uint64_t{height} * uint64_t{step}) {

@@ -8,15 +8,10 @@
 #include "ros/image_decoding.h"
 #include "ros/ros_frames.h"
 #include "runtime/error.h"
+#include "runtime/image.h"
 #include "runtime/units.h"
 
 namespace pensight {
-namespace {
-
-// The sensor_msgs/CameraInfo side limit, as for cam0/sensor.yaml's resolution.
-constexpr uint32_t kMaxSidePx = 16384;
-
-}  // namespace
 
 int64_t to_ns(const ros::Time& t) {
   return static_cast<int64_t>(t.toNSec());
@@ -27,9 +22,10 @@ CameraCalibration camera_from_info(const msg::CameraInfo& info, const std::strin
   const auto fail = [&](const std::string& what) {
     throw Error("topic '" + topic + "': " + what + "; " + fix);
   };
-  if (info.width == 0 || info.height == 0 || info.width > kMaxSidePx || info.height > kMaxSidePx) {
+  constexpr auto kMaxSide = static_cast<uint32_t>(kMaxImageSidePx);
+  if (info.width == 0 || info.height == 0 || info.width > kMaxSide || info.height > kMaxSide) {
     fail("image size " + std::to_string(info.width) + "x" + std::to_string(info.height) +
-         " (1 to 16384 px per side)");
+         " (1 to " + std::to_string(kMaxSide) + " px per side)");
   }
   const auto& K = info.K;  // row-major 3x3
   const bool pinhole = K[1] == 0 && K[3] == 0 && K[6] == 0 && K[7] == 0 && K[8] == 1 && K[0] > 0 &&

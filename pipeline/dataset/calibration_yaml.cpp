@@ -5,6 +5,7 @@
 
 #include "pipeline/dataset/csv.h"
 #include "pipeline/dataset/strict_yaml.h"
+#include "runtime/image.h"
 #include "runtime/units.h"
 
 namespace pensight {
@@ -91,9 +92,10 @@ CameraCalibration read_camera_yaml(const std::filesystem::path& file) {
   CameraCalibration c;
   c.rate_hz = positive(y, "rate_hz");
   const auto res = y.numbers("resolution", 2);
-  if (!(res[0] >= 1 && res[1] >= 1 && res[0] <= 16384 && res[1] <= 16384) ||
+  if (!(res[0] >= 1 && res[1] >= 1 && res[0] <= kMaxImageSidePx && res[1] <= kMaxImageSidePx) ||
       res[0] != std::round(res[0]) || res[1] != std::round(res[1])) {
-    y.fail("resolution", "expected [width, height] in whole pixels, each 1 to 16384");
+    y.fail("resolution", "expected [width, height] in whole pixels, each 1 to " +
+                             std::to_string(kMaxImageSidePx));
   }
   c.camera.width_px = static_cast<int>(res[0]);
   c.camera.height_px = static_cast<int>(res[1]);

@@ -10,9 +10,12 @@
 #include "runtime/vk_buffer.h"
 #include "runtime/vk_pipeline.h"
 #include "runtime/vk_stream.h"
+#include "tests/runtime/axpy_push.h"
 
 namespace pensight {
 namespace {
+
+using testing::AxpyPush;
 
 struct Recorder {
   std::mutex mutex;
@@ -35,11 +38,6 @@ struct Recorder {
     }
     return false;
   }
-};
-
-struct AxpyPush {
-  float a;
-  uint32_t n;
 };
 
 TEST(Validation, WrongDescriptorLayoutIsReported) {

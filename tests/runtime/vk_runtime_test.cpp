@@ -11,17 +11,14 @@
 #include "runtime/vk_buffer.h"
 #include "runtime/vk_pipeline.h"
 #include "runtime/vk_stream.h"
+#include "tests/runtime/axpy_push.h"
 #include "tests/support/vulkan_fixture.h"
 
 namespace pensight {
 namespace {
 
+using testing::AxpyPush;
 using testing::VulkanTest;
-
-struct AxpyPush {
-  float a;
-  uint32_t n;
-};
 
 vk::Pipeline make_axpy(const vk::Context& ctx) {
   return vk::Pipeline(
