@@ -9,7 +9,7 @@
 namespace pensight::kernels {
 namespace {
 
-struct Push {
+struct FftRoiPush {
   uint32_t num_rois;
 };
 
@@ -45,20 +45,20 @@ FftRoiVk::FftRoiVk(const vk::Context& ctx, const FftRoiShape& shape, const PeakP
       shape_(checked(shape)),
       extract_(&ctx.pipeline({.shader = "fft_roi/extract",
                               .num_buffers = 4,
-                              .push_constant_bytes = sizeof(Push),
+                              .push_constant_bytes = sizeof(FftRoiPush),
                               .specialization = {u32(shape.width), u32(shape.roi_size),
                                                  u32(shape.fft_size), shape.window ? 1u : 0u}})),
       rows_(&ctx.pipeline({.shader = "fft_roi/fft_rows",
                            .num_buffers = 2,
-                           .push_constant_bytes = sizeof(Push),
+                           .push_constant_bytes = sizeof(FftRoiPush),
                            .specialization = {u32(shape.fft_size), u32(shape.fft_size / 2)}})),
       cols_(&ctx.pipeline({.shader = "fft_roi/fft_cols",
                            .num_buffers = 1,
-                           .push_constant_bytes = sizeof(Push),
+                           .push_constant_bytes = sizeof(FftRoiPush),
                            .specialization = {u32(shape.fft_size), u32(shape.fft_size / 2)}})),
       peaks_(&ctx.pipeline({.shader = "fft_roi/peaks",
                             .num_buffers = 2,
-                            .push_constant_bytes = sizeof(Push),
+                            .push_constant_bytes = sizeof(FftRoiPush),
                             .specialization = peak_constants(shape, params)})) {}
 
 size_t FftRoiVk::image_bytes() const {
@@ -82,9 +82,9 @@ void FftRoiVk::record_fft(vk::CommandStream& stream, const vk::Buffer& samples,
                 std::to_string(num_rois) + " ROIs need");
   }
   const uint32_t half = u32(shape_.fft_size / 2);
-  stream.dispatch(*rows_, {vk::in(samples), vk::out(spectrum)}, {half, num_rois, 1}, Push{num_rois},
-                  "fft_rows");
-  stream.dispatch(*cols_, {vk::inout(spectrum)}, {half + 1, num_rois, 1}, Push{num_rois},
+  stream.dispatch(*rows_, {vk::in(samples), vk::out(spectrum)}, {half, num_rois, 1},
+                  FftRoiPush{num_rois}, "fft_rows");
+  stream.dispatch(*cols_, {vk::inout(spectrum)}, {half + 1, num_rois, 1}, FftRoiPush{num_rois},
                   "fft_cols");
 }
 
@@ -98,10 +98,10 @@ void FftRoiVk::record(vk::CommandStream& stream, const vk::Buffer& image, const 
         std::to_string(num_rois) + " ROIs need");
   }
   stream.dispatch(*extract_, {vk::in(image), vk::in(rois), vk::out(samples), vk::out(lattices)},
-                  {num_rois, 1, 1}, Push{num_rois}, "fft_extract");
+                  {num_rois, 1, 1}, FftRoiPush{num_rois}, "fft_extract");
   record_fft(stream, samples, spectrum, num_rois);
-  stream.dispatch(*peaks_, {vk::in(spectrum), vk::out(lattices)}, {num_rois, 1, 1}, Push{num_rois},
-                  "fft_peaks");
+  stream.dispatch(*peaks_, {vk::in(spectrum), vk::out(lattices)}, {num_rois, 1, 1},
+                  FftRoiPush{num_rois}, "fft_peaks");
 }
 
 std::vector<RoiLattice> FftRoiVk::run(const ImageU8& image, std::span<const RoiOrigin> rois) const {

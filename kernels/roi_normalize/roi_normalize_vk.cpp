@@ -7,7 +7,7 @@
 namespace pensight::kernels {
 namespace {
 
-struct Push {
+struct RoiNormalizePush {
   uint32_t num_rois;
 };
 
@@ -18,7 +18,7 @@ RoiNormalizeVk::RoiNormalizeVk(const vk::Context& ctx, const RoiNormalizeShape& 
       shape_((validate(shape, {}), shape)),
       pipeline_(&ctx.pipeline({.shader = "roi_normalize/roi_normalize",
                                .num_buffers = 3,
-                               .push_constant_bytes = sizeof(Push),
+                               .push_constant_bytes = sizeof(RoiNormalizePush),
                                .specialization = {static_cast<uint32_t>(shape.width),
                                                   static_cast<uint32_t>(shape.height),
                                                   static_cast<uint32_t>(shape.bits),
@@ -38,7 +38,7 @@ void RoiNormalizeVk::record(vk::CommandStream& stream, const vk::Buffer& image,
     throw Error("RoiNormalizeVk::record: a buffer is smaller than the shape needs");
   }
   stream.dispatch(*pipeline_, {vk::in(image), vk::in(rois), vk::out(out)}, {num_rois, 1, 1},
-                  Push{num_rois}, "roi_normalize");
+                  RoiNormalizePush{num_rois}, "roi_normalize");
 }
 
 template <class Pixel>

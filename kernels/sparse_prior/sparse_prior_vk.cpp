@@ -11,7 +11,7 @@ namespace {
 
 constexpr uint32_t kTile = 16;  // must match local_size in sparse_prior.comp
 
-struct Push {
+struct SparsePriorPush {
   uint32_t out_offset;
 };
 
@@ -25,7 +25,7 @@ SparsePriorVk::SparsePriorVk(const vk::Context& ctx, const SparsePriorShape& sha
       pipeline_(&ctx.pipeline(
           {.shader = "sparse_prior/sparse_prior",
            .num_buffers = 3,
-           .push_constant_bytes = sizeof(Push),
+           .push_constant_bytes = sizeof(SparsePriorPush),
            .specialization = {static_cast<uint32_t>(shape.width),
                               static_cast<uint32_t>(shape.height),
                               std::bit_cast<uint32_t>(detail::inv_two_sigma2(shape))}})) {}
@@ -45,7 +45,7 @@ void SparsePriorVk::record(vk::CommandStream& stream, const vk::Buffer& points,
   const vk::Groups groups{(static_cast<uint32_t>(shape_.width) + kTile - 1) / kTile,
                           (static_cast<uint32_t>(shape_.height) + kTile - 1) / kTile, 1};
   stream.dispatch(*pipeline_, {vk::in(points), vk::out(out), vk::in(params)}, groups,
-                  Push{out_offset}, "sparse_prior");
+                  SparsePriorPush{out_offset}, "sparse_prior");
 }
 
 std::vector<float> SparsePriorVk::run(std::span<const SparsePoint> points) const {
