@@ -41,11 +41,9 @@ elif [ "$mode" = "--fuzz" ]; then
 elif [ "$mode" = "--tsan" ]; then
   export PENSIGHT_BUILD_DIR=build-tsan
   # A race needs threads that share data, so only the tests labelled `threads` are built and run;
-  # ThreadSanitizer makes them 5-15x slower. CUDA is off as in the ASan build. This build compiles
-  # file by file (the others in unity batches, CMakeLists.txt), which checks that every library
-  # file includes what it uses.
+  # ThreadSanitizer makes them 5-15x slower. CUDA is off as in the ASan build.
   PENSIGHT_BUILD_TARGET=pensight_tests_threads scripts/setup.sh -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-    -DPENSIGHT_TSAN=ON -DPENSIGHT_CUDA=OFF -DPENSIGHT_BUILD_BENCH=OFF -DPENSIGHT_UNITY_BUILD=OFF
+    -DPENSIGHT_TSAN=ON -DPENSIGHT_CUDA=OFF -DPENSIGHT_BUILD_BENCH=OFF
   # libgomp is not instrumented: TSan does not see its barriers (every OpenMP loop reads as a race)
   # and cannot restore its workers' stacks for a suppression. One thread per OpenMP region, so TSan
   # checks our own threads (Pipeline's workers, the renderer's rows).
