@@ -58,8 +58,19 @@ struct PeakParams {
   float beyond_band_ratio = 1.0f;
   float min_angle_deg = 25.0f;  // the second base vector makes at least this angle with the first
   float subharmonic_ratio = 0.2f;  // a peak at half the frequency this strong is the fundamental
-  bool subbin = true;              // log-parabolic sub-bin refinement (off = integer bins)
+  // A local maximum below the band at half the lattice's frequency (to the bin), at least
+  // kMinCoarseCycles from DC (the Hann window's DC lobe spans 2 bins), stronger than this times the
+  // lattice peak: the net is coarser than the band and the band holds its second harmonic (a
+  // 41 mm mesh at 0.25 m, 3.9 cycles, read at 7.8 cycles as 0.5 m). The ROI then has no lattice.
+  // Rendered coarse nets give 0.8-1.6; fouling and light on the real frame (its net at 5.5
+  // cycles) give up to 0.35. Nets under 2.5 cycles, whose third harmonic can be the strongest in
+  // the band, are beyond the detector's near range (0.12 m for a 30 mm mesh at fx 462 px).
+  float below_band_ratio = 0.5f;
+  bool subbin = true;  // log-parabolic sub-bin refinement (off = integer bins)
 };
+
+// Lowest frequency, in cycles per ROI, that the below-band rule looks at.
+inline constexpr int kMinCoarseCycles = 2;
 
 // Per-ROI result (plain floats: the layout of the Vulkan and CUDA result buffers).
 struct RoiLattice {

@@ -134,7 +134,7 @@ struct PeakArgs {
   int n, roi;
   float r2_min, r2_max, cos2_max, subharmonic;
   bool subbin;
-  float beyond_band_ratio;
+  float beyond_band_ratio, below_band_ratio;
   RoiLattice* lattices;
 };
 
@@ -179,6 +179,28 @@ __device__ int2 fundamental(const PeakArgs& a, const Spec& s, int2 p) {
   if (!(best_v >= a.subharmonic * pp)) return p;
   if (best.x < 0 || (best.x == 0 && best.y < 0)) best = make_int2(-best.x, -best.y);
   return best;
+}
+
+// The lattice at p is the second harmonic of a coarser one below the band (as
+// coarser_than_band() in fft_roi_peaks.cpp).
+__device__ bool coarser_than_band(const PeakArgs& a, const Spec& s, int2 p) {
+  const float pp = s.power(p.x, p.y);
+  int2 best = make_int2(0, 0);
+  float best_v = -1.0f;
+  for (int y2 = p.y - 1; y2 <= p.y + 1; ++y2)
+    for (int x2 = p.x - 1; x2 <= p.x + 1; ++x2) {
+      if (y2 % 2 != 0 || x2 % 2 != 0) continue;
+      const float v = s.power(x2 / 2, y2 / 2);
+      if (v > best_v) best_v = v, best = make_int2(x2 / 2, y2 / 2);
+    }
+  const int r2 = best.x * best.x + best.y * best.y;
+  if (float(r2) >= a.r2_min || r2 < kMinCoarseCycles * kMinCoarseCycles ||
+      !(best_v >= a.below_band_ratio * pp))
+    return false;
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx)
+      if (s.power(best.x + dx, best.y + dy) > best_v) return false;
+  return true;
 }
 
 __device__ float vertex(float lm, float l0, float lp) {
@@ -243,6 +265,7 @@ __global__ void peaks_kernel(PeakArgs a) {
   float r[6] = {0, 0, 0, 0, 0, 0};
   if (w1 >= 0 && count > 0 && !too_fine) {
     const int2 p1 = fundamental(a, s, s.bin(w1));
+    const bool coarse = coarser_than_band(a, s, p1);
     const float p1_r2 = float(p1.x * p1.x + p1.y * p1.y);
     float v2 = -1;
     int i2 = 0;
@@ -255,8 +278,8 @@ __global__ void peaks_kernel(PeakArgs a) {
       if (v > v2) v2 = v, i2 = i;
     }
     const int w2 = block_argmax(v2, i2, value, idx);
-    if (w2 >= 0) {
-      const int2 p2 = fundamental(a, s, s.bin(w2));
+    const int2 p2 = w2 >= 0 ? fundamental(a, s, s.bin(w2)) : make_int2(0, 0);
+    if (w2 >= 0 && !coarse && !coarser_than_band(a, s, p2)) {
       float2 f1 = refine(a, s, p1), f2 = refine(a, s, p2);
       if (atan2f(f1.y, f1.x) > atan2f(f2.y, f2.x)) {
         const float2 t = f1;
@@ -349,10 +372,10 @@ std::vector<RoiLattice> FftRoiCuda::run(const ImageU8& image, std::span<const Ro
   check_cufft(cufftExecR2C(m.plan, m.samples.data(), m.spectrum.data()), "cufftExecR2C");
   const float r_max = m.params.max_nyquist_share * float(m.shape.fft_size / 2);
   const float c = cosf(m.params.min_angle_deg * std::numbers::pi_v<float> / 180.0f);
-  peaks_kernel<<<count, kThreads>>>({m.spectrum.data(), m.shape.fft_size, m.shape.roi_size,
-                                     m.params.min_cycles * m.params.min_cycles, r_max * r_max,
-                                     c * c, m.params.subharmonic_ratio, m.params.subbin,
-                                     m.params.beyond_band_ratio, m.lattices.data()});
+  peaks_kernel<<<count, kThreads>>>(
+      {m.spectrum.data(), m.shape.fft_size, m.shape.roi_size,
+       m.params.min_cycles * m.params.min_cycles, r_max * r_max, c * c, m.params.subharmonic_ratio,
+       m.params.subbin, m.params.beyond_band_ratio, m.params.below_band_ratio, m.lattices.data()});
   PENSIGHT_CUDA(cudaGetLastError());
   std::vector<RoiLattice> out(rois.size());
   m.lattices.download(out.data(), out.size());

@@ -114,6 +114,29 @@ Bin fundamental(const Spectrum& s, const Band& band, Bin p, float ratio) {
   return best;
 }
 
+// Whether the lattice at p is the second harmonic of a coarser one below the band: the strongest
+// bin h with 2 h within one bin of p per axis (the bins a fundamental at p / 2 rounds to) is a
+// local maximum at least kMinCoarseCycles from DC and at least `ratio` times p's power.
+bool coarser_than_band(const Spectrum& s, const Band& band, const Bin& p, float ratio) {
+  Bin best;
+  for (int y2 = p.ky - 1; y2 <= p.ky + 1; ++y2) {
+    for (int x2 = p.kx - 1; x2 <= p.kx + 1; ++x2) {
+      if (y2 % 2 != 0 || x2 % 2 != 0) continue;
+      const float v = s.power(x2 / 2, y2 / 2);
+      if (v > best.power) best = {x2 / 2, y2 / 2, v};
+    }
+  }
+  const int r2 = best.kx * best.kx + best.ky * best.ky;
+  if (static_cast<float>(r2) >= band.r2_min || r2 < kMinCoarseCycles * kMinCoarseCycles ||
+      !(best.power >= ratio * p.power)) {
+    return false;
+  }
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx)
+      if (s.power(best.kx + dx, best.ky + dy) > best.power) return false;
+  return true;
+}
+
 float log_power(float p) {
   return std::log(std::max(p, 1e-30f));
 }
@@ -181,6 +204,7 @@ RoiLattice analyze_spectrum(std::span<const std::complex<float>> spectrum, const
   if (beyond > params.beyond_band_ratio * top[0].power) return out;
   Bin p1 = top[0];
   p1 = fundamental(s, band, p1, params.subharmonic_ratio);
+  if (coarser_than_band(s, band, p1, params.below_band_ratio)) return out;
 
   // Pass 2: the strongest bin at least min_angle away from p1's direction.
   const float cos_max = std::cos(static_cast<float>(deg_to_rad(params.min_angle_deg)));
@@ -203,6 +227,7 @@ RoiLattice analyze_spectrum(std::span<const std::complex<float>> spectrum, const
   }
   if (p2.power <= 0) return out;
   p2 = fundamental(s, band, p2, params.subharmonic_ratio);
+  if (coarser_than_band(s, band, p2, params.below_band_ratio)) return out;
 
   auto refine = [&](const Bin& b, float& fx, float& fy) {
     float dx = 0, dy = 0;

@@ -35,7 +35,9 @@ std::vector<uint32_t> peak_constants(const FftRoiShape& s, const PeakParams& p) 
           bits(c * c),
           bits(p.subharmonic_ratio),
           p.subbin ? 1u : 0u,
-          bits(p.beyond_band_ratio)};
+          bits(p.beyond_band_ratio),
+          bits(p.below_band_ratio),
+          u32(kMinCoarseCycles * kMinCoarseCycles)};
 }
 
 }  // namespace

@@ -3,8 +3,8 @@
 #extension GL_KHR_shader_subgroup_arithmetic : require
 // One workgroup per ROI: the two base frequency vectors of the net lattice from the ROI's half
 // spectrum. Mirrors analyze_spectrum() in kernels/fft_roi/fft_roi_peaks.cpp step by step: same
-// band, same tie-break (first bin in row-major order), same beyond-band, sub-harmonic and
-// sub-bin rules.
+// band, same tie-break (first bin in row-major order), same beyond-band, sub-harmonic,
+// below-band and sub-bin rules.
 
 layout(local_size_x = 256) in;
 layout(constant_id = 0) const uint FFT_N = 256;
@@ -15,6 +15,8 @@ layout(constant_id = 4) const float COS2_MAX = 0.8214;   // cos^2 of the minimum
 layout(constant_id = 5) const float SUBHARMONIC = 0.2;
 layout(constant_id = 6) const uint SUBBIN = 1;
 layout(constant_id = 7) const float BEYOND_BAND = 1.0;  // PeakParams::beyond_band_ratio
+layout(constant_id = 8) const float BELOW_BAND = 0.5;   // PeakParams::below_band_ratio
+layout(constant_id = 9) const int MIN_COARSE_R2 = 4;    // kMinCoarseCycles squared
 
 layout(std430, binding = 0) readonly buffer Spectrum { vec2 spectrum[]; };
 layout(std430, binding = 1) writeonly buffer Lattices { float lattices[]; };  // 8 floats per ROI
@@ -100,6 +102,29 @@ ivec2 fundamental(ivec2 p) {
   return best;
 }
 
+// The lattice at p is the second harmonic of a coarser one below the band (coarser_than_band()).
+bool coarser_than_band(ivec2 p) {
+  float pp = power(p.x, p.y);
+  ivec2 best = ivec2(0);
+  float best_v = -1.0;
+  for (int y2 = p.y - 1; y2 <= p.y + 1; ++y2) {
+    for (int x2 = p.x - 1; x2 <= p.x + 1; ++x2) {
+      if (y2 % 2 != 0 || x2 % 2 != 0) continue;
+      float v = power(x2 / 2, y2 / 2);
+      if (v > best_v) {
+        best_v = v;
+        best = ivec2(x2 / 2, y2 / 2);
+      }
+    }
+  }
+  int r2 = best.x * best.x + best.y * best.y;
+  if (float(r2) >= R2_MIN || r2 < MIN_COARSE_R2 || !(best_v >= BELOW_BAND * pp)) return false;
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx)
+      if (power(best.x + dx, best.y + dy) > best_v) return false;
+  return true;
+}
+
 float log_power(float p) { return log(max(p, 1e-30)); }
 
 float vertex(float lm, float l0, float lp) {
@@ -169,6 +194,7 @@ void main() {
   float result[6] = float[6](0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
   if (w1 != 0xffffffffu && count > 0.0 && !too_fine) {
     ivec2 p1 = fundamental(bin_of(w1));
+    bool coarse = coarser_than_band(p1);
     float p1_r2 = float(p1.x * p1.x + p1.y * p1.y);
     float v2 = -1.0;
     uint i2 = 0u;
@@ -184,8 +210,8 @@ void main() {
       }
     }
     uint w2 = workgroup_argmax(v2, i2);
-    if (w2 != 0xffffffffu) {
-      ivec2 p2 = fundamental(bin_of(w2));
+    ivec2 p2 = w2 != 0xffffffffu ? fundamental(bin_of(w2)) : ivec2(0);
+    if (w2 != 0xffffffffu && !coarse && !coarser_than_band(p2)) {
       vec2 f1 = refine(p1), f2 = refine(p2);
       if (atan(f1.y, f1.x) > atan(f2.y, f2.x)) {
         vec2 t = f1;

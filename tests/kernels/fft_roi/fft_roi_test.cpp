@@ -311,6 +311,35 @@ TEST_F(VulkanTest, LatticeBeyondTheBandIsNoLattice) {
   for (const RoiLattice& l : no_rule.run(img, rois)) EXPECT_GT(l.quality, 0.03f);
 }
 
+// A net coarser than the band (2.6-3.6 cycles per ROI, the band starts at 5) with thin twines: its
+// second harmonic is in the band and as strong as the net itself, so reading it as the lattice
+// would put the net at twice its range. No backend may report it. (A net at the band's edge is
+// another case: its own peak's lobe reaches into the band and gives its range.)
+TEST_F(VulkanTest, NetCoarserThanTheBandIsNoLattice) {
+  std::mt19937_64 rng(testing::fresh_seed());
+  std::uniform_real_distribution<double> dist(0.18, 0.25), psi(-0.15, 0.15);
+  const testing::NetScene scene{.distance_m = dist(rng),
+                                .psi_rad = psi(rng),
+                                .mesh_m = 0.045,
+                                .twine_m = 0.006,
+                                .seed = rng()};
+  const ImageU8 img = testing::render_net(PinholeCamera{}, scene);
+  const auto rois = roi_grid(720, 540, {});
+  FftRoiCpu cpu({}, {}, 1, FftPlanning::kQuick);
+  const auto want = cpu.run(img, rois);
+  for (const RoiLattice& l : want) EXPECT_EQ(l.quality, 0.0f) << "d = " << scene.distance_m;
+  FftRoiVk vk(ctx(), {});
+  expect_same_lattices(run_vulkan(ctx(), vk, img, rois), want, 300);
+  // Without the rule a harmonic is reported: the rule, not the image, gives the zeros.
+  FftRoiCpu no_rule({}, {.below_band_ratio = 1e9f}, 1, FftPlanning::kQuick);
+  const double net_cycles = 300 * scene.distance_m / (scene.mesh_m * PinholeCamera{}.fx_px);
+  int harmonics = 0;
+  for (const RoiLattice& l : no_rule.run(img, rois)) {
+    harmonics += l.quality > 0.03f && 300 * std::hypot(l.f1x, l.f1y) > 1.5 * net_cycles;
+  }
+  EXPECT_GE(harmonics, 0.8 * static_cast<double>(rois.size())) << "d = " << scene.distance_m;
+}
+
 TEST_F(VulkanTest, VulkanRejectsNonPowerOfTwoSizes) {
   EXPECT_THROW(FftRoiVk(ctx(), {.fft_size = 300}), Error);
   FftRoiVk vk(ctx(), {});
