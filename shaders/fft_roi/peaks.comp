@@ -109,11 +109,12 @@ bool coarser_than_band(ivec2 p) {
   float best_v = -1.0;
   for (int y2 = p.y - 1; y2 <= p.y + 1; ++y2) {
     for (int x2 = p.x - 1; x2 <= p.x + 1; ++x2) {
-      if (y2 % 2 != 0 || x2 % 2 != 0) continue;
-      float v = power(x2 / 2, y2 / 2);
+      // Bit tests and shifts: GLSL leaves % and / of negative integers undefined.
+      if (((y2 | x2) & 1) != 0) continue;
+      float v = power(x2 >> 1, y2 >> 1);
       if (v > best_v) {
         best_v = v;
-        best = ivec2(x2 / 2, y2 / 2);
+        best = ivec2(x2 >> 1, y2 >> 1);
       }
     }
   }
