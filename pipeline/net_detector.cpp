@@ -4,6 +4,7 @@
 #include <optional>
 #include <thread>
 
+#include "pipeline/lattice_chirp.h"
 #include "runtime/error.h"
 #include "runtime/timing.h"
 #include "runtime/vk_buffer.h"
@@ -81,15 +82,39 @@ struct NetDetector::Impl {
   MeshAngleFilter mesh_filter{std::nullopt};
   TexturePatch previous_patch;  // the previous frame's, for NetDetection::texture
 
-  // Net points of every ROI for a cell of the given opening angle.
-  void model_points(NetDetection& d, double opening_angle_rad, const Eigen::Vector3d* normal) {
-    d.points.clear();
-    d.points.reserve(rois.size());
+  // Net points of every ROI's lattice for a cell of the given opening angle.
+  std::vector<RoiNetPoint> model_points(const std::vector<kernels::RoiLattice>& lattices,
+                                        double opening_angle_rad,
+                                        const Eigen::Vector3d* normal) const {
+    std::vector<RoiNetPoint> points;
+    points.reserve(rois.size());
     const MeshModel mesh{config.mesh_m, opening_angle_rad};
     for (size_t i = 0; i < rois.size(); ++i) {
-      d.points.push_back(roi_net_point(d.lattices[i], rois[i], shape.roi_size, camera, mesh,
-                                       config.points, normal));
+      points.push_back(
+          roi_net_point(lattices[i], rois[i], shape.roi_size, camera, mesh, config.points, normal));
     }
+    return points;
+  }
+
+  // The valid ROIs' lattices corrected for their chirp on the plane of `pose`, their points and
+  // the pose again. The first fit stays where the second loses the plane.
+  void correct_chirp(NetDetection& d) const {
+    const Eigen::Vector3d normal =
+        net_plane_normal(std::tan(d.pose.psi_net_rad), std::tan(d.pose.pitch_net_rad));
+    const ChirpModelParams model{.window = shape.window,
+                                 .subbin = config.peaks.subbin,
+                                 .resampled = shape.roi_size != shape.fft_size};
+    std::vector<kernels::RoiLattice> corrected = d.lattices;
+    for (size_t i = 0; i < rois.size(); ++i) {
+      if (!d.points[i].valid()) continue;
+      corrected[i] = chirp_corrected(d.lattices[i], rois[i], shape.roi_size, d.points[i].centre_px,
+                                     camera, normal, model);
+    }
+    std::vector<RoiNetPoint> points = model_points(corrected, mesh_filter.angle_rad(), &normal);
+    FftRelativePose pose = relative_pose_fft(points, config.pose);
+    if (!pose.valid()) return;
+    d.points = std::move(points);
+    d.pose = std::move(pose);
   }
 #if PENSIGHT_HAS_CUDA
   std::optional<kernels::FftRoiCuda> cuda;
@@ -200,7 +225,7 @@ NetDetection NetDetector::detect(const ImageU8& image, int64_t timestamp_ns) {
   }
   d.fft_ms = sw.elapsed_ms();
   sw.restart();
-  m.model_points(d, m.mesh_filter.angle_rad(), nullptr);
+  d.points = m.model_points(d.lattices, m.mesh_filter.angle_rad(), nullptr);
   // Rounds of plane from the points alone -> opening angle -> points, until the angle settles:
   // one for an angle already known, two or three from a prior 10-30 deg off (the first plane
   // is then tilted by the wrong cell's range errors).
@@ -218,11 +243,12 @@ NetDetection NetDetector::detect(const ImageU8& image, int64_t timestamp_ns) {
     if (!d.mesh_angle_frame.valid()) break;
     const double angle = round == 0 ? m.mesh_filter.update(d.mesh_angle_frame)
                                     : m.mesh_filter.refine(d.mesh_angle_frame);
-    m.model_points(d, angle, &normal);
+    d.points = m.model_points(d.lattices, angle, &normal);
     if (std::abs(angle - modelled) < kMeshAngleSettled_rad) break;
     modelled = angle;
   }
   d.pose = relative_pose_fft(d.points, m.config.pose);
+  if (m.config.chirp_correction && d.pose.valid()) m.correct_chirp(d);
   if (m.mesh_filter.has_estimate()) d.mesh_angle_rad = m.mesh_filter.angle_rad();
   d.mesh_type = d.mesh_angle_frame.valid() ? d.mesh_angle_frame.type
                                            : m.config.mesh_type.value_or(MeshType::kSquare);

@@ -31,6 +31,9 @@ struct NetDetectorConfig {
   bool window = true;
   kernels::PeakParams peaks;
   NetPointParams points;
+  // Correct each ROI's lattice for its perspective chirp on the fitted plane and fit again
+  // (lattice_chirp.h); off: the spectral peak is taken as the lattice at the ROI's point.
+  bool chirp_correction = true;
   RelativePoseFftParams pose;
   DepthPriorParams priors;   // NetDetection::depths
   NetTextureParams texture;  // NetDetection::texture

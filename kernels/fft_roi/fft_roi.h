@@ -89,6 +89,11 @@ static_assert(sizeof(RoiLattice) == 8 * sizeof(float));
 enum class FftSizes { kAny, kPowerOfTwo };
 void validate(const FftRoiShape& shape, FftSizes sizes);
 
+// Sub-bin offset of a spectral peak from the powers at -1, 0, +1 bins: the vertex of the parabola
+// through their logs (exact for a Gaussian peak; close to the Hann main lobe), within +-0.5; 0
+// where the three are not a maximum. The shaders and CUDA mirror it.
+float peak_vertex(float power_minus, float power_centre, float power_plus);
+
 // Analyses one ROI's r2c spectrum (layout above). Used by the CPU path; the shaders mirror it.
 RoiLattice analyze_spectrum(std::span<const std::complex<float>> spectrum, const FftRoiShape& shape,
                             const PeakParams& params);

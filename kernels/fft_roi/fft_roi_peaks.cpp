@@ -137,18 +137,6 @@ bool coarser_than_band(const Spectrum& s, const Band& band, const Bin& p, float 
   return true;
 }
 
-float log_power(float p) {
-  return std::log(std::max(p, 1e-30f));
-}
-
-// Vertex of the parabola through log power at -1, 0, +1 (exact for a Gaussian peak; close to
-// the Hann main lobe).
-float vertex(float lm, float l0, float lp) {
-  const float denom = lm - 2.0f * l0 + lp;
-  if (!(denom < 0.0f)) return 0.0f;
-  return std::clamp(0.5f * (lm - lp) / denom, -0.5f, 0.5f);
-}
-
 float energy3x3(const Spectrum& s, const Bin& b) {
   float e = 0;
   for (int dy = -1; dy <= 1; ++dy)
@@ -156,7 +144,18 @@ float energy3x3(const Spectrum& s, const Bin& b) {
   return e;
 }
 
+float log_power(float p) {
+  return std::log(std::max(p, 1e-30f));
+}
+
 }  // namespace
+
+float peak_vertex(float power_minus, float power_centre, float power_plus) {
+  const float lm = log_power(power_minus), l0 = log_power(power_centre), lp = log_power(power_plus);
+  const float denom = lm - 2.0f * l0 + lp;
+  if (!(denom < 0.0f)) return 0.0f;
+  return std::clamp(0.5f * (lm - lp) / denom, -0.5f, 0.5f);
+}
 
 RoiLattice analyze_spectrum(std::span<const std::complex<float>> spectrum, const FftRoiShape& shape,
                             const PeakParams& params) {
@@ -232,9 +231,8 @@ RoiLattice analyze_spectrum(std::span<const std::complex<float>> spectrum, const
   auto refine = [&](const Bin& b, float& fx, float& fy) {
     float dx = 0, dy = 0;
     if (params.subbin) {
-      const float l0 = log_power(b.power);
-      dx = vertex(log_power(s.power(b.kx - 1, b.ky)), l0, log_power(s.power(b.kx + 1, b.ky)));
-      dy = vertex(log_power(s.power(b.kx, b.ky - 1)), l0, log_power(s.power(b.kx, b.ky + 1)));
+      dx = peak_vertex(s.power(b.kx - 1, b.ky), b.power, s.power(b.kx + 1, b.ky));
+      dy = peak_vertex(s.power(b.kx, b.ky - 1), b.power, s.power(b.kx, b.ky + 1));
     }
     const float inv = 1.0f / static_cast<float>(shape.roi_size);
     fx = (static_cast<float>(b.kx) + dx) * inv;
