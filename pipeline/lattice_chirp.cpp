@@ -10,8 +10,8 @@ namespace pensight {
 
 namespace {
 
-constexpr int kPositions = 14;  // model positions per ROI axis: 21 px apart in a 300 px ROI
-constexpr int kNodes = 8;       // field evaluations per ROI axis, interpolated between
+constexpr int kPositions = 16;  // model positions per ROI axis: 19 px apart in a 300 px ROI
+constexpr int kNodes = 9;       // field evaluations per ROI axis, interpolated between
 constexpr int kLobe = 3;        // bins beyond the positions' lattices: the Hann main lobe and one
 constexpr int kMaxSide = 128;   // bins per axis of a model spectrum; wider: no correction
 

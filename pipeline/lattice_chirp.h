@@ -15,8 +15,8 @@
 // pixel: one fixed-point step, exact to first order in the bias. docs/fft_detection.md has the
 // measurements.
 //
-// Cost: 14 x 14 positions (the field evaluated at 8 x 8 of them), per peak one product of
-// (bins_y x 196) (196 x bins_x); about 60 us per ROI, 1.8 ms per frame of 30 ROIs on one core.
+// Cost: 16 x 16 positions (the field evaluated at 9 x 9 of them), per peak one product of
+// (bins_y x 256) (256 x bins_x); about 60 us per ROI, 1.8 ms per frame of 30 ROIs on one core.
 #include <Eigen/Core>
 
 #include "kernels/fft_roi/fft_roi.h"
