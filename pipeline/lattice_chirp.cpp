@@ -6,6 +6,8 @@
 #include <numbers>
 #include <optional>
 
+#include "pipeline/net_geometry.h"
+
 namespace pensight {
 
 namespace {
@@ -48,23 +50,23 @@ class LatticeField {
   LatticeField(const PinholeCamera& camera, const Eigen::Vector2d& c, const Eigen::Matrix2d& a,
                const Eigen::Vector3d& n)
       : camera_(camera), n_(n), p0_(camera.ray(c)) {
-    for (int i = 0; i < 2; ++i) {
-      const auto lo = on_plane(c - 0.5 * a.col(i)), hi = on_plane(c + 0.5 * a.col(i));
-      if (!lo || !hi) return;
-      bars_[static_cast<size_t>(i)] = *hi - *lo;
-    }
-    ok_ = true;
+    RoiNetPoint seen;
+    seen.centre_px = c;
+    seen.lattice1_px = a.col(0);
+    seen.lattice2_px = a.col(1);
+    bars_ = bars_on_plane(seen, camera, p0_, n);
+    ok_ = bars_[0].allFinite() && bars_[1].allFinite();
   }
   bool ok() const { return ok_; }
 
   // Reciprocal lattice (columns: cycles per pixel) at pixel x; nullopt where it does not project.
   std::optional<Eigen::Matrix2d> frequencies(const Eigen::Vector2d& x) const {
-    const auto p = on_plane(x);
-    if (!p) return std::nullopt;
+    const Eigen::Vector3d p = ray_on_plane(camera_.ray(x), p0_, n_);
+    if (!(p.allFinite() && p.z() > 0)) return std::nullopt;
     Eigen::Matrix2d a;
     for (int i = 0; i < 2; ++i) {
       const Eigen::Vector3d h = 0.5 * bars_[static_cast<size_t>(i)];
-      const auto lo = camera_.project(*p - h), hi = camera_.project(*p + h);
+      const auto lo = camera_.project(p - h), hi = camera_.project(p + h);
       if (!lo || !hi) return std::nullopt;
       a.col(i) = *hi - *lo;
     }
@@ -73,15 +75,6 @@ class LatticeField {
   }
 
  private:
-  std::optional<Eigen::Vector3d> on_plane(const Eigen::Vector2d& px) const {
-    const Eigen::Vector3d r = camera_.ray(px);
-    const double den = n_.dot(r);
-    if (!(std::abs(den) > 1e-6 * r.norm())) return std::nullopt;
-    const double t = n_.dot(p0_) / den;
-    if (!(t > 0)) return std::nullopt;
-    return Eigen::Vector3d(t * r);
-  }
-
   const PinholeCamera& camera_;
   Eigen::Vector3d n_, p0_;
   std::array<Eigen::Vector3d, 2> bars_{};

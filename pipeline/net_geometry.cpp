@@ -54,12 +54,12 @@ bool reduce_basis(Eigen::Matrix2d& a, std::array<Eigen::Vector3d, 2>& m, double 
   return changed;
 }
 
-Eigen::Vector3d on_plane(const Eigen::Vector3d& ray, const Eigen::Vector3d& point,
-                         const Eigen::Vector3d& normal) {
-  return ray * (normal.dot(point) / normal.dot(ray));
-}
-
 }  // namespace
+
+Eigen::Vector3d ray_on_plane(const Eigen::Vector3d& ray, const Eigen::Vector3d& point_C,
+                             const Eigen::Vector3d& normal_C) {
+  return ray * (normal_C.dot(point_C) / normal_C.dot(ray));
+}
 
 std::array<Eigen::Vector3d, 2> bars_on_plane(const RoiNetPoint& roi, const PinholeCamera& camera,
                                              const Eigen::Vector3d& point_C,
@@ -67,8 +67,8 @@ std::array<Eigen::Vector3d, 2> bars_on_plane(const RoiNetPoint& roi, const Pinho
   std::array<Eigen::Vector3d, 2> bars;
   for (int i = 0; i < 2; ++i) {
     const Eigen::Vector2d h = 0.5 * (i == 0 ? roi.lattice1_px : roi.lattice2_px);
-    bars[static_cast<size_t>(i)] = on_plane(camera.ray(roi.centre_px + h), point_C, normal_C) -
-                                   on_plane(camera.ray(roi.centre_px - h), point_C, normal_C);
+    bars[static_cast<size_t>(i)] = ray_on_plane(camera.ray(roi.centre_px + h), point_C, normal_C) -
+                                   ray_on_plane(camera.ray(roi.centre_px - h), point_C, normal_C);
   }
   return bars;
 }

@@ -85,6 +85,11 @@ RoiNetPoint roi_net_point(const kernels::RoiLattice& lattice, kernels::RoiOrigin
                           const NetPointParams& params = {},
                           const Eigen::Vector3d* normal_hint_C = nullptr);
 
+// Where `ray` (C) meets the plane through point_C with normal normal_C; infinite or NaN where the
+// ray is parallel to it, behind the camera where the plane is behind.
+Eigen::Vector3d ray_on_plane(const Eigen::Vector3d& ray, const Eigen::Vector3d& point_C,
+                             const Eigen::Vector3d& normal_C);
+
 // The image lattice vectors' displacements on the plane through p_C with normal normal_C:
 // the two bars in 3D (C, metres, up to the plane's scale when p_C is only a direction).
 std::array<Eigen::Vector3d, 2> bars_on_plane(const RoiNetPoint& roi, const PinholeCamera& camera,
