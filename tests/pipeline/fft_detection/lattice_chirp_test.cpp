@@ -9,6 +9,7 @@
 #include <limits>
 #include <numbers>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include "pipeline/net_detector.h"
@@ -25,6 +26,21 @@ struct RangeErrors {
   std::vector<double> measured, corrected;  // |range / truth - 1| per valid ROI
 };
 
+// ROI i's range / truth - 1 from a detection made with the correction off: as measured, and
+// corrected on the scene's true plane (1 where the corrected ROI is not valid). Square mesh.
+std::pair<double, double> roi_range_errors(const NetDetection& d, size_t i,
+                                           const NetDetector& detector, const PinholeCamera& cam,
+                                           const testing::NetScene& s) {
+  const Eigen::Vector3d normal = net_plane_normal(std::tan(s.psi_rad), std::tan(s.pitch_rad));
+  const Eigen::Vector2d px = d.points[i].centre_px;
+  const double truth = ray_on_plane(cam.ray(px), {0, 0, s.distance_m}, normal).norm();
+  const kernels::RoiOrigin o = detector.rois()[i];
+  const MeshModel mesh{s.mesh_m, std::numbers::pi / 2};
+  const RoiNetPoint corrected = roi_net_point(
+      chirp_corrected(d.lattices[i], o, 300, px, cam, normal), o, 300, cam, mesh, {}, &normal);
+  return {d.points[i].range_m / truth - 1, corrected.valid() ? corrected.range_m / truth - 1 : 1.0};
+}
+
 // Oblique nets (|psi| 15-35 deg, |pitch| <= 10 deg) at 0.5-1.5 m, square mesh, thin twines.
 RangeErrors range_errors(uint64_t seed, int frames) {
   const PinholeCamera cam{.k1 = -0.04, .k2 = 0.01};
@@ -34,7 +50,6 @@ RangeErrors range_errors(uint64_t seed, int frames) {
   NetDetectorConfig config{.backend = Backend::kCpu};
   config.chirp_correction = false;
   NetDetector detector(cam, config, testing::test_device());
-  const MeshModel mesh{0.030, std::numbers::pi / 2};
   RangeErrors e;
   for (int f = 0; f < frames; ++f) {
     testing::NetScene s{.distance_m = std::exp(logd(rng)),
@@ -43,19 +58,11 @@ RangeErrors range_errors(uint64_t seed, int frames) {
                         .twine_rotation_rad = deg_to_rad(rot(rng)),
                         .seed = rng()};
     const NetDetection d = detector.detect(testing::render_net(cam, s));
-    const double tp = std::tan(s.psi_rad), tq = std::tan(s.pitch_rad);
-    const Eigen::Vector3d normal = net_plane_normal(tp, tq);
     for (size_t i = 0; i < d.points.size(); ++i) {
       if (!d.points[i].valid()) continue;
-      const Eigen::Vector2d px = d.points[i].centre_px;
-      const Eigen::Vector3d r = cam.ray(px);
-      const double truth = s.distance_m / (r.z() - tp * r.x() - tq * r.y()) * r.norm();
-      const kernels::RoiLattice corrected =
-          chirp_corrected(d.lattices[i], detector.rois()[i], 300, px, cam, normal);
-      const RoiNetPoint p =
-          roi_net_point(corrected, detector.rois()[i], 300, cam, mesh, {}, &normal);
-      e.measured.push_back(std::abs(d.points[i].range_m / truth - 1));
-      e.corrected.push_back(p.valid() ? std::abs(p.range_m / truth - 1) : 1.0);
+      const auto [measured, corrected] = roi_range_errors(d, i, detector, cam, s);
+      e.measured.push_back(std::abs(measured));
+      e.corrected.push_back(std::abs(corrected));
     }
   }
   return e;
@@ -87,7 +94,6 @@ TEST(LatticeChirp, DISABLED_RowThroughTheCentre) {
   NetDetectorConfig config{.backend = Backend::kCpu};
   config.chirp_correction = false;
   NetDetector detector(cam, config, testing::test_device());
-  const MeshModel mesh{0.030, std::numbers::pi / 2};
   for (double blur : {0.3, 0.6, 1.2}) {
     for (double psi_deg : {0.0, 30.0}) {
       for (double distance : {0.7, 1.5}) {
@@ -97,22 +103,12 @@ TEST(LatticeChirp, DISABLED_RowThroughTheCentre) {
                             .noise_sigma = 0};
         s.twine_m = 0.2 * s.mesh_m;
         const NetDetection d = detector.detect(testing::render_net(cam, s));
-        const double tp = std::tan(s.psi_rad);
-        const Eigen::Vector3d normal = net_plane_normal(tp, 0);
         std::printf("blur %.1f px, psi %2.0f deg, %.1f m, range error %% as measured / corrected:",
                     blur, psi_deg, distance);
         for (size_t i = 0; i < d.points.size(); ++i) {
-          const Eigen::Vector2d px = d.points[i].centre_px;
-          if (!d.points[i].valid() || std::abs(px.y() - 269.5) > 10) continue;
-          const Eigen::Vector3d r = cam.ray(px);
-          const double truth = s.distance_m / (r.z() - tp * r.x()) * r.norm();
-          const kernels::RoiOrigin o = detector.rois()[i];
-          const RoiNetPoint p0 = roi_net_point(d.lattices[i], o, 300, cam, mesh, {}, &normal);
-          const RoiNetPoint p1 =
-              roi_net_point(chirp_corrected(d.lattices[i], o, 300, px, cam, normal), o, 300, cam,
-                            mesh, {}, &normal);
-          std::printf(" %+.2f/%+.2f", 100 * (p0.range_m / truth - 1),
-                      100 * (p1.range_m / truth - 1));
+          if (!d.points[i].valid() || std::abs(d.points[i].centre_px.y() - 269.5) > 10) continue;
+          const auto [measured, corrected] = roi_range_errors(d, i, detector, cam, s);
+          std::printf(" %+.2f/%+.2f", 100 * measured, 100 * corrected);
         }
         std::printf("\n");
       }
