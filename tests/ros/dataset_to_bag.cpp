@@ -57,8 +57,10 @@ void write_camera_info(rosbag::Bag& bag, const BagWriteOptions& o, int64_t t_ns,
 
 void dataset_to_bag(const Dataset& d, const std::filesystem::path& file, const BagWriteOptions& o) {
   rosbag::Bag bag(file.string(), rosbag::bagmode::Write);
-  if (o.camera_info) write_camera_info(bag, o, d.frames.front().timestamp_ns, d.cam0.camera);
+  // camera_info with every frame, as camera drivers publish it: a subscriber that connects after
+  // the first frame still learns the calibration.
   for (size_t i = 0; i < d.frames.size(); ++i) {
+    if (o.camera_info) write_camera_info(bag, o, d.frames[i].timestamp_ns, d.cam0.camera);
     write_frame(bag, o, d.frames[i].timestamp_ns, d.load_frame(i));
   }
   if (d.dvl0) {

@@ -57,9 +57,13 @@ double play_rate() {
   return rate ? std::atof(rate) : 1.0;
 }
 
+// Playback starts once every topic of the bag has a subscriber: what a publisher sends before a
+// subscriber's connection is up is lost, and on a loaded machine rosbag's default 0.2 s wait after
+// advertising is not always enough.
 ChildProcess play_bag(const fs::path& bag, const fs::path& log) {
-  return ChildProcess(
-      {"rosbag", "play", "--quiet", "-r", std::to_string(play_rate()), bag.string()}, log);
+  return ChildProcess({"rosbag", "play", "--quiet", "--wait-for-subscribers", "-r",
+                       std::to_string(play_rate()), bag.string()},
+                      log);
 }
 
 template <class Condition>
