@@ -96,9 +96,11 @@ struct NetDetector::Impl {
     return points;
   }
 
-  // The valid ROIs' lattices corrected for their chirp on the plane of `pose`, their points and
-  // the pose again. The first fit stays where the second loses the plane.
-  void correct_chirp(NetDetection& d) const {
+  // The valid ROIs' lattices corrected for their chirp on the plane of `pose`, the opening angle
+  // measured again from them (the chirp biases the bars' angle as it does their length: up to
+  // 3 deg on a frame 30 deg oblique), their points and the pose again. The first fit stays where
+  // the second loses the plane.
+  void correct_chirp(NetDetection& d) {
     const Eigen::Vector3d normal =
         net_plane_normal(std::tan(d.pose.psi_net_rad), std::tan(d.pose.pitch_net_rad));
     const ChirpModelParams model{.window = shape.window,
@@ -111,6 +113,14 @@ struct NetDetector::Impl {
                                      camera, normal, model);
     }
     std::vector<RoiNetPoint> points = model_points(corrected, mesh_filter.angle_rad(), &normal);
+    if (d.mesh_angle_frame.valid()) {  // the filter took this frame's measurement: refine it
+      const MeshAngleMeasurement angle = measure_mesh_angle(points, d.pose.inlier, normal, camera,
+                                                            config.mesh_type, config.mesh_angle);
+      if (angle.valid()) {
+        d.mesh_angle_frame = angle;
+        points = model_points(corrected, mesh_filter.refine(angle), &normal);
+      }
+    }
     FftRelativePose pose = relative_pose_fft(points, config.pose);
     if (!pose.valid()) return;
     d.points = std::move(points);

@@ -40,9 +40,9 @@ testing::SweepErrors run_mesh_sweep(const MeshCase& c, int frames, uint64_t seed
 }
 
 // Sheared square meshes (95-110 deg) and diamond meshes (70-120 deg), knotted, twines 12-30 % of
-// the bar, 0.4-2.5 m, |psi| <= 35 deg: the acceptance bounds of the real-nets issue, except psi's
-// median: psi reads 1-3 % of itself low (docs/fft_detection.md), which puts a run's median at
-// 0.21 deg typically and up to 0.63 deg over 80 seeds (docs/validation-log.md); bound 0.8 deg.
+// the bar, 0.4-2.5 m, |psi| <= 35 deg: the acceptance bounds of the real-nets issue. psi reads
+// about 1 % of itself low (docs/fft_detection.md), which puts a run's median at 0.11-0.16 deg
+// typically and at most 0.39 deg over seeds 1-80 (docs/validation-log.md), within 0.5 deg.
 TEST(RealNets, ShearedAndDiamondMeshesMeetBounds) {
   std::mt19937_64 rng(testing::fresh_seed());
   std::uniform_real_distribution<double> square(95, 110), diamond(70, 120);
@@ -53,12 +53,16 @@ TEST(RealNets, ShearedAndDiamondMeshesMeetBounds) {
     EXPECT_LE(e.invalid, 1);
     EXPECT_LE(testing::percentile(e.d_rel, 0.5), 0.01);
     EXPECT_LE(testing::percentile(e.d_rel, 0.95), 0.03);
-    EXPECT_LE(testing::percentile(e.psi_deg, 0.5), 0.8);
+    EXPECT_LE(testing::percentile(e.psi_deg, 0.5), 0.5);
     EXPECT_LE(testing::percentile(e.psi_deg, 0.95), 2.0);
     // The angle after the first frames (the filter starts from the first measurement).
     std::vector<double> settled(e.angle_deg.begin() + std::min<size_t>(3, e.angle_deg.size()),
                                 e.angle_deg.end());
     EXPECT_LE(testing::percentile(settled, 1.0), 2.0);
+    // Measured from the chirp-corrected lattices the angle is unbiased on oblique frames: the
+    // median at most 0.084 deg over seeds 1-40 (measured before the correction: typically
+    // 0.1 deg, 0.95 deg for seed 5004's diamond, whose d_net then read 1.35 % short).
+    EXPECT_LE(testing::percentile(settled, 0.5), 0.2);
   }
 }
 

@@ -90,10 +90,11 @@ inline SweepErrors run_sweep(const std::vector<ImageU8>& frames,
 inline void print_errors(const char* label, const SweepErrors& e) {
   std::printf(
       "%-28s d_rel median %.2f%% p95 %.2f%% | psi median %.2f p95 %.2f deg | pitch median %.2f "
-      "p95 %.2f deg | angle max %.2f deg | NaN %d/%d\n",
+      "p95 %.2f deg | angle median %.2f max %.2f deg | NaN %d/%d\n",
       label, 100 * percentile(e.d_rel, 0.5), 100 * percentile(e.d_rel, 0.95),
       percentile(e.psi_deg, 0.5), percentile(e.psi_deg, 0.95), percentile(e.pitch_deg, 0.5),
-      percentile(e.pitch_deg, 0.95), percentile(e.angle_deg, 1.0), e.invalid, e.frames);
+      percentile(e.pitch_deg, 0.95), percentile(e.angle_deg, 0.5), percentile(e.angle_deg, 1.0),
+      e.invalid, e.frames);
 }
 
 }  // namespace pensight::testing
