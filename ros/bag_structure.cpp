@@ -3,7 +3,9 @@
 #include <bzlib.h>
 #include <roslz4/lz4s.h>
 
+#include <algorithm>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <set>
 #include <sstream>
@@ -196,13 +198,22 @@ void check_bag_structure(const fs::path& file) {
                 "start): pensight reads ROS 1 .bag files (format 2.0), not ROS 2 bags");
   }
   Records records(file, in, kMagicBytes, size, "");
-  std::set<uint64_t> chunks, messages_in_chunk;
-  std::vector<std::pair<uint64_t, uint64_t>> chunk_infos;  // record offset, its chunk's offset
+  std::set<uint64_t> messages_in_chunk;
+  struct ChunkInfo {
+    uint64_t offset, chunk, connections;
+  };
+  std::vector<ChunkInfo> chunk_infos;
+  std::vector<std::pair<uint64_t, uint8_t>> walked;  // every record's offset and op, in order
+  uint64_t header_offset = 0, index = 0, connections = 0, chunk_count = 0;
   while (!records.done()) {
     const Records::Record r = records.next();
-    switch (op_of(records, r)) {
+    walked.emplace_back(r.offset, op_of(records, r));
+    switch (walked.back().second) {
       case kBagHeader: {
-        const uint64_t index = little_endian(field(records, r, "index_pos", 8));
+        header_offset = r.offset;
+        index = little_endian(field(records, r, "index_pos", 8));
+        connections = little_endian(field(records, r, "conn_count", 4));
+        chunk_count = little_endian(field(records, r, "chunk_count", 4));
         if (index < kMagicBytes || index > size) {
           records.fail(r.offset,
                        "the index position " + std::to_string(index) + " lies outside the file");
@@ -210,7 +221,6 @@ void check_bag_structure(const fs::path& file) {
         break;
       }
       case kChunk:
-        chunks.insert(r.offset);
         messages_in_chunk =
             chunk_records(file, unpacked_chunk(records, r, records.read_data(r)), r.data_offset);
         break;
@@ -235,7 +245,7 @@ void check_bag_structure(const fs::path& file) {
       case kChunkInfo: {
         const uint64_t count = little_endian(field(records, r, "count", 4));
         const uint64_t chunk = little_endian(field(records, r, "chunk_pos", 8));
-        chunk_infos.emplace_back(r.offset, chunk);
+        chunk_infos.push_back({r.offset, chunk, count});
         if (little_endian(field(records, r, "ver", 4)) != 1 || r.data_bytes != 8 * count) {
           records.fail(r.offset, "a chunk-info record of " + std::to_string(r.data_bytes) +
                                      " bytes for " + std::to_string(count) + " connections");
@@ -249,11 +259,46 @@ void check_bag_structure(const fs::path& file) {
         break;  // rosbag names records it does not know
     }
   }
-  for (const auto& [offset, chunk] : chunk_infos) {
-    if (!chunks.contains(chunk)) {
-      records.fail(offset, "a chunk-info record points at byte " + std::to_string(chunk) +
-                               ", where no chunk starts");
+  // rosbag reads conn_count connection records and then chunk_count chunk-info records from the
+  // index position on, and after each chunk as many index records as its chunk-info counts: a
+  // position or count off the records makes it take other bytes for a record's lengths.
+  const auto record_at = [&](uint64_t offset) {
+    return std::find_if(walked.begin(), walked.end(),
+                        [&](const auto& w) { return w.first == offset; });
+  };
+  const auto expect_records = [&](auto from, uint64_t count, uint8_t op, uint64_t named_at,
+                                  const std::string& what) {
+    for (uint64_t i = 0; i < count; ++i, ++from) {
+      if (from == walked.end() || from->second != op) {
+        records.fail(named_at, what + ": record " + std::to_string(i + 1) + " of " +
+                                   std::to_string(count) + " is not there");
+      }
     }
+    return from;
+  };
+  if (index != 0 && connections + chunk_count > 0) {  // 0: unindexed, rosbag's own error
+    const auto at = record_at(index);
+    if (at == walked.end()) {
+      records.fail(header_offset,
+                   "the index position " + std::to_string(index) + " is not the start of a record");
+    }
+    const std::string where = "the index at byte " + std::to_string(index);
+    expect_records(
+        expect_records(at, connections, kConnection, index,
+                       where + " lacks the bag header's " + std::to_string(connections) +
+                           " connection records"),
+        chunk_count, kChunkInfo, index,
+        where + " lacks the bag header's " + std::to_string(chunk_count) + " chunk-info records");
+  }
+  for (const ChunkInfo& c : chunk_infos) {
+    const auto chunk = record_at(c.chunk);
+    if (chunk == walked.end() || chunk->second != kChunk) {
+      records.fail(c.offset, "a chunk-info record points at byte " + std::to_string(c.chunk) +
+                                 ", where no chunk starts");
+    }
+    expect_records(std::next(chunk), c.connections, kIndexData, c.chunk,
+                   "the chunk at byte " + std::to_string(c.chunk) + " lacks the " +
+                       std::to_string(c.connections) + " index records its chunk-info counts");
   }
 }
 

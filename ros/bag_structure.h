@@ -3,11 +3,12 @@
 // rosbag reads the file. rosbag trusts the lengths and offsets it reads: a damaged bag makes it
 // allocate what a length field says (gigabytes) or read a message at an offset past its chunk.
 // Checked here: the magic line; every record's header and data fit in the file (or its chunk),
-// every header field in its header; the bag header's index position lies in the file; a chunk is
-// none, bz2 or lz4, claims at most kMaxBagChunkBytes and unpacks to exactly its size, and holds
-// only message data and connection records; every index entry points at a message record of the
-// chunk before it, every chunk-info record at a chunk; index and chunk-info records are as long
-// as their counts say.
+// every header field in its header; the bag header's index position is the start of as many
+// connection records and then chunk-info records as it counts; a chunk is none, bz2 or lz4,
+// claims at most kMaxBagChunkBytes and unpacks to exactly its size, holds only message data and
+// connection records, and is followed by as many index records as its chunk-info counts; every
+// index entry points at a message record of the chunk before it, every chunk-info record at a
+// chunk; index and chunk-info records are as long as their counts say.
 // Cost: one pass over the file, unpacking each chunk once more than rosbag does.
 // Throws pensight::Error naming the file, the byte offset and what is wrong (never a crash).
 #include <cstdint>

@@ -185,6 +185,14 @@ TEST_F(BagInputErrors, DamagedLengthsAreNamedWithTheirOffset) {
   file = bag();
   patch_field(file, "index_pos", fs::file_size(file) + 100, 8);
   expect_error(file, {"in.bag", "index position", "outside the file"});
+  // rosbag reads the connection and chunk-info records from the index position on, as many as
+  // the bag header counts: another position or count would have it read other bytes as lengths.
+  file = bag();
+  patch_field(file, "index_pos", 14, 8);
+  expect_error(file, {"in.bag", "index position 14 is not the start of a record"});
+  file = bag();
+  patch_field(file, "conn_count", 9, 4);
+  expect_error(file, {"in.bag", "lacks the bag header's 9 connection records"});
   file = bag();
   patch_field(file, "size", 0xfffffff0u, 4);  // the chunk's
   expect_error(file, {"in.bag", "uncompressed chunk", "says it has 4294967280"});
