@@ -262,9 +262,12 @@ void check_bag_structure(const fs::path& file) {
   // rosbag reads conn_count connection records and then chunk_count chunk-info records from the
   // index position on, and after each chunk as many index records as its chunk-info counts: a
   // position or count off the records makes it take other bytes for a record's lengths.
+  // `walked` is in file order, so sorted by offset: a binary search per lookup (a long bag has
+  // tens of thousands of chunks and records).
   const auto record_at = [&](uint64_t offset) {
-    return std::find_if(walked.begin(), walked.end(),
-                        [&](const auto& w) { return w.first == offset; });
+    const auto at = std::lower_bound(walked.begin(), walked.end(), offset,
+                                     [](const auto& w, uint64_t o) { return w.first < o; });
+    return at != walked.end() && at->first == offset ? at : walked.end();
   };
   const auto expect_records = [&](auto from, uint64_t count, uint8_t op, uint64_t named_at,
                                   const std::string& what) {
