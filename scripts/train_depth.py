@@ -7,12 +7,14 @@
 
 DIR is a `pensight depth-data` folder (sim/depth_training.h): depth_data.txt ("key: value"
 lines), image.u8 (N*H*W grey), depth_mm.u16 (N*H*W ground-truth z-depth in mm, 0 = no net),
-points.f32 (N*max_points*4: x_px, y_px, depth_m, quality) and num_points.i32 (N).
+points.f32 (N*max_points*4: x_px, y_px, depth_m, quality), num_points.i32 (N) and wall.f32
+(N*2: the net wall's curvature in 1/m, the focal length in network pixels).
 
 The network sees the grey image, TRUDepth's prior maps S1/S2 (kernels/sparse_prior): for
 every pixel the nearest sparse point after snapping to the pixel grid, S1 = its depth and
 S2 = exp(-r^2 / (2 sigma^2)), and the prior surface Q (pipeline/depth/prior_surface.h: a
-quadric in inverse depth fitted through the points), and predicts a correction factor to Q.
+quadric in inverse depth fitted through the points, its curvatures pulled towards the net
+wall's), and predicts a correction factor to Q.
 Samples without points are skipped (the pipeline does not run the network without priors).
 Without --val the last 10 % of DIR's samples are the validation set.
 
@@ -72,8 +74,9 @@ def read_meta(folder):
             meta[key] = kind(raw[key])
         except ValueError:
             raise InputError(f"{path}: '{key}: {raw[key]}' is not a number") from None
-    if meta["version"] != 1:
-        raise InputError(f"{path}: version {meta['version']}, this script reads version 1")
+    if meta["version"] != 2:
+        raise InputError(f"{path}: version {meta['version']}, this script reads version 2 "
+                         "(write the folder again with this build's `pensight depth-data`)")
     if min(meta["samples"], meta["width"], meta["height"], meta["max_points"]) < 1:
         raise InputError(f"{path}: samples, width, height and max_points must be positive")
     if not meta["sigma_px"] > 0 or not math.isfinite(meta["sigma_px"]):
@@ -107,11 +110,29 @@ def snap(v):
 SURFACE_RIDGE = np.array([0.0, 1e-6, 1e-6, 1e-3, 1e-3, 1e-3])
 
 
-def fit_prior_surface(x, y, depth, quality, height, width):
+def wall_curvatures(c, m_ref, half_width, curvature_per_m, focal_px):
+    """pipeline/depth/prior_surface.cpp's wall_curvatures: the quadric's curvatures for a vertical
+    cylinder of curvature_per_m seen along the normal of c's plane part, no camera roll (u^2
+    only, prior_surface.h); zeros without a curvature or focal length, or for a plane steeper
+    than 45 deg from the vertical."""
+    target = np.zeros(6)
+    if not curvature_per_m > 0 or not focal_px > 0:
+        return target
+    s = half_width / focal_px
+    n = np.array([c[1] / s, c[2] / s, c[0]])
+    n /= np.linalg.norm(n)
+    if not n[2] > 0 or abs(n[1]) > math.sqrt(0.5):
+        return target
+    target[3] = m_ref * curvature_per_m * s * s / (2 * n[2] * (n[1] ** 2 + n[2] ** 2))
+    return target
+
+
+def fit_prior_surface(x, y, depth, quality, height, width, curvature_per_m=0.0, focal_px=0.0):
     """pipeline/depth/prior_surface.h's fit_prior_surface in float64: the quadric
     t = m_ref / z = c0 + c1 u + c2 v + c3 u^2 + c4 u v + c5 v^2 over u = (x - (W-1)/2) / (W/2),
     v = (y - (H-1)/2) / (W/2), least squares weighted by the quality (all 1 when none is
-    positive) with SURFACE_RIDGE. Returns (c [6], m_ref, t_min, t_max)."""
+    positive) with SURFACE_RIDGE, the curvatures pulled towards the net wall's (wall_curvatures)
+    when its curvature and the focal length are given. Returns (c [6], m_ref, t_min, t_max)."""
     x, y, z = (np.asarray(a, np.float64) for a in (x, y, depth))
     w = np.asarray(quality, np.float64)
     w = np.where(np.isfinite(w) & (w > 0), w, 0.0)
@@ -122,8 +143,13 @@ def fit_prior_surface(x, y, depth, quality, height, width):
     u, v = (x - (width - 1) / 2) / half, (y - (height - 1) / 2) / half
     a = np.stack([np.ones_like(u), u, v, u * u, u * v, v * v], 1)
     t = m_ref / z
-    normal = a.T @ (w[:, None] * a) + np.diag(SURFACE_RIDGE * w.sum())
-    c = np.linalg.solve(normal, a.T @ (w * t))
+    ridge = SURFACE_RIDGE * w.sum()
+    normal = a.T @ (w[:, None] * a) + np.diag(ridge)
+    rhs = a.T @ (w * t)
+    c = np.linalg.solve(normal, rhs)
+    target = wall_curvatures(c, m_ref, half, curvature_per_m, focal_px)
+    if target.any():
+        c = np.linalg.solve(normal, rhs + ridge * target)
     return c, m_ref, float(t.min()), float(t.max())
 
 
@@ -177,6 +203,7 @@ class DepthData:
         self.depth_mm = map_array(folder, "depth_mm.u16", "<u2", (n, h, w), memmap=True)
         points = map_array(folder, "points.f32", "<f4", (n, k, 4), memmap=True)
         counts = map_array(folder, "num_points.i32", "<i4", (n,), memmap=False)
+        walls = map_array(folder, "wall.f32", "<f4", (n, 2), memmap=False).astype(np.float64)
         chosen = np.arange(n) if samples is None else samples
         bad = chosen[(counts[chosen] < 0) | (counts[chosen] > k)]
         if bad.size:
@@ -201,7 +228,8 @@ class DepthData:
             self.xs[i, :len(p)], self.ys[i, :len(p)], self.point_depth[i, :len(p)] = x, y, p[:, 2]
             self.labels[i] = nearest_labels(x, y, h, w, k)
             self.surfaces.append(fit_prior_surface(p[:, 0].numpy(), p[:, 1].numpy(),
-                                                   p[:, 2].numpy(), p[:, 3].numpy(), h, w))
+                                                   p[:, 2].numpy(), p[:, 3].numpy(), h, w,
+                                                   walls[s, 0], walls[s, 1]))
         self.u = torch.arange(w, dtype=torch.int32).view(1, 1, w)
         self.v = torch.arange(h, dtype=torch.int32).view(1, h, 1)
         # float32 like the C++ kernels, so that S2 rounds the same way.

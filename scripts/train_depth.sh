@@ -2,7 +2,8 @@
 # Trains the compact depth-completion network on rendered net-pen scenes and exports it as ONNX.
 #   scripts/train_depth.sh [--smoke] [--out models/compact_depth.onnx] [--samples N] [--minutes M]
 # Renders N training scenes (seed 1) and N/10 validation scenes (seed 2) with `pensight
-# depth-data` into .cache/depth_data/{train,val}, reused while their sample count and seed match;
+# depth-data` into .cache/depth_data/{train,val}, reused while their sample count, seed and
+# format version (2, sim/depth_training.h) match;
 # trains for M minutes of wall-clock time (scripts/train_depth.py), checks that pensight's engine
 # imports the result, and writes OUT (320x240, 4:3 cameras), OUT with _512x288 (16:9 cameras, the
 # same weights) and OUT.json. An interrupted run resumes from
@@ -62,7 +63,8 @@ checkpoint=$data/checkpoint.pt
 mkdir -p "$data" "$(dirname "$out")"
 for spec in "train $samples 1" "val $((samples / 10 > 0 ? samples / 10 : 1)) 2"; do
   read -r name n seed <<<"$spec"
-  if [[ $(meta "$data/$name" samples) == "$n" && $(meta "$data/$name" seed) == "$seed" ]]; then
+  if [[ $(meta "$data/$name" samples) == "$n" && $(meta "$data/$name" seed) == "$seed" &&
+        $(meta "$data/$name" version) == 2 ]]; then
     echo "train_depth: reusing $data/$name ($n samples, seed $seed)"
   else
     "$pensight" depth-data --out "$data/$name" --samples "$n" --seed "$seed"

@@ -192,6 +192,8 @@ DepthSample make_depth_sample(uint64_t seed, int width, int height) {
     }
   }
   out.points = network_depths(detection.depths, cam.width_px, cam.height_px, width, height);
+  out.wall = {.curvature_per_m = s.pen.shape == NetShape::kCylinder ? 1 / s.pen.radius_m : 0,
+              .focal_px = cam.fx_px * width / cam.width_px};
   return out;
 }
 
@@ -210,6 +212,7 @@ void write_depth_data(const std::filesystem::path& out, const DepthDataOptions& 
   std::vector<uint16_t> depths(o.samples * pixels);
   std::vector<float> points(o.samples * k * 4, 0.0f);
   std::vector<int32_t> counts(o.samples, 0);
+  std::vector<float> walls(o.samples * 2, 0.0f);
 
   std::atomic<int> next{0}, done{0};
   std::mutex progress_mutex;
@@ -221,6 +224,8 @@ void write_depth_data(const std::filesystem::path& out, const DepthDataOptions& 
         std::copy(s.image.pixels.begin(), s.image.pixels.end(), images.begin() + i * pixels);
         std::copy(s.depth_mm.pixels.begin(), s.depth_mm.pixels.end(), depths.begin() + i * pixels);
         counts[i] = static_cast<int32_t>(s.points.size());
+        walls[2 * i] = static_cast<float>(s.wall.curvature_per_m);
+        walls[2 * i + 1] = static_cast<float>(s.wall.focal_px);
         float* p = points.data() + i * k * 4;
         for (const SparseDepth& d : s.points) {
           *p++ = d.point.x_px;
@@ -261,8 +266,9 @@ void write_depth_data(const std::filesystem::path& out, const DepthDataOptions& 
   write("depth_mm.u16", depths.data(), depths.size() * sizeof(uint16_t));
   write("points.f32", points.data(), points.size() * sizeof(float));
   write("num_points.i32", counts.data(), counts.size() * sizeof(int32_t));
+  write("wall.f32", walls.data(), walls.size() * sizeof(float));
   const std::string meta =
-      "version: 1\nsamples: " + std::to_string(o.samples) + "\nwidth: " + std::to_string(o.width) +
+      "version: 2\nsamples: " + std::to_string(o.samples) + "\nwidth: " + std::to_string(o.width) +
       "\nheight: " + std::to_string(o.height) + "\nmax_points: " + std::to_string(k) +
       "\nsigma_px: " + std::to_string(kernels::SparsePriorShape{}.sigma_px) +
       "\nseed: " + std::to_string(o.seed) + "\nsamples_without_priors: " + std::to_string(without) +

@@ -5,18 +5,22 @@
 // with the rendered ground-truth depth.
 //
 // Folder layout, read by scripts/train_depth.py (N samples, W x H = 320 x 240, K = max_points):
-//   depth_data.txt   "key: value" lines: version, samples, width, height, max_points, sigma_px,
+//   depth_data.txt   "key: value" lines: version (2), samples, width, height, max_points, sigma_px,
 //                    seed, samples_without_priors
 //   image.u8         N*H*W grey levels (depth_input.h resize_area of the camera frame)
 //   depth_mm.u16     N*H*W ground-truth z-depth of the net in mm, 0 = no net (water, fish, ...)
 //   points.f32       N*K*4 (x_px, y_px, depth_m, quality) in network pixels, unused slots 0
 //   num_points.i32   N point counts
+//   wall.f32         N*2 (curvature_per_m, focal_px): the net wall's curvature (1 / the pen's
+//                    radius, 0 for a flat panel) and the focal length in network pixels, as the
+//                    depth stage's prior surface takes them (prior_surface.h NetWallShape)
 // Little-endian, row-major. Samples are independent: sample i depends only on (seed, i).
 #include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <vector>
 
+#include "pipeline/depth/prior_surface.h"
 #include "pipeline/net_geometry.h"
 #include "runtime/image.h"
 #include "sim/scenario.h"
@@ -34,6 +38,7 @@ struct DepthSample {
   ImageU8 image;                    // network resolution
   ImageU16 depth_mm;                // network resolution, 0 = no net
   std::vector<SparseDepth> points;  // network pixels; empty when the FFT pose was NaN
+  NetWallShape wall;                // in network pixels
 };
 
 // Renders random_depth_scene(seed) with the CPU renderer and runs the CPU FFT detector on it.

@@ -19,9 +19,26 @@ Eigen::Matrix<double, 6, 1> basis(double u, double v) {
   return a;
 }
 
+using Coefficients = Eigen::Matrix<double, 6, 1>;
+
+// The curvatures of `wall` seen along the normal that the plane part of `c` implies (header);
+// 0 where the wall's curvature or focal length is not given or the plane is not a wall.
+Coefficients wall_curvatures(const Coefficients& c, double m_ref_m, double half_width_px,
+                             const NetWallShape& wall) {
+  Coefficients target = Coefficients::Zero();
+  if (!(wall.curvature_per_m > 0) || !(wall.focal_px > 0)) return target;
+  const double s = half_width_px / wall.focal_px;
+  const Eigen::Vector3d n = Eigen::Vector3d(c[1] / s, c[2] / s, c[0]).normalized();
+  if (!(n.z() > 0) || std::abs(n.y()) > std::sqrt(0.5)) return target;
+  target[3] =
+      m_ref_m * wall.curvature_per_m * s * s / (2 * n.z() * (n.y() * n.y() + n.z() * n.z()));
+  return target;
+}
+
 }  // namespace
 
-PriorSurface fit_prior_surface(std::span<const SparseDepth> depths, int width, int height) {
+PriorSurface fit_prior_surface(std::span<const SparseDepth> depths, int width, int height,
+                               const NetWallShape& wall) {
   if (depths.empty() || width < 1 || height < 1) {
     throw Error("prior surface: needs at least one sparse depth and a positive image size");
   }
@@ -51,7 +68,7 @@ PriorSurface fit_prior_surface(std::span<const SparseDepth> depths, int width, i
   s.t_min = s.t_max = s.m_ref_m / depths.front().point.depth_m;
   const double half = width / 2.0, cx = (width - 1) / 2.0, cy = (height - 1) / 2.0;
   Eigen::Matrix<double, 6, 6> normal = Eigen::Matrix<double, 6, 6>::Zero();
-  Eigen::Matrix<double, 6, 1> rhs = Eigen::Matrix<double, 6, 1>::Zero();
+  Coefficients rhs = Coefficients::Zero();
   for (const SparseDepth& d : depths) {
     const double t = s.m_ref_m / d.point.depth_m;
     s.t_min = std::min(s.t_min, t);
@@ -61,8 +78,13 @@ PriorSurface fit_prior_surface(std::span<const SparseDepth> depths, int width, i
     normal.noalias() += w * a * a.transpose();
     rhs.noalias() += w * t * a;
   }
-  for (int i = 0; i < 6; ++i) normal(i, i) += kRidge[i] * sum_w;
-  const Eigen::Matrix<double, 6, 1> c = normal.ldlt().solve(rhs);
+  Coefficients ridge;
+  for (int i = 0; i < 6; ++i) ridge[i] = kRidge[i] * sum_w;
+  normal.diagonal() += ridge;
+  const auto solver = normal.ldlt();
+  Coefficients c = solver.solve(rhs);
+  const Coefficients target = wall_curvatures(c, s.m_ref_m, half, wall);
+  if (!target.isZero()) c = solver.solve(rhs + ridge.cwiseProduct(target));
   std::copy(c.data(), c.data() + 6, s.c.begin());
   return s;
 }

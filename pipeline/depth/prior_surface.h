@@ -14,8 +14,17 @@
 // points over the frame (u^4 ~ 0.1) move them by about 1 %. scripts/train_depth.py repeats this
 // fit in numpy for the training data; the two must stay equal.
 //
-// Cost: O(points) for the fit (a 6x6 solve), O(W H) to render. Method: weighted ridge least
-// squares (Hoerl and Kennard 1970) on the normal equations, solved by Eigen's LDLT.
+// The net's own curvature: a camera inside a pen sees the wall curve towards it beyond the
+// priors (at 1 m from a 12 m pen, 2.5 % nearer at the image's edge), so with a NetWallShape the
+// curvatures are pulled towards that cylinder's instead of towards 0. A vertical cylinder of
+// curvature k seen along the normal n (camera frame, from the first fit's plane part) with its
+// horizontal tangent h has 1/z = (n . r) / d + k (h . r)^2 / (2 n . r) to second order in the
+// ray r = (s u, s v, 1), s = (W/2) / f. For a camera without roll (the vertical lies in its y-z
+// plane) the quadratic part of m_ref / z is m_ref k s^2 u^2 / (2 n_z (n_y^2 + n_z^2)): u^2 only.
+// A plane steeper than 45 deg from the vertical (the pen's bottom) keeps the pull towards 0.
+//
+// Cost: O(points) for the fit (one or two 6x6 solves), O(W H) to render. Method: weighted ridge
+// least squares (Hoerl and Kennard 1970) on the normal equations, solved by Eigen's LDLT.
 #include <array>
 #include <span>
 #include <vector>
@@ -31,9 +40,18 @@ struct PriorSurface {
   int width = 0, height = 0;    // the pixel grid u, v refer to
 };
 
+// The net wall's shape as the fit knows it: a vertical cylinder of this curvature (1 / the pen's
+// radius; 0 for a flat panel: net_curvature_per_m(SceneConfig)) seen through a focal length of
+// focal_px in the fit's pixels. The default (0) fits without it.
+struct NetWallShape {
+  double curvature_per_m = 0;
+  double focal_px = 0;
+};
+
 // depths: in the width x height image's pixels (e.g. network_depths()). Throws pensight::Error
 // when there is no point or a depth is not positive and finite.
-PriorSurface fit_prior_surface(std::span<const SparseDepth> depths, int width, int height);
+PriorSurface fit_prior_surface(std::span<const SparseDepth> depths, int width, int height,
+                               const NetWallShape& wall = {});
 
 // Q = m_ref / clamp(t(u, v), t_min / 2, 2 t_max) at every pixel centre (depth in metres, between
 // half the nearest and twice the farthest point's depth), row-major into out[0, W*H).

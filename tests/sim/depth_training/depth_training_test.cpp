@@ -78,10 +78,21 @@ TEST(DepthTraining, FolderLayoutAndRefusals) {
   EXPECT_EQ(fs::file_size(dir / "data" / "depth_mm.u16"), 3 * pixels * 2);
   EXPECT_EQ(fs::file_size(dir / "data" / "points.f32"), 3u * 1024 * 4 * 4);
   EXPECT_EQ(fs::file_size(dir / "data" / "num_points.i32"), 3u * 4);
+  ASSERT_EQ(fs::file_size(dir / "data" / "wall.f32"), 3u * 2 * 4);
+  // Each scene's wall: a pen of 6-25 m or a flat panel, the camera's 462 px at 720 -> 320 px.
+  std::ifstream wall_file(dir / "data" / "wall.f32", std::ios::binary);
+  float walls[6];
+  wall_file.read(reinterpret_cast<char*>(walls), sizeof(walls));
+  for (int i = 0; i < 3; ++i) {
+    const float curvature = walls[2 * i];
+    EXPECT_TRUE(curvature == 0 || (curvature >= 1 / 25.0f && curvature <= 1 / 6.0f)) << curvature;
+    EXPECT_NEAR(walls[2 * i + 1], 462.0 * 320 / 720, 1e-3);
+  }
   std::ifstream meta(dir / "data" / "depth_data.txt");
   std::stringstream text;
   text << meta.rdbuf();
   EXPECT_NE(text.str().find("samples: 3\n"), std::string::npos) << text.str();
+  EXPECT_NE(text.str().find("version: 2\n"), std::string::npos) << text.str();
   // Rewriting replaces the earlier data; a folder of something else is never replaced.
   write_depth_data(dir / "data", {.samples = 1, .threads = 1});
   EXPECT_EQ(fs::file_size(dir / "data" / "image.u8"), pixels);
