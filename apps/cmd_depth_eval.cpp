@@ -48,7 +48,10 @@ int cmd_depth_eval(const Args& args) {
                   "'s camera aspect in models/ (compact_depth*.onnx); give one with --model");
     }
     DepthEstimator estimator(dataset.cam0.camera,
-                             {.model = file, .backend = parse_depth_backend(backend)}, device);
+                             {.model = file,
+                              .backend = parse_depth_backend(backend),
+                              .net_curvature_per_m = net_curvature_per_m(dataset.scene)},
+                             device);
     const DepthAccuracy a = depth_accuracy(dataset, detector, estimator, stride);
     std::printf("| %s | %zu | %.4f | %.4f | %.4f | %.4f | %.4f | %.4f | %.2f %% | %.2f |\n",
                 std::filesystem::path(dir).filename().c_str(), a.frames, a.network.abs_rel,

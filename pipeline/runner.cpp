@@ -305,6 +305,7 @@ RunSummary run_dataset(const Dataset& dataset, const std::filesystem::path& out_
   config.global_pose = global_pose_config(dataset);
   if (options.write_published_global_pose) config.published = published_config(dataset);
   config.depth = options.depth;
+  if (config.depth) config.depth->net_curvature_per_m = net_curvature_per_m(dataset.scene);
   config.lossless_results = true;
   // A failed write (disk full) ends the run after the pipeline drains, with no output renamed.
   std::exception_ptr write_error;

@@ -142,7 +142,8 @@ class PensightNode {
     if (!model.empty()) {
       pc.depth = DepthEstimatorConfig{.model = model,
                                       .backend = config_.depth_backend,
-                                      .cpu_threads = config_.detector.cpu_threads};
+                                      .cpu_threads = config_.detector.cpu_threads,
+                                      .net_curvature_per_m = net_curvature_per_m(config_.scene)};
     }
     tf_static_pub_.publish(
         base_link_to_camera(cam0.T_body_camera, 0, config_.base_frame, config_.camera_frame));

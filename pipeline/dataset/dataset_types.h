@@ -47,6 +47,9 @@ struct SceneConfig {
   std::optional<FlatPanel> flat_panel;  // nullopt: net_type cylinder
 };
 
+// The net wall's horizontal curvature: 1 / pen_radius_m, 0 on a flat panel.
+double net_curvature_per_m(const SceneConfig& scene);
+
 // One line of cam0/data.csv; the image is cam0/data/<filename>, the ground-truth depth (when
 // present) groundtruth0/depth/<filename>.
 struct ImageEntry {

@@ -55,7 +55,9 @@ DepthAccuracy depth_accuracy(const Dataset& dataset, NetDetector& detector,
     std::vector<float> s1_maps(2 * static_cast<size_t>(cam.width_px) * cam.height_px);
     kernels::sparse_prior_cpu(camera_shape, points_of(detection.depths), s1_maps);
     std::vector<float> surface_m(static_cast<size_t>(cam.width_px) * cam.height_px);
-    render_prior_surface(fit_prior_surface(detection.depths, cam.width_px, cam.height_px),
+    render_prior_surface(fit_prior_surface(detection.depths, cam.width_px, cam.height_px,
+                                           {.curvature_per_m = net_curvature_per_m(dataset.scene),
+                                            .focal_px = cam.fx_px}),
                          surface_m);
     const double a = std::tan(detection.pose.psi_net_rad);
     const double b = std::tan(detection.pose.pitch_net_rad);

@@ -4,7 +4,8 @@
 // pixels: S1 alone (every pixel the nearest prior's depth, in camera pixels) and the FFT plane
 // extrapolated to every pixel (z = d_net / (1 - tan(psi) x - tan(pitch) y) on each pixel's ray);
 // and, beside them, the prior surface the network corrects (pipeline/depth/prior_surface.h,
-// fitted in camera pixels).
+// fitted in camera pixels with the scene's net curvature, net_curvature_per_m; the estimator is
+// expected to be configured with the same).
 // Only frames with an FFT pose count (the network runs on those); only pixels whose truth sees
 // the net (> 0). The relative pose from dense depth is compared with groundtruth0's d_net and
 // psi_net. Cost per frame: one detection, one network run, O(pixels) sums.

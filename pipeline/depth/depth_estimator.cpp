@@ -130,7 +130,11 @@ struct DepthEstimator::Impl {
     std::transform(small.pixels.begin(), small.pixels.end(), image.begin(),
                    [](uint8_t v) { return v / 255.0f; });
     std::optional<PriorSurface> surface;
-    if (prior_channels == 3) surface = fit_prior_surface(depths, shape.width, shape.height);
+    if (prior_channels == 3) {
+      surface = fit_prior_surface(depths, shape.width, shape.height,
+                                  {.curvature_per_m = config.net_curvature_per_m,
+                                   .focal_px = camera.fx_px * shape.width / camera.width_px});
+    }
     if (vulkan) {
       vulkan->model.input_buffer(0).upload(image.data(), n * sizeof(float));
       if (surface) {

@@ -41,6 +41,9 @@ struct DepthEstimatorConfig {
   DepthBackend backend = DepthBackend::kAuto;
   int cpu_threads = 0;  // 0: all hardware threads
   float sigma_px = 10;  // S2's radius in network pixels, as in training
+  // The net wall's curvature for the prior surface Q (net_curvature_per_m(SceneConfig); 0: flat),
+  // as the training data gives it (sim/depth_training.h).
+  double net_curvature_per_m = 0;
   DepthPlaneParams plane;
 };
 
