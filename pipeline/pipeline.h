@@ -73,7 +73,8 @@ struct PipelineConfig {
   PinholeCamera camera;
   NetDetectorConfig detector;  // its mesh_m is the net's (scene.yaml net_mesh_size_m)
   global_pose::GlobalPoseEstimatorConfig global_pose;
-  // The dense-depth stage (a model file and its backend); off when unset.
+  // The dense-depth stage (a model file, its backend and the net wall's curvature,
+  // net_curvature_per_m(scene)); off when unset.
   std::optional<DepthEstimatorConfig> depth;
   // Also run the published global-pose node (the baseline) on the same inputs.
   std::optional<global_pose::PublishedGlobalPoseConfig> published;
