@@ -172,8 +172,9 @@ DepthSample make_depth_sample(uint64_t seed, int width, int height) {
 
   const PinholeCamera& cam = s.camera.calibration.camera;
   // What `pensight run` takes from the rendered dataset's scene.yaml.
+  const SceneConfig scene = s.scene_config();
   const NetDetectorConfig config =
-      detector_config(s.scene_config(), {.backend = Backend::kCpu, .cpu_threads = 1});
+      detector_config(scene, {.backend = Backend::kCpu, .cpu_threads = 1});
   Device device;
   NetDetector detector(cam, config, device);
   const NetDetection detection = detector.detect(r.image);
@@ -192,8 +193,8 @@ DepthSample make_depth_sample(uint64_t seed, int width, int height) {
     }
   }
   out.points = network_depths(detection.depths, cam.width_px, cam.height_px, width, height);
-  out.wall = {.curvature_per_m = s.pen.shape == NetShape::kCylinder ? 1 / s.pen.radius_m : 0,
-              .focal_px = cam.fx_px * width / cam.width_px};
+  out.wall = {.curvature_per_m = net_curvature_per_m(scene),
+              .focal_px = cam.scaled(static_cast<double>(width) / cam.width_px).fx_px};
   return out;
 }
 

@@ -120,6 +120,7 @@ struct DepthEstimator::Impl {
   std::unique_ptr<VulkanNet> vulkan;
   std::string device_name;
   std::optional<PixelRays> rays;  // of the camera scaled to the network's grid
+  NetWallShape wall;              // for the prior surface, in the network's pixels
 
   // Network output (H x W, metres) for one frame.
   // depths: the priors in the network's pixels; points: the same without their quality.
@@ -130,11 +131,7 @@ struct DepthEstimator::Impl {
     std::transform(small.pixels.begin(), small.pixels.end(), image.begin(),
                    [](uint8_t v) { return v / 255.0f; });
     std::optional<PriorSurface> surface;
-    if (prior_channels == 3) {
-      surface = fit_prior_surface(depths, shape.width, shape.height,
-                                  {.curvature_per_m = config.net_curvature_per_m,
-                                   .focal_px = camera.fx_px * shape.width / camera.width_px});
-    }
+    if (prior_channels == 3) surface = fit_prior_surface(depths, shape.width, shape.height, wall);
     if (vulkan) {
       vulkan->model.input_buffer(0).upload(image.data(), n * sizeof(float));
       if (surface) {
@@ -188,7 +185,9 @@ DepthEstimator::DepthEstimator(const PinholeCamera& camera, const DepthEstimator
                 " images, not of the camera's aspect (" + std::to_string(camera.width_px) + "x" +
                 std::to_string(camera.height_px) + "): export the model for this camera");
   }
-  m.rays.emplace(camera.scaled(static_cast<double>(w) / camera.width_px));
+  const PinholeCamera network_camera = camera.scaled(static_cast<double>(w) / camera.width_px);
+  m.rays.emplace(network_camera);
+  m.wall = {.curvature_per_m = config.net_curvature_per_m, .focal_px = network_camera.fx_px};
   m.threads = config.cpu_threads > 0
                   ? config.cpu_threads
                   : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
