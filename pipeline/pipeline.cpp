@@ -7,6 +7,7 @@
 #include <map>
 #include <mutex>
 #include <thread>
+#include <type_traits>
 
 #include "pipeline/bounded_queue.h"
 #include "runtime/error.h"
@@ -90,6 +91,7 @@ struct Pipeline::Impl {
   PipelineConfig config;
   NetDetector detector;
   std::optional<DepthEstimator> depth;
+  std::optional<DvlDepthScale> dvl_depth_scale;  // owned by the global-pose worker
   global_pose::GlobalPoseEstimator estimator;
   std::optional<global_pose::PublishedGlobalPose> published;
 
@@ -143,6 +145,10 @@ struct Pipeline::Impl {
     }
     if (config.published) published.emplace(*config.published);
     if (config.depth) depth.emplace(config.camera, *config.depth, device);
+    if (config.depth && config.dvl_depth_scale && config.global_pose.dvl_beams) {
+      dvl_depth_scale.emplace(config.camera, config.global_pose.T_body_camera,
+                              *config.global_pose.dvl_beams, *config.dvl_depth_scale);
+    }
   }
 
   void lose_device(int64_t t_ns, const char* what) {
@@ -221,6 +227,9 @@ struct Pipeline::Impl {
     for (auto it = held.begin(); it != end; ++it) {
       estimator.add(it->second);
       if (published) published->add(it->second);
+      if constexpr (std::is_same_v<Sample, DvlSample>) {
+        if (dvl_depth_scale) dvl_depth_scale->add(it->second);
+      }
     }
     held.erase(held.begin(), end);
   }
@@ -239,12 +248,21 @@ struct Pipeline::Impl {
     if (held.size() > kMaxHeld) feed_until(held, held.begin()->first);
   }
 
+  void apply_dvl_depth_scale(FrameResult& r) {
+    r.depth_scale = dvl_depth_scale->update(r.timestamp_ns, *r.dense_depth_m);
+    if (!r.depth_scale.engaged) return;
+    r.dense_depth_m =
+        std::make_shared<const ImageF32>(scaled_depth(*r.dense_depth_m, r.depth_scale.scale));
+    r.depth_pose.d_net_m *= r.depth_scale.scale;
+  }
+
   void process(Detected& d) {
     Stopwatch sw;
     FrameResult& r = d.result;
     if (r.error.empty()) {
       try {
         feed_until(r.timestamp_ns);
+        if (dvl_depth_scale && r.dense_depth_m) apply_dvl_depth_scale(r);
         const global_pose::NetObservation obs = net_observation(r.detection);
         estimator.add(obs);
         r.global_pose = estimator.estimate(r.timestamp_ns);

@@ -30,6 +30,7 @@
 
 #include "pipeline/dataset/dataset_types.h"
 #include "pipeline/depth/depth_estimator.h"
+#include "pipeline/depth/dvl_depth_scale.h"
 #include "pipeline/global_pose/global_pose_estimator.h"
 #include "pipeline/global_pose/published_global_pose.h"
 #include "pipeline/net_detector.h"
@@ -61,7 +62,10 @@ struct FrameResult {
   // off or the frame had none (depth_pose.reason says why).
   std::shared_ptr<const ImageF32> dense_depth_m;
   DepthPlanePose depth_pose;  // the net-relative pose from dense_depth_m
-  double depth_ms = 0;        // priors + network + resize
+  // The DVL's measure of the net's bar length; when engaged, dense_depth_m and depth_pose.d_net_m
+  // are already multiplied by its scale.
+  DvlDepthScaleState depth_scale;
+  double depth_ms = 0;  // priors + network + resize
   // The latest DVL net plane as the camera's net-relative pose, when at most 0.5 s old (NaN else).
   global_pose::NetRelativePose dvl_plane;
   // The estimator's counters after this frame (cumulative since the start).
@@ -76,6 +80,9 @@ struct PipelineConfig {
   // The dense-depth stage (a model file, its backend and the net wall's curvature,
   // net_curvature_per_m(scene)); off when unset.
   std::optional<DepthEstimatorConfig> depth;
+  // The dense depth's scale from the DVL's beam ranges (dvl_depth_scale.h): with the depth stage
+  // and global_pose.dvl_beams; off when unset.
+  std::optional<DvlDepthScaleConfig> dvl_depth_scale = DvlDepthScaleConfig{};
   // Also run the published global-pose node (the baseline) on the same inputs.
   std::optional<global_pose::PublishedGlobalPoseConfig> published;
   // Called on the pipeline's delivery thread for each result, in frame order (an exception it

@@ -14,6 +14,7 @@
 
 #include "pipeline/dataset/dataset_reader.h"
 #include "pipeline/depth/depth_estimator.h"
+#include "pipeline/depth/dvl_depth_scale.h"
 #include "pipeline/net_detector.h"
 
 namespace pensight {
@@ -31,10 +32,15 @@ struct DepthAccuracy {
   double d_net_median_rel = 0;  // median |d_net_depth - d_net| / d_net
   double psi_median_rad = 0;    // median |psi_net_depth - psi_net|
   size_t pose_frames = 0;       // frames with a dense-depth pose and a truth d_net
+  size_t scaled_frames = 0;     // scored frames whose depth the DVL's scale corrected
 };
 
-// Every `stride`-th frame. Throws pensight::Error when the dataset has no groundtruth0/depth/.
+// Every `stride`-th frame. With `dvl_scale` (fed the dataset's dvl0 samples) the network's depth
+// and pose are those of the pipeline with the DVL's scale (dvl_depth_scale.h); S1, the FFT plane
+// and the prior surface stay the camera's alone. Throws pensight::Error when the dataset has no
+// groundtruth0/depth/.
 DepthAccuracy depth_accuracy(const Dataset& dataset, NetDetector& detector,
-                             DepthEstimator& estimator, size_t stride = 1);
+                             DepthEstimator& estimator, size_t stride = 1,
+                             DvlDepthScale* dvl_scale = nullptr);
 
 }  // namespace pensight

@@ -1,0 +1,128 @@
+#include "pipeline/depth/dvl_depth_scale.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "pipeline/median.h"
+#include "runtime/error.h"
+
+namespace pensight {
+
+namespace {
+
+// The standard error of a median is sqrt(pi / 2) times that of a mean; 1.4826 MAD is the
+// standard deviation of normal data.
+constexpr double kMedianSeFactor = 1.2533;
+constexpr double kMadToSigma = 1.4826;
+
+}  // namespace
+
+DvlDepthScale::DvlDepthScale(const PinholeCamera& camera, const Eigen::Isometry3d& T_body_camera,
+                             const DvlCalibration& dvl, DvlDepthScaleConfig config)
+    : camera_(camera), T_camera_body_(T_body_camera.inverse()), dvl_(dvl), config_(config) {
+  if (!(config_.window_s > 0) || !(config_.max_pair_dt_s > 0) || config_.min_samples < 1 ||
+      config_.spot_half_px < 0) {
+    throw Error(
+        "DvlDepthScaleConfig: window_s and max_pair_dt_s must be > 0, min_samples >= 1 and "
+        "spot_half_px >= 0");
+  }
+  for (Eigen::Vector3d& u : dvl_.beam_directions_S) u.normalize();
+}
+
+void DvlDepthScale::add(const DvlSample& s) {
+  if (!s.valid || !s.velocity_B_mps.allFinite()) return;
+  int ranges = 0;
+  for (double r : s.beam_range_m) ranges += std::isfinite(r) && r > 0;
+  if (ranges >= 2) pending_.push_back(s);
+}
+
+double DvlDepthScale::depth_at(const ImageF32& depth_m, const Eigen::Vector2d& px) const {
+  const int cx = static_cast<int>(std::lround(px.x())), cy = static_cast<int>(std::lround(px.y()));
+  const int h = config_.spot_half_px;
+  std::vector<double> values;
+  for (int y = std::max(0, cy - h); y <= std::min(depth_m.height - 1, cy + h); ++y) {
+    for (int x = std::max(0, cx - h); x <= std::min(depth_m.width - 1, cx + h); ++x) {
+      const float d = depth_m.at(x, y);
+      if (std::isfinite(d) && d > 0) values.push_back(d);
+    }
+  }
+  // Half the window at least: a spot on the net's edge or a hole gives no ratio.
+  const int side = 2 * h + 1;
+  return 2 * static_cast<int>(values.size()) >= side * side ? median(std::move(values)) : kNaN;
+}
+
+double DvlDepthScale::sample_log_ratio(const DvlSample& s, double dt_s,
+                                       const ImageF32& depth_m) const {
+  // The net is still: at the frame's time the body has moved by v dt, so the end point, fixed
+  // in the pen, is that much nearer in the body frame.
+  const Eigen::Vector3d moved_B = s.velocity_B_mps * dt_s;
+  std::vector<double> beams;
+  for (size_t i = 0; i < s.beam_range_m.size(); ++i) {
+    const double r = s.beam_range_m[i];
+    if (!(std::isfinite(r) && r > 0)) continue;
+    const Eigen::Vector3d end_B = dvl_.T_body_dvl * (r * dvl_.beam_directions_S[i]) - moved_B;
+    const Eigen::Vector3d end_C = T_camera_body_ * end_B;
+    const auto px = camera_.project(end_C);
+    if (!px || !camera_.in_image(*px)) continue;
+    const double d = depth_at(depth_m, *px);
+    if (std::isfinite(d)) beams.push_back(std::log(end_C.z() / d));
+  }
+  if (beams.size() < 2) return kNaN;
+  // The middle of 2-4 values (the mean of the middle two when even): one fish in one beam of
+  // four moves it by at most the spread of the others; the upper median of two beams (the lower
+  // two leave the image within ~0.6 m of the net) would keep the larger.
+  std::sort(beams.begin(), beams.end());
+  const size_t n = beams.size();
+  return n % 2 ? beams[n / 2] : 0.5 * (beams[n / 2 - 1] + beams[n / 2]);
+}
+
+DvlDepthScaleState DvlDepthScale::update(int64_t t_frame_ns, const ImageF32& depth_m) {
+  if (depth_m.width != camera_.width_px || depth_m.height != camera_.height_px) {
+    throw Error("DvlDepthScale::update: the depth image is " + std::to_string(depth_m.width) + "x" +
+                std::to_string(depth_m.height) + ", the camera's " +
+                std::to_string(camera_.width_px) + "x" + std::to_string(camera_.height_px));
+  }
+  std::vector<DvlSample> later;
+  for (const DvlSample& s : pending_) {
+    if (s.timestamp_ns > t_frame_ns) {
+      later.push_back(s);
+      continue;
+    }
+    const double dt_s = 1e-9 * static_cast<double>(t_frame_ns - s.timestamp_ns);
+    if (dt_s > config_.max_pair_dt_s) continue;
+    const double lr = sample_log_ratio(s, dt_s, depth_m);
+    if (std::isfinite(lr)) window_.push_back({s.timestamp_ns, lr});
+  }
+  pending_ = std::move(later);
+  const auto window_ns = static_cast<int64_t>(config_.window_s * 1e9);
+  while (!window_.empty() && window_.front().t_ns < t_frame_ns - window_ns) window_.pop_front();
+
+  state_.samples = static_cast<int>(window_.size());
+  if (state_.samples < config_.min_samples) {
+    state_ = {.samples = state_.samples};
+    return state_;
+  }
+  std::vector<double> lr, dev;
+  for (const Ratio& r : window_) lr.push_back(r.log_ratio);
+  const double m = median(lr);
+  for (double v : lr) dev.push_back(std::abs(v - m));
+  const double se = kMedianSeFactor * kMadToSigma * median(std::move(dev)) /
+                    std::sqrt(static_cast<double>(lr.size()));
+  const double trusted = std::log1p(config_.trusted_rel);
+  // Once engaged it stays so while the median is beyond the trusted band: a scale that flickers
+  // on and off would step the depth by the whole stretch from frame to frame.
+  state_.engaged =
+      state_.engaged ? std::abs(m) > trusted : std::abs(m) > trusted + config_.confidence_z * se;
+  state_.median_rel = std::expm1(m);
+  state_.scale = state_.engaged ? std::exp(m) : 1.0;
+  return state_;
+}
+
+ImageF32 scaled_depth(const ImageF32& depth_m, double scale) {
+  ImageF32 out = depth_m;
+  const auto s = static_cast<float>(scale);
+  for (float& d : out.pixels) d *= s;
+  return out;
+}
+
+}  // namespace pensight
