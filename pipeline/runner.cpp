@@ -169,7 +169,10 @@ class RunWriter {
         row.psi_net_depth_rad = r.depth_pose.psi_net_rad;
         row.pitch_net_depth_rad = r.depth_pose.pitch_net_rad;
       }
-      if (r.dense_depth_m) diag.depth_scale = r.depth_scale.scale;
+      if (r.dense_depth_m) {
+        diag.depth_scale = r.depth_scale.scale;
+        diag.dvl_depth_ratio = 1 + r.depth_scale.median_rel;
+      }
       if (r.dense_depth_m && !depth_dir_.empty()) {
         write_png(depth_dir_ / d_.frames[next_].filename, depth_mm_from_m(*r.dense_depth_m));
         ++summary_.frames_with_depth;

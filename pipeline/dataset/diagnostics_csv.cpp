@@ -14,7 +14,7 @@ DiagnosticsCsvWriter::DiagnosticsCsvWriter(const std::filesystem::path& file)
   out << "#timestamp [ns],valid_rois,inlier_rois,plane_rms [m],fft_reason,mesh_angle [deg],"
          "dvl_plane_d [m],dvl_plane_psi [rad]";
   for (const char* s : kDiagnosticsSensors) out << "," << s << "_accepted," << s << "_rejected";
-  out << ",mesh_type,reduced_rois,depth_scale\n";
+  out << ",mesh_type,reduced_rois,depth_scale,dvl_depth_ratio\n";
 }
 
 DiagnosticsCsvWriter::~DiagnosticsCsvWriter() = default;
@@ -31,7 +31,8 @@ void DiagnosticsCsvWriter::write(const DiagnosticsRow& r) {
   for (size_t i = 0; i < kDiagnosticsSensors.size(); ++i) {
     out << "," << r.accepted[i] << "," << r.rejected[i];
   }
-  out << "," << r.mesh_type << "," << r.reduced_rois << "," << format_number(r.depth_scale) << "\n";
+  out << "," << r.mesh_type << "," << r.reduced_rois << "," << format_number(r.depth_scale) << ","
+      << format_number(r.dvl_depth_ratio) << "\n";
 }
 
 void DiagnosticsCsvWriter::finish() {

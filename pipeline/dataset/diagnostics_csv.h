@@ -5,8 +5,9 @@
 //   dvl_plane_d [m],dvl_plane_psi [rad], then <sensor>_accepted,<sensor>_rejected for each of
 //   dvl_velocity, dvl_plane, depth, attitude, vision_fix, vision_relative, net_texture; then
 //   mesh_type, reduced_rois, depth_scale (the scale applied to the frame's dense depth: the
-//   DVL's measure of the bar length when engaged, else 1; nan without dense depth;
-//   dvl_depth_scale.h)
+//   DVL's measure of the bar length when engaged, else 1; nan without dense depth),
+//   dvl_depth_ratio (the DVL's measure itself, the window median of its depth over the dense
+//   depth's, engaged or not; nan until it has enough samples; dvl_depth_scale.h)
 // fft_reason is empty when the FFT pose is valid; commas in it are written as ';'. The sensor
 // columns count the samples applied (accepted or re-locked) and refused (gated out or invalid)
 // since the previous row. Written whole like estimates.csv.
@@ -36,7 +37,7 @@ struct DiagnosticsRow {
   std::array<int, kDiagnosticsSensors.size()> accepted = {}, rejected = {};  // in that order
   std::string mesh_type;  // "square" | "diamond"; empty for a skipped frame
   int reduced_rois = 0;   // ROIs whose spectral basis held a diagonal, reduced to the bars
-  double depth_scale = kNaN;
+  double depth_scale = kNaN, dvl_depth_ratio = kNaN;
 };
 
 class AtomicFile;

@@ -69,10 +69,12 @@ double DvlDepthScale::sample_log_ratio(const DvlSample& s, double dt_s,
   }
   if (beams.size() < 2) return kNaN;
   // The middle of 2-4 values (the mean of the middle two when even): one fish in one beam of
-  // four moves it by at most the spread of the others; the upper median of two beams (the lower
-  // two leave the image within ~0.6 m of the net) would keep the larger.
+  // three or four moves it by at most the spread of the others. Two beams (the lower two leave
+  // the image within ~0.6 m of the net) cannot outvote each other: far apart, the sample is
+  // dropped.
   std::sort(beams.begin(), beams.end());
   const size_t n = beams.size();
+  if (n == 2 && beams[1] - beams[0] > config_.max_two_beam_spread) return kNaN;
   return n % 2 ? beams[n / 2] : 0.5 * (beams[n / 2 - 1] + beams[n / 2]);
 }
 

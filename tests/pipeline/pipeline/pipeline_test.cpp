@@ -204,9 +204,9 @@ TEST(Pipeline, RunWritesDiagnosticsAndTiming) {
   options.detector.backend = Backend::kCpu;
   const RunSummary summary = run_dataset(d, out, options, test_device());
   const std::vector<EstimateRow> rows = read_estimates_csv(out / "estimates.csv");
-  // 8 leading columns, an accepted and a rejected one per sensor, mesh_type, reduced_rois and
-  // depth_scale.
-  const size_t columns = 8 + 2 * kDiagnosticsSensors.size() + 3;
+  // 8 leading columns, an accepted and a rejected one per sensor, mesh_type, reduced_rois,
+  // depth_scale and dvl_depth_ratio.
+  const size_t columns = 8 + 2 * kDiagnosticsSensors.size() + 4;
   const CsvTable diag(out / kDiagnosticsFile, columns, columns);
   ASSERT_EQ(diag.rows(), d.frames.size());
   int nan_frames = 0;
