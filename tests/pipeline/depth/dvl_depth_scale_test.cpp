@@ -20,13 +20,7 @@ namespace {
 
 // A quarter of the default camera: the scale reads the depth at a few pixels only.
 PinholeCamera small_camera() {
-  PinholeCamera c;
-  c.width_px = 180;
-  c.height_px = 135;
-  c.fx_px = c.fy_px = 115.5;
-  c.cx_px = 89.5;
-  c.cy_px = 67;
-  return c;
+  return PinholeCamera{}.scaled(0.25);
 }
 
 // The simulator's camera mount: 0.3 m ahead of the body origin, looking along body x.
