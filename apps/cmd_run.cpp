@@ -62,6 +62,10 @@ int cmd_run(const Args& args) {
                  "depth network (ONNX, models/README.md); default: the shipped one for the "
                  "camera's aspect (models/compact_depth*.onnx), where it is found");
   cli.add_flag("--no-depth", no_depth, "do not run the dense-depth stage");
+  bool no_dvl_scale = false;
+  cli.add_flag("--no-dvl-scale", no_dvl_scale,
+               "keep scene.yaml's bar length for dense depth even where the DVL's beam ranges "
+               "measure another (docs/dense_depth.md)");
   cli.add_option("--depth-backend", depth_backend,
                  "auto|opencv|engine-cpu|vulkan (auto: vulkan on a real GPU, else OpenCV DNN)")
       ->capture_default_str();
@@ -100,6 +104,7 @@ int cmd_run(const Args& args) {
   }
   const Dataset dataset =
       read_dataset(bag ? bag->dataset_dir() : std::filesystem::path(dataset_dir));
+  options.dvl_depth_scale = !no_dvl_scale;
   if (!no_depth) {
     const std::filesystem::path file = model.empty() ? find_default_depth_model(dataset.cam0.camera)
                                                      : std::filesystem::path(model);

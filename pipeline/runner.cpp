@@ -310,6 +310,7 @@ RunSummary run_dataset(const Dataset& dataset, const std::filesystem::path& out_
   if (options.write_published_global_pose) config.published = published_config(dataset);
   config.depth = options.depth;
   if (config.depth) config.depth->net_curvature_per_m = net_curvature_per_m(dataset.scene);
+  if (!options.dvl_depth_scale) config.dvl_depth_scale.reset();
   config.lossless_results = true;
   // A failed write (disk full) ends the run after the pipeline drains, with no output renamed.
   std::exception_ptr write_error;

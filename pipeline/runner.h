@@ -40,6 +40,8 @@ struct RunOptions {
   // The dense-depth stage: OUT/depth/<cam0 file> (contract 1.1) and the *_depth columns of
   // estimates.csv; off when unset.
   std::optional<DepthEstimatorConfig> depth;
+  // The dense depth's scale from the DVL's beam ranges (PipelineConfig::dvl_depth_scale).
+  bool dvl_depth_scale = true;
   // Stages outside the pipeline layer (the mapping stage) that take every result.
   struct AttachedStage {
     // On the delivery thread, after the frame's rows are written; must not block.
