@@ -4,20 +4,22 @@
 // backend side by side: OpenCV DNN, the engine's CPU executor, the engine's Vulkan executor
 // (lavapipe on a machine without a GPU; S1/S2 on the device). ONNX Runtime CPU as the peer: node
 // bench/ort_bench.js models/compact_depth.onnx 20 image=1x1x240x320 prior=1x3x240x320. Then the
-// pose from dense depth (every pixel, IRLS). Counters: GFLOP per frame and achieved GFLOP/s. The
-// frame: follow.yaml's first, rendered.
+// pose from dense depth (every pixel, IRLS), and the DVL's scale of it. Counters: GFLOP per frame
+// and achieved GFLOP/s. The frame: follow.yaml's first, rendered.
 #include <benchmark/benchmark.h>
 
 #include <filesystem>
 #include <optional>
 
 #include "pipeline/depth/depth_estimator.h"
+#include "pipeline/depth/dvl_depth_scale.h"
 #include "pipeline/net_detector.h"
 #include "runtime/device.h"
 #include "sim/frame_state.h"
 #include "sim/net_geometry.h"
 #include "sim/render_cpu.h"
 #include "sim/scenario.h"
+#include "sim/sensors.h"
 
 namespace {
 
@@ -98,5 +100,39 @@ void BM_DepthPlanePose(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(depth_plane_pose(depth, rays).psi_net_rad);
 }
 BENCHMARK(BM_DepthPlanePose)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The DVL's scale of dense depth per frame at 720x540 (dvl_depth_scale.h): a 4 Hz DVL paired
+// with 10 Hz frames (0.4 samples a frame, four beam spots each) over a full 10 s window; then the
+// copy that applies an engaged scale.
+void BM_DvlDepthScale(benchmark::State& state) {
+  const PinholeCamera cam = frame().camera;
+  const ImageF32 depth(cam.width_px, cam.height_px, 1.0f);
+  Eigen::Isometry3d T_body_camera = Eigen::Isometry3d::Identity();
+  T_body_camera.linear() << 0, 0, 1, 1, 0, 0, 0, 1, 0;
+  const DvlCalibration dvl = sim::dvl_calibration(sim::DvlConfig{});
+  DvlDepthScale scale(cam, T_body_camera, dvl);
+  DvlSample s;
+  s.valid = true;
+  s.beam_range_m = {1.1, 1.1, 1.1, 1.1};
+  int64_t t_ns = 0;
+  for (auto _ : state) {
+    t_ns += 100'000'000;
+    if (t_ns % 500'000'000 == 0 || t_ns % 500'000'000 == 300'000'000) {
+      s.timestamp_ns = t_ns - (t_ns % 500'000'000 ? 50'000'000 : 0);
+      scale.add(s);
+    }
+    benchmark::DoNotOptimize(scale.update(t_ns, depth).scale);
+  }
+  state.counters["window"] = scale.state().samples;
+}
+BENCHMARK(BM_DvlDepthScale)->Unit(benchmark::kMicrosecond)->UseRealTime();
+
+void BM_ScaledDepth(benchmark::State& state) {
+  const PinholeCamera cam = frame().camera;
+  const ImageF32 depth(cam.width_px, cam.height_px, 1.0f);
+  for (auto _ : state) benchmark::DoNotOptimize(scaled_depth(depth, 1.03).pixels.data());
+  state.SetBytesProcessed(state.iterations() * static_cast<int64_t>(depth.pixels.size()) * 8);
+}
+BENCHMARK(BM_ScaledDepth)->Unit(benchmark::kMicrosecond)->UseRealTime();
 
 }  // namespace

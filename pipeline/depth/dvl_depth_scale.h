@@ -14,7 +14,8 @@
 // 1.5 % keeps those frames exactly as the camera gives them.
 //
 // Not thread-safe; the pipeline's global-pose worker owns one. Costs per frame: a projection and
-// a 5x5 median per beam of each new DVL sample, and a median over the window (about 40 samples).
+// a 5x5 median per beam of each new DVL sample, and a median over the window (about 40 samples):
+// about a microsecond (bench/depth_stage_bench.cpp).
 #include <Eigen/Geometry>
 #include <cstdint>
 #include <deque>
