@@ -21,10 +21,11 @@ DvlDepthScale::DvlDepthScale(const PinholeCamera& camera, const Eigen::Isometry3
                              const DvlCalibration& dvl, DvlDepthScaleConfig config)
     : camera_(camera), T_camera_body_(T_body_camera.inverse()), dvl_(dvl), config_(config) {
   if (!(config_.window_s > 0) || !(config_.max_pair_dt_s > 0) || config_.min_samples < 1 ||
-      config_.spot_half_px < 0) {
+      config_.spot_half_px < 0 || !(config_.trusted_rel >= 0) || !(config_.confidence_z >= 0) ||
+      !(config_.max_two_beam_spread > 0)) {
     throw Error(
-        "DvlDepthScaleConfig: window_s and max_pair_dt_s must be > 0, min_samples >= 1 and "
-        "spot_half_px >= 0");
+        "DvlDepthScaleConfig: window_s, max_pair_dt_s and max_two_beam_spread must be > 0, "
+        "trusted_rel and confidence_z >= 0, min_samples >= 1 and spot_half_px >= 0");
   }
   for (Eigen::Vector3d& u : dvl_.beam_directions_S) u.normalize();
 }
@@ -33,7 +34,14 @@ void DvlDepthScale::add(const DvlSample& s) {
   if (!s.valid || !s.velocity_B_mps.allFinite()) return;
   int ranges = 0;
   for (double r : s.beam_range_m) ranges += std::isfinite(r) && r > 0;
-  if (ranges >= 2) pending_.push_back(s);
+  if (ranges < 2) return;
+  // Samples come in timestamp order and frames are taken in order, so a pending sample more than
+  // max_pair_dt_s older than this one cannot meet a frame any more: without frames with depth
+  // (open water, the stage failing) the pending list stays this short.
+  const auto max_dt_ns = static_cast<int64_t>(config_.max_pair_dt_s * 1e9);
+  std::erase_if(pending_,
+                [&](const DvlSample& p) { return p.timestamp_ns < s.timestamp_ns - max_dt_ns; });
+  pending_.push_back(s);
 }
 
 double DvlDepthScale::depth_at(const ImageF32& depth_m, const Eigen::Vector2d& px) const {

@@ -50,13 +50,14 @@ struct DvlDepthScaleState {
 
 class DvlDepthScale {
  public:
-  // Throws pensight::Error when the configuration is not usable (non-positive window or pairing
-  // span, min_samples < 1).
+  // Throws pensight::Error when the configuration is not usable (a non-positive window, pairing
+  // span or two-beam spread, a negative band or confidence, min_samples < 1).
   DvlDepthScale(const PinholeCamera& camera, const Eigen::Isometry3d& T_body_camera,
                 const DvlCalibration& dvl, DvlDepthScaleConfig config = {});
 
   // A DVL sample in timestamp order; invalid ones and those without two finite positive ranges
-  // are ignored.
+  // are ignored. Pending samples more than max_pair_dt_s older than it are dropped (no frame can
+  // pair them any more).
   void add(const DvlSample& s);
 
   // The frame at t_frame_ns with its dense z-depth (camera resolution, metres, 0 or NaN = none):

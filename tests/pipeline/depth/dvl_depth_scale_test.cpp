@@ -182,6 +182,9 @@ TEST(DvlDepthScale, BadInputIsRefusedOrIgnored) {
   DvlDepthScaleConfig bad;
   bad.window_s = 0;
   EXPECT_THROW(DvlDepthScale(cam, camera_mount(), dvl, bad), Error);
+  DvlDepthScaleConfig nan_band;
+  nan_band.trusted_rel = kNaN;
+  EXPECT_THROW(DvlDepthScale(cam, camera_mount(), dvl, nan_band), Error);
 
   DvlDepthScale scale(cam, camera_mount(), dvl, {.min_samples = 1});
   try {
