@@ -41,9 +41,10 @@ elif [ "$mode" = "--fuzz" ]; then
 elif [ "$mode" = "--tsan" ]; then
   export PENSIGHT_BUILD_DIR=build-tsan
   # A race needs threads that share data, so only the tests labelled `threads` are built and run;
-  # ThreadSanitizer makes them 5-15x slower. CUDA is off as in the ASan build.
+  # ThreadSanitizer makes them 5-15x slower. CUDA is off as in the ASan build; -g1 (line tables)
+  # as there.
   PENSIGHT_BUILD_TARGET=pensight_tests_threads scripts/setup.sh -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-    -DPENSIGHT_TSAN=ON -DPENSIGHT_CUDA=OFF -DPENSIGHT_BUILD_BENCH=OFF
+    -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" -DPENSIGHT_TSAN=ON -DPENSIGHT_CUDA=OFF -DPENSIGHT_BUILD_BENCH=OFF
   # libgomp is not instrumented: TSan does not see its barriers (every OpenMP loop reads as a race)
   # and cannot restore its workers' stacks for a suppression. One thread per OpenMP region, so TSan
   # checks our own threads (Pipeline's workers, the renderer's rows).
