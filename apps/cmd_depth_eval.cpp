@@ -20,19 +20,20 @@ int cmd_depth_eval(const Args& args) {
       "delta < 1.25 and RMSE over the pixels that see the net, beside S1 alone and the FFT plane "
       "extrapolated to every pixel on the same frames, and the median d_net / psi_net error of the "
       "pose from dense depth. The network's depth carries the DVL's scale of the net's bar length "
-      "as in `pensight run` (dvl0/ with beam ranges; --no-dvl-scale: the camera's alone). One "
-      "Markdown table row per dataset.",
+      "and its tilt as in `pensight run` (dvl0/ with beam ranges; --no-dvl-scale, --no-dvl-tilt: "
+      "without them). One Markdown table row per dataset.",
       "pensight depth-eval");
   std::vector<std::string> datasets;
   std::string model, backend = "auto";
   size_t stride = 1;
-  bool no_dvl_scale = false;
+  bool no_dvl_scale = false, no_dvl_tilt = false;
   cli.add_option("DATASET", datasets, "rendered dataset folders")->required();
   cli.add_option("--model", model, "depth network (default: the shipped one)");
   cli.add_option("--depth-backend", backend, "auto|opencv|engine-cpu|vulkan")
       ->capture_default_str();
   cli.add_option("--stride", stride, "every N-th frame")->check(CLI::Range(1, 1000));
   cli.add_flag("--no-dvl-scale", no_dvl_scale, "the network's depth without the DVL's scale");
+  cli.add_flag("--no-dvl-tilt", no_dvl_tilt, "the network's depth without the DVL's tilt");
   try {
     cli.parse(std::vector<std::string>(args.rbegin(), args.rend()));
   } catch (const CLI::ParseError& e) {
@@ -41,8 +42,8 @@ int cmd_depth_eval(const Args& args) {
   std::printf(
       "| dataset | frames | AbsRel net | AbsRel S1 | AbsRel FFT plane | AbsRel prior surface | "
       "delta1 net | RMSE net m | d_net_depth median | psi_net_depth median deg | frames DVL-scaled "
-      "|\n"
-      "|---|---|---|---|---|---|---|---|---|---|---|\n");
+      "| frames DVL-tilted |\n"
+      "|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   Device device;
   for (const std::string& dir : datasets) {
     const Dataset dataset = read_dataset(dir);
@@ -58,17 +59,19 @@ int cmd_depth_eval(const Args& args) {
                               .backend = parse_depth_backend(backend),
                               .net_curvature_per_m = net_curvature_per_m(dataset.scene)},
                              device);
-    std::optional<DvlDepthScale> dvl_scale;
-    if (!no_dvl_scale && dataset.dvl0 && dataset.dvl0->has_beam_ranges) {
-      dvl_scale.emplace(dataset.cam0.camera, dataset.cam0.T_body_camera, dataset.dvl0->calibration);
+    std::optional<DvlDepthCorrection> dvl;
+    if ((!no_dvl_scale || !no_dvl_tilt) && dataset.dvl0 && dataset.dvl0->has_beam_ranges) {
+      dvl.emplace(dataset.cam0.camera, dataset.cam0.T_body_camera, dataset.dvl0->calibration,
+                  no_dvl_scale ? std::nullopt : std::optional(DvlDepthScaleConfig{}),
+                  no_dvl_tilt ? std::nullopt : std::optional(DvlNetTiltConfig{}));
     }
     const DepthAccuracy a =
-        depth_accuracy(dataset, detector, estimator, stride, dvl_scale ? &*dvl_scale : nullptr);
-    std::printf("| %s | %zu | %.4f | %.4f | %.4f | %.4f | %.4f | %.4f | %.2f %% | %.2f | %zu |\n",
-                std::filesystem::path(dir).filename().c_str(), a.frames, a.network.abs_rel,
-                a.s1.abs_rel, a.fft_plane.abs_rel, a.surface.abs_rel, a.network.delta1,
-                a.network.rmse_m, 100 * a.d_net_median_rel, rad_to_deg(a.psi_median_rad),
-                a.scaled_frames);
+        depth_accuracy(dataset, detector, estimator, stride, dvl ? &*dvl : nullptr);
+    std::printf(
+        "| %s | %zu | %.4f | %.4f | %.4f | %.4f | %.4f | %.4f | %.2f %% | %.2f | %zu | %zu |\n",
+        std::filesystem::path(dir).filename().c_str(), a.frames, a.network.abs_rel, a.s1.abs_rel,
+        a.fft_plane.abs_rel, a.surface.abs_rel, a.network.delta1, a.network.rmse_m,
+        100 * a.d_net_median_rel, rad_to_deg(a.psi_median_rad), a.scaled_frames, a.tilted_frames);
     std::fflush(stdout);
   }
   return 0;

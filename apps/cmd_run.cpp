@@ -66,6 +66,10 @@ int cmd_run(const Args& args) {
   cli.add_flag("--no-dvl-scale", no_dvl_scale,
                "keep scene.yaml's bar length for dense depth even where the DVL's beam ranges "
                "measure another (docs/dense_depth.md)");
+  bool no_dvl_tilt = false;
+  cli.add_flag("--no-dvl-tilt", no_dvl_tilt,
+               "keep the camera's net tilt for dense depth even where the DVL's beam ranges "
+               "measure another (docs/dense_depth.md)");
   cli.add_option("--depth-backend", depth_backend,
                  "auto|opencv|engine-cpu|vulkan (auto: vulkan on a real GPU, else OpenCV DNN)")
       ->capture_default_str();
@@ -105,6 +109,7 @@ int cmd_run(const Args& args) {
   const Dataset dataset =
       read_dataset(bag ? bag->dataset_dir() : std::filesystem::path(dataset_dir));
   options.dvl_depth_scale = !no_dvl_scale;
+  options.dvl_net_tilt = !no_dvl_tilt;
   if (!no_depth) {
     const std::filesystem::path file = model.empty() ? find_default_depth_model(dataset.cam0.camera)
                                                      : std::filesystem::path(model);

@@ -2,6 +2,7 @@
 // The median the estimators and tests share: the upper median (element n/2 in sorted order), by
 // a partial sort (std::nth_element, linear time); NaN for no values.
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <vector>
 
@@ -14,6 +15,21 @@ inline double median(std::vector<double> values) {
   const auto mid = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
   std::nth_element(values.begin(), mid, values.end());
   return *mid;
+}
+
+// A window's median and its standard error, robust to outliers: 1.4826 MAD is the standard
+// deviation of normal data, and a median's error is sqrt(pi / 2) times a mean's. NaN for no
+// values.
+struct MedianWithError {
+  double median = kNaN, standard_error = kNaN;
+};
+inline MedianWithError median_with_error(const std::vector<double>& values) {
+  const double m = median(values);
+  std::vector<double> deviations;
+  deviations.reserve(values.size());
+  for (double v : values) deviations.push_back(std::abs(v - m));
+  return {m, 1.2533 * 1.4826 * median(std::move(deviations)) /
+                 std::sqrt(static_cast<double>(values.size()))};
 }
 
 }  // namespace pensight

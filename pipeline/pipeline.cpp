@@ -91,7 +91,7 @@ struct Pipeline::Impl {
   PipelineConfig config;
   NetDetector detector;
   std::optional<DepthEstimator> depth;
-  std::optional<DvlDepthScale> dvl_depth_scale;  // owned by the global-pose worker
+  std::optional<DvlDepthCorrection> dvl_correction;  // owned by the global-pose worker
   global_pose::GlobalPoseEstimator estimator;
   std::optional<global_pose::PublishedGlobalPose> published;
 
@@ -145,9 +145,11 @@ struct Pipeline::Impl {
     }
     if (config.published) published.emplace(*config.published);
     if (config.depth) depth.emplace(config.camera, *config.depth, device);
-    if (config.depth && config.dvl_depth_scale && config.global_pose.dvl_beams) {
-      dvl_depth_scale.emplace(config.camera, config.global_pose.T_body_camera,
-                              *config.global_pose.dvl_beams, *config.dvl_depth_scale);
+    if (config.depth && (config.dvl_depth_scale || config.dvl_net_tilt) &&
+        config.global_pose.dvl_beams) {
+      dvl_correction.emplace(config.camera, config.global_pose.T_body_camera,
+                             *config.global_pose.dvl_beams, config.dvl_depth_scale,
+                             config.dvl_net_tilt);
     }
   }
 
@@ -228,7 +230,7 @@ struct Pipeline::Impl {
       estimator.add(it->second);
       if (published) published->add(it->second);
       if constexpr (std::is_same_v<Sample, DvlSample>) {
-        if (dvl_depth_scale) dvl_depth_scale->add(it->second);
+        if (dvl_correction) dvl_correction->add(it->second);
       }
     }
     held.erase(held.begin(), end);
@@ -248,12 +250,11 @@ struct Pipeline::Impl {
     if (held.size() > kMaxHeld) feed_until(held, held.begin()->first);
   }
 
-  void apply_dvl_depth_scale(FrameResult& r) {
-    r.depth_scale = dvl_depth_scale->update(r.timestamp_ns, *r.dense_depth_m);
-    if (!r.depth_scale.engaged) return;
-    r.dense_depth_m =
-        std::make_shared<const ImageF32>(scaled_depth(*r.dense_depth_m, r.depth_scale.scale));
-    r.depth_pose.d_net_m *= r.depth_scale.scale;
+  void apply_dvl_correction(FrameResult& r) {
+    DvlDepthCorrected c = dvl_correction->apply(r.timestamp_ns, *r.dense_depth_m, r.depth_pose);
+    r.depth_scale = c.scale;
+    r.depth_tilt = c.tilt;
+    if (c.depth_m) r.dense_depth_m = std::make_shared<const ImageF32>(std::move(*c.depth_m));
   }
 
   void process(Detected& d) {
@@ -262,7 +263,7 @@ struct Pipeline::Impl {
     if (r.error.empty()) {
       try {
         feed_until(r.timestamp_ns);
-        if (dvl_depth_scale && r.dense_depth_m) apply_dvl_depth_scale(r);
+        if (dvl_correction && r.dense_depth_m) apply_dvl_correction(r);
         const global_pose::NetObservation obs = net_observation(r.detection);
         estimator.add(obs);
         r.global_pose = estimator.estimate(r.timestamp_ns);

@@ -30,7 +30,7 @@
 
 #include "pipeline/dataset/dataset_types.h"
 #include "pipeline/depth/depth_estimator.h"
-#include "pipeline/depth/dvl_depth_scale.h"
+#include "pipeline/depth/dvl_depth_correction.h"
 #include "pipeline/global_pose/global_pose_estimator.h"
 #include "pipeline/global_pose/published_global_pose.h"
 #include "pipeline/net_detector.h"
@@ -65,6 +65,9 @@ struct FrameResult {
   // The DVL's measure of the net's bar length; when engaged, dense_depth_m and depth_pose.d_net_m
   // are already multiplied by its scale.
   DvlDepthScaleState depth_scale;
+  // The DVL's measure of the net's tilt; when engaged, dense_depth_m is turned and
+  // depth_pose.psi_net_rad / pitch_net_rad carry its offsets.
+  DvlNetTiltState depth_tilt;
   double depth_ms = 0;  // priors + network + resize
   // The latest DVL net plane as the camera's net-relative pose, when at most 0.5 s old (NaN else).
   global_pose::NetRelativePose dvl_plane;
@@ -83,6 +86,9 @@ struct PipelineConfig {
   // The dense depth's scale from the DVL's beam ranges (dvl_depth_scale.h): with the depth stage
   // and global_pose.dvl_beams; off when unset.
   std::optional<DvlDepthScaleConfig> dvl_depth_scale = DvlDepthScaleConfig{};
+  // The dense depth's tilt from the DVL's beam ranges (dvl_net_tilt.h), applied after the scale;
+  // with the depth stage and global_pose.dvl_beams; off when unset.
+  std::optional<DvlNetTiltConfig> dvl_net_tilt = DvlNetTiltConfig{};
   // Also run the published global-pose node (the baseline) on the same inputs.
   std::optional<global_pose::PublishedGlobalPoseConfig> published;
   // Called on the pipeline's delivery thread for each result, in frame order (an exception it

@@ -172,6 +172,10 @@ class RunWriter {
       if (r.dense_depth_m) {
         diag.depth_scale = r.depth_scale.scale;
         diag.dvl_depth_ratio = 1 + r.depth_scale.median_rel;
+        diag.depth_psi_offset_rad = r.depth_tilt.psi_offset_rad;
+        diag.depth_pitch_offset_rad = r.depth_tilt.pitch_offset_rad;
+        diag.dvl_depth_psi_diff_rad = r.depth_tilt.psi_diff_rad;
+        diag.dvl_depth_pitch_diff_rad = r.depth_tilt.pitch_diff_rad;
       }
       if (r.dense_depth_m && !depth_dir_.empty()) {
         write_png(depth_dir_ / d_.frames[next_].filename, depth_mm_from_m(*r.dense_depth_m));
@@ -311,6 +315,7 @@ RunSummary run_dataset(const Dataset& dataset, const std::filesystem::path& out_
   config.depth = options.depth;
   if (config.depth) config.depth->net_curvature_per_m = net_curvature_per_m(dataset.scene);
   if (!options.dvl_depth_scale) config.dvl_depth_scale.reset();
+  if (!options.dvl_net_tilt) config.dvl_net_tilt.reset();
   config.lossless_results = true;
   // A failed write (disk full) ends the run after the pipeline drains, with no output renamed.
   std::exception_ptr write_error;

@@ -42,6 +42,8 @@ struct RunOptions {
   std::optional<DepthEstimatorConfig> depth;
   // The dense depth's scale from the DVL's beam ranges (PipelineConfig::dvl_depth_scale).
   bool dvl_depth_scale = true;
+  // The dense depth's tilt from the DVL's beam ranges (PipelineConfig::dvl_net_tilt).
+  bool dvl_net_tilt = true;
   // Stages outside the pipeline layer (the mapping stage) that take every result.
   struct AttachedStage {
     // On the delivery thread, after the frame's rows are written; must not block.

@@ -14,7 +14,8 @@ DiagnosticsCsvWriter::DiagnosticsCsvWriter(const std::filesystem::path& file)
   out << "#timestamp [ns],valid_rois,inlier_rois,plane_rms [m],fft_reason,mesh_angle [deg],"
          "dvl_plane_d [m],dvl_plane_psi [rad]";
   for (const char* s : kDiagnosticsSensors) out << "," << s << "_accepted," << s << "_rejected";
-  out << ",mesh_type,reduced_rois,depth_scale,dvl_depth_ratio\n";
+  out << ",mesh_type,reduced_rois,depth_scale,dvl_depth_ratio,depth_psi_offset [rad],"
+         "depth_pitch_offset [rad],dvl_depth_psi_diff [rad],dvl_depth_pitch_diff [rad]\n";
 }
 
 DiagnosticsCsvWriter::~DiagnosticsCsvWriter() = default;
@@ -32,7 +33,9 @@ void DiagnosticsCsvWriter::write(const DiagnosticsRow& r) {
     out << "," << r.accepted[i] << "," << r.rejected[i];
   }
   out << "," << r.mesh_type << "," << r.reduced_rois << "," << format_number(r.depth_scale) << ","
-      << format_number(r.dvl_depth_ratio) << "\n";
+      << format_number(r.dvl_depth_ratio) << "," << format_number(r.depth_psi_offset_rad) << ","
+      << format_number(r.depth_pitch_offset_rad) << "," << format_number(r.dvl_depth_psi_diff_rad)
+      << "," << format_number(r.dvl_depth_pitch_diff_rad) << "\n";
 }
 
 void DiagnosticsCsvWriter::finish() {

@@ -7,7 +7,12 @@
 //   mesh_type, reduced_rois, depth_scale (the scale applied to the frame's dense depth: the
 //   DVL's measure of the bar length when engaged, else 1; nan without dense depth),
 //   dvl_depth_ratio (the DVL's measure itself, the window median of its depth over the dense
-//   depth's, engaged or not; nan until it has enough samples; dvl_depth_scale.h)
+//   depth's, engaged or not; nan until it has enough samples; dvl_depth_scale.h),
+//   depth_psi_offset [rad], depth_pitch_offset [rad] (added to the dense depth's psi and pitch:
+//   the DVL's measure of the net's tilt when engaged, else 0; nan without dense depth),
+//   dvl_depth_psi_diff [rad], dvl_depth_pitch_diff [rad] (the DVL's measure itself, the window
+//   median of the DVL plane's angle minus the dense depth's; nan until it has enough samples;
+//   dvl_net_tilt.h)
 // fft_reason is empty when the FFT pose is valid; commas in it are written as ';'. The sensor
 // columns count the samples applied (accepted or re-locked) and refused (gated out or invalid)
 // since the previous row. Written whole like estimates.csv.
@@ -38,6 +43,8 @@ struct DiagnosticsRow {
   std::string mesh_type;  // "square" | "diamond"; empty for a skipped frame
   int reduced_rois = 0;   // ROIs whose spectral basis held a diagonal, reduced to the bars
   double depth_scale = kNaN, dvl_depth_ratio = kNaN;
+  double depth_psi_offset_rad = kNaN, depth_pitch_offset_rad = kNaN;
+  double dvl_depth_psi_diff_rad = kNaN, dvl_depth_pitch_diff_rad = kNaN;
 };
 
 class AtomicFile;

@@ -32,7 +32,7 @@ struct Sums {
 }  // namespace
 
 DepthAccuracy depth_accuracy(const Dataset& dataset, NetDetector& detector,
-                             DepthEstimator& estimator, size_t stride, DvlDepthScale* dvl_scale) {
+                             DepthEstimator& estimator, size_t stride, DvlDepthCorrection* dvl) {
   if (!dataset.groundtruth0 || !dataset.groundtruth0->has_depth) {
     throw Error("'" + dataset.root.string() +
                 "' has no groundtruth0/depth/: the depth accuracy needs a rendered dataset");
@@ -43,33 +43,33 @@ DepthAccuracy depth_accuracy(const Dataset& dataset, NetDetector& detector,
   Sums network, s1, plane, surface;
   std::vector<double> d_errors, psi_errors;
   DepthAccuracy out;
-  // With the DVL's scale every frame runs the stage (the DVL samples pair with the frames as in
-  // the pipeline); every stride-th is scored.
-  const size_t step = dvl_scale ? 1 : std::max<size_t>(stride, 1);
+  // With the DVL's corrections every frame runs the stage (the DVL samples pair with the frames
+  // as in the pipeline); every stride-th is scored.
+  const size_t step = dvl ? 1 : std::max<size_t>(stride, 1);
   size_t next_dvl = 0;
   for (size_t i = 0; i < dataset.frames.size(); i += step) {
     const int64_t t_ns = dataset.frames[i].timestamp_ns;
-    if (dvl_scale && dataset.dvl0) {
+    if (dvl && dataset.dvl0) {
       const std::vector<DvlSample>& samples = dataset.dvl0->samples;
       for (; next_dvl < samples.size() && samples[next_dvl].timestamp_ns <= t_ns; ++next_dvl) {
-        dvl_scale->add(samples[next_dvl]);
+        dvl->add(samples[next_dvl]);
       }
     }
     const bool scored = i % std::max<size_t>(stride, 1) == 0;
     const GroundTruthRow* truth = dataset.truth_for_frame(i);
-    if (!dvl_scale && !truth) continue;
+    if (!dvl && !truth) continue;
     const ImageU8 image = dataset.load_frame(i);
     const NetDetection detection = detector.detect(image, t_ns);
     if (!detection.pose.valid() || detection.depths.empty()) continue;
     DenseDepth dense = estimator.estimate(image, detection.depths);
     if (!dense.reason.empty()) continue;
-    if (dvl_scale) {
-      const DvlDepthScaleState st = dvl_scale->update(t_ns, dense.depth_m);
-      if (st.engaged) {
-        dense.depth_m = scaled_depth(dense.depth_m, st.scale);
-        dense.pose.d_net_m *= st.scale;
+    if (dvl) {
+      DvlDepthCorrected c = dvl->apply(t_ns, dense.depth_m, dense.pose);
+      if (c.depth_m) dense.depth_m = std::move(*c.depth_m);
+      if (scored && truth) {
+        out.scaled_frames += c.scale.engaged;
+        out.tilted_frames += c.tilt.engaged();
       }
-      if (scored && truth) out.scaled_frames += st.engaged;
     }
     if (!scored || !truth) continue;
     ++out.frames;

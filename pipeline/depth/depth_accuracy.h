@@ -14,7 +14,7 @@
 
 #include "pipeline/dataset/dataset_reader.h"
 #include "pipeline/depth/depth_estimator.h"
-#include "pipeline/depth/dvl_depth_scale.h"
+#include "pipeline/depth/dvl_depth_correction.h"
 #include "pipeline/net_detector.h"
 
 namespace pensight {
@@ -33,14 +33,15 @@ struct DepthAccuracy {
   double psi_median_rad = 0;    // median |psi_net_depth - psi_net|
   size_t pose_frames = 0;       // frames with a dense-depth pose and a truth d_net
   size_t scaled_frames = 0;     // scored frames whose depth the DVL's scale corrected
+  size_t tilted_frames = 0;     // scored frames whose depth the DVL's tilt corrected
 };
 
-// Every `stride`-th frame. With `dvl_scale` (fed the dataset's dvl0 samples) the network's depth
-// and pose are those of the pipeline with the DVL's scale (dvl_depth_scale.h); S1, the FFT plane
-// and the prior surface stay the camera's alone. Throws pensight::Error when the dataset has no
-// groundtruth0/depth/.
+// Every `stride`-th frame. With `dvl` (fed the dataset's dvl0 samples; every frame then runs the
+// stage, as in the pipeline) the network's depth and pose are those of the pipeline with the
+// DVL's corrections (dvl_depth_correction.h); S1, the FFT plane and the prior surface stay the
+// camera's alone. Throws pensight::Error when the dataset has no groundtruth0/depth/.
 DepthAccuracy depth_accuracy(const Dataset& dataset, NetDetector& detector,
                              DepthEstimator& estimator, size_t stride = 1,
-                             DvlDepthScale* dvl_scale = nullptr);
+                             DvlDepthCorrection* dvl = nullptr);
 
 }  // namespace pensight

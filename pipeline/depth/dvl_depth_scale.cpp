@@ -8,18 +8,13 @@
 
 namespace pensight {
 
-namespace {
-
-// The standard error of a median is sqrt(pi / 2) times that of a mean; 1.4826 MAD is the
-// standard deviation of normal data.
-constexpr double kMedianSeFactor = 1.2533;
-constexpr double kMadToSigma = 1.4826;
-
-}  // namespace
-
 DvlDepthScale::DvlDepthScale(const PinholeCamera& camera, const Eigen::Isometry3d& T_body_camera,
                              const DvlCalibration& dvl, DvlDepthScaleConfig config)
-    : camera_(camera), T_camera_body_(T_body_camera.inverse()), dvl_(dvl), config_(config) {
+    : camera_(camera),
+      T_camera_body_(T_body_camera.inverse()),
+      dvl_(dvl),
+      config_(config),
+      pairing_(config.max_pair_dt_s) {
   if (!(config_.window_s > 0) || !(config_.max_pair_dt_s > 0) || config_.min_samples < 1 ||
       config_.spot_half_px < 0 || !(config_.trusted_rel >= 0) || !(config_.confidence_z >= 0) ||
       !(config_.max_two_beam_spread > 0)) {
@@ -34,14 +29,7 @@ void DvlDepthScale::add(const DvlSample& s) {
   if (!s.valid || !s.velocity_B_mps.allFinite()) return;
   int ranges = 0;
   for (double r : s.beam_range_m) ranges += std::isfinite(r) && r > 0;
-  if (ranges < 2) return;
-  // Samples come in timestamp order and frames are taken in order, so a pending sample more than
-  // max_pair_dt_s older than this one cannot meet a frame any more: without frames with depth
-  // (open water, the stage failing) the pending list stays this short.
-  const auto max_dt_ns = static_cast<int64_t>(config_.max_pair_dt_s * 1e9);
-  std::erase_if(pending_,
-                [&](const DvlSample& p) { return p.timestamp_ns < s.timestamp_ns - max_dt_ns; });
-  pending_.push_back(s);
+  if (ranges >= 2) pairing_.add(s);
 }
 
 double DvlDepthScale::depth_at(const ImageF32& depth_m, const Eigen::Vector2d& px) const {
@@ -92,18 +80,10 @@ DvlDepthScaleState DvlDepthScale::update(int64_t t_frame_ns, const ImageF32& dep
                 std::to_string(depth_m.height) + ", the camera's " +
                 std::to_string(camera_.width_px) + "x" + std::to_string(camera_.height_px));
   }
-  std::vector<DvlSample> later;
-  for (const DvlSample& s : pending_) {
-    if (s.timestamp_ns > t_frame_ns) {
-      later.push_back(s);
-      continue;
-    }
-    const double dt_s = 1e-9 * static_cast<double>(t_frame_ns - s.timestamp_ns);
-    if (dt_s > config_.max_pair_dt_s) continue;
-    const double lr = sample_log_ratio(s, dt_s, depth_m);
-    if (std::isfinite(lr)) window_.push_back({s.timestamp_ns, lr});
+  for (const DvlFramePairing::Paired& p : pairing_.take(t_frame_ns)) {
+    const double lr = sample_log_ratio(p.sample, p.dt_s, depth_m);
+    if (std::isfinite(lr)) window_.push_back({p.sample.timestamp_ns, lr});
   }
-  pending_ = std::move(later);
   const auto window_ns = static_cast<int64_t>(config_.window_s * 1e9);
   while (!window_.empty() && window_.front().t_ns < t_frame_ns - window_ns) window_.pop_front();
 
@@ -112,12 +92,9 @@ DvlDepthScaleState DvlDepthScale::update(int64_t t_frame_ns, const ImageF32& dep
     state_ = {.samples = state_.samples};
     return state_;
   }
-  std::vector<double> lr, dev;
+  std::vector<double> lr;
   for (const Ratio& r : window_) lr.push_back(r.log_ratio);
-  const double m = median(lr);
-  for (double v : lr) dev.push_back(std::abs(v - m));
-  const double se = kMedianSeFactor * kMadToSigma * median(std::move(dev)) /
-                    std::sqrt(static_cast<double>(lr.size()));
+  const auto [m, se] = median_with_error(lr);
   const double trusted = std::log1p(config_.trusted_rel);
   // Once engaged it stays so while the median is beyond the trusted band: a scale that flickers
   // on and off would step the depth by the whole stretch from frame to frame.

@@ -23,6 +23,7 @@
 
 #include "pipeline/camera.h"
 #include "pipeline/dataset/dataset_types.h"
+#include "pipeline/depth/dvl_frame_pairing.h"
 #include "runtime/image.h"
 
 namespace pensight {
@@ -80,7 +81,7 @@ class DvlDepthScale {
   Eigen::Isometry3d T_camera_body_;
   DvlCalibration dvl_;
   DvlDepthScaleConfig config_;
-  std::vector<DvlSample> pending_;
+  DvlFramePairing pairing_;
   std::deque<Ratio> window_;
   DvlDepthScaleState state_;
 };

@@ -1,8 +1,7 @@
-// The DVL's scale of dense depth against a world known in closed form: a flat net in front of a
-// vehicle moving at constant velocity, seen by the simulator's camera mount and Janus DVL with
-// its range and velocity noise, the camera's depth too near by a stretch s (the bar length is s
-// times scene.yaml's). A stretched net is measured, a net at its nominal size is left exactly as
-// the camera gives it, a fish in one beam does not move the scale, and bad input is refused.
+// The DVL's scale of dense depth against a world known in closed form (flat_net_world.h), the
+// camera's depth too near by a stretch s (the bar length is s times scene.yaml's). A stretched
+// net is measured, a net at its nominal size is left exactly as the camera gives it, a fish in
+// one beam does not move the scale, and bad input is refused.
 #include "pipeline/depth/dvl_depth_scale.h"
 
 #include <gtest/gtest.h>
@@ -13,6 +12,7 @@
 
 #include "runtime/error.h"
 #include "sim/sensors.h"
+#include "tests/support/flat_net_world.h"
 #include "tests/support/test_seed.h"
 
 namespace pensight {
@@ -23,73 +23,9 @@ PinholeCamera small_camera() {
   return PinholeCamera{}.scaled(0.25);
 }
 
-// The simulator's camera mount: 0.3 m ahead of the body origin, looking along body x.
-Eigen::Isometry3d camera_mount() {
-  Eigen::Matrix3d R;
-  R << 0, 0, 1, 1, 0, 0, 0, 1, 0;
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = R;
-  T.translation() = Eigen::Vector3d(0.3, 0, 0);
-  return T;
-}
-
-// A flat net n . X = d in the frame of the body at t = 0; the body moves at velocity_B_mps
-// without turning.
-struct World {
-  Eigen::Vector3d normal;  // unit, away from the vehicle
-  double d_m;
-  Eigen::Vector3d velocity_B_mps;
-  double stretch = 1;  // the camera sees the net this much nearer
-
-  double range(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir) const {
-    const double nd = normal.dot(dir);
-    const double t = nd > 1e-6 ? (d_m - normal.dot(origin)) / nd : kNaN;
-    return t > 0 ? t : kNaN;
-  }
-
-  ImageF32 camera_depth(const PinholeCamera& cam, const Eigen::Isometry3d& T_bc, double t_s) const {
-    ImageF32 depth(cam.width_px, cam.height_px);
-    const Eigen::Vector3d origin = velocity_B_mps * t_s + T_bc.translation();
-    for (int y = 0; y < cam.height_px; ++y) {
-      for (int x = 0; x < cam.width_px; ++x) {
-        const Eigen::Vector3d ray_C = cam.ray({x, y});  // z = 1: the range is the z-depth
-        depth.at(x, y) = static_cast<float>(range(origin, T_bc.linear() * ray_C) / stretch);
-      }
-    }
-    return depth;
-  }
-
-  DvlSample dvl_sample(const DvlCalibration& dvl, double t_s, std::mt19937_64& rng) const {
-    std::normal_distribution<double> range_noise(0, 0.01), velocity_noise(0, 0.005);
-    DvlSample s;
-    s.timestamp_ns = static_cast<int64_t>(std::llround(t_s * 1e9));
-    s.valid = true;
-    s.velocity_B_mps = velocity_B_mps + Eigen::Vector3d(velocity_noise(rng), velocity_noise(rng),
-                                                        velocity_noise(rng));
-    const Eigen::Vector3d origin = velocity_B_mps * t_s + dvl.T_body_dvl.translation();
-    for (size_t i = 0; i < 4; ++i) {
-      const Eigen::Vector3d dir = dvl.T_body_dvl.linear() * dvl.beam_directions_S[i].normalized();
-      s.beam_range_m[i] = range(origin, dir) + range_noise(rng);
-    }
-    return s;
-  }
-};
-
-// A net 0.6-2 m from the camera, up to 25 deg off square and 10 deg pitched, the vehicle moving
-// along it at 0.1-0.3 m/s and towards or away from it at up to 0.01 m/s.
-World random_world(std::mt19937_64& rng, double stretch) {
-  std::uniform_real_distribution<double> yaw(-0.44, 0.44), pitch(-0.17, 0.17), dist(0.6, 2.0),
-      along(0.1, 0.3), radial(-0.01, 0.01), sign(-1, 1);
-  World w;
-  const double a = yaw(rng);
-  w.normal = Eigen::AngleAxisd(pitch(rng), Eigen::Vector3d::UnitY()) *
-             Eigen::Vector3d(std::cos(a), std::sin(a), 0);
-  w.d_m = w.normal.dot(Eigen::Vector3d(0.3 + dist(rng), 0, 0));
-  const Eigen::Vector3d tangent = w.normal.cross(Eigen::Vector3d::UnitZ()).normalized();
-  w.velocity_B_mps = along(rng) * (sign(rng) < 0 ? -1 : 1) * tangent + radial(rng) * w.normal;
-  w.stretch = stretch;
-  return w;
-}
+using testing::camera_mount;
+using testing::random_flat_net_world;
+using World = testing::FlatNetWorld;
 
 // Frames at 10 Hz and the DVL at 4 Hz for duration_s, each DVL sample through `alter` (with its
 // index) when given; the state after the last frame.
@@ -123,7 +59,7 @@ TEST(DvlDepthScale, AStretchedNetIsMeasured) {
   std::uniform_real_distribution<double> stretch(0.03, 0.06), sign(-1, 1);
   for (int trial = 0; trial < 10; ++trial) {
     const double s = 1 + stretch(rng) * (sign(rng) < 0 ? -1 : 1);
-    const DvlDepthScaleState st = run(random_world(rng, s), 4, rng);
+    const DvlDepthScaleState st = run(random_flat_net_world(rng, s), 4, rng);
     ASSERT_TRUE(st.engaged) << "seed " << seed << " trial " << trial << " stretch " << s
                             << " samples " << st.samples << " median " << st.median_rel;
     EXPECT_NEAR(st.scale, s, 0.012) << "seed " << seed << " trial " << trial;
@@ -136,7 +72,7 @@ TEST(DvlDepthScale, ANetAtItsNominalSizeIsLeftAlone) {
   const uint64_t seed = testing::fresh_seed();
   std::mt19937_64 rng(seed);
   for (int trial = 0; trial < 3; ++trial) {
-    const World w = random_world(rng, 1.0);
+    const World w = random_flat_net_world(rng, 1.0);
     const PinholeCamera cam = small_camera();
     const DvlCalibration dvl = sim::dvl_calibration(sim::DvlConfig{});
     DvlDepthScale scale(cam, camera_mount(), dvl);
@@ -159,7 +95,7 @@ TEST(DvlDepthScale, AFishInOneBeamDoesNotMoveTheScale) {
   const uint64_t seed = testing::fresh_seed();
   std::mt19937_64 rng(seed);
   // A fish the camera does not see there, in each beam in turn.
-  const DvlDepthScaleState st = run(random_world(rng, 1.04), 4, rng, {}, 0,
+  const DvlDepthScaleState st = run(random_flat_net_world(rng, 1.04), 4, rng, {}, 0,
                                     [](DvlSample& s, int k) { s.beam_range_m[k % 4] *= 0.4; });
   ASSERT_TRUE(st.engaged) << "seed " << seed;
   EXPECT_NEAR(st.scale, 1.04, 0.015) << "seed " << seed;
@@ -170,7 +106,7 @@ TEST(DvlDepthScale, SamplesTooFarFromAFrameAreNotPaired) {
   std::mt19937_64 rng(seed);
   DvlDepthScaleConfig config;
   config.max_pair_dt_s = 0.02;  // the DVL's samples come 0.025 or 0.075 s before a frame
-  const DvlDepthScaleState st = run(random_world(rng, 1.05), 4, rng, config, 0.025);
+  const DvlDepthScaleState st = run(random_flat_net_world(rng, 1.05), 4, rng, config, 0.025);
   EXPECT_EQ(st.samples, 0);
   EXPECT_FALSE(st.engaged);
   EXPECT_EQ(st.scale, 1.0);
@@ -194,7 +130,7 @@ TEST(DvlDepthScale, BadInputIsRefusedOrIgnored) {
     EXPECT_NE(std::string(e.what()).find("720x540"), std::string::npos) << e.what();
   }
   std::mt19937_64 rng(1);
-  const World w = random_world(rng, 1.05);
+  const World w = random_flat_net_world(rng, 1.05);
   DvlSample invalid = w.dvl_sample(dvl, 0, rng);
   invalid.valid = false;
   DvlSample no_ranges = w.dvl_sample(dvl, 0, rng);

@@ -205,8 +205,8 @@ TEST(Pipeline, RunWritesDiagnosticsAndTiming) {
   const RunSummary summary = run_dataset(d, out, options, test_device());
   const std::vector<EstimateRow> rows = read_estimates_csv(out / "estimates.csv");
   // 8 leading columns, an accepted and a rejected one per sensor, mesh_type, reduced_rois,
-  // depth_scale and dvl_depth_ratio.
-  const size_t columns = 8 + 2 * kDiagnosticsSensors.size() + 4;
+  // depth_scale, dvl_depth_ratio and the four of the DVL's tilt.
+  const size_t columns = 8 + 2 * kDiagnosticsSensors.size() + 8;
   const CsvTable diag(out / kDiagnosticsFile, columns, columns);
   ASSERT_EQ(diag.rows(), d.frames.size());
   int nan_frames = 0;
