@@ -86,7 +86,7 @@ struct PipelineConfig {
   // The dense depth's scale from the DVL's beam ranges (dvl_depth_scale.h): with the depth stage
   // and global_pose.dvl_beams; off when unset.
   std::optional<DvlDepthScaleConfig> dvl_depth_scale = DvlDepthScaleConfig{};
-  // The dense depth's tilt from the DVL's beam ranges (dvl_net_tilt.h), applied after the scale;
+  // The dense depth's tilt from the DVL's beam ranges (dvl_net_tilt.h), applied before the scale;
   // with the depth stage and global_pose.dvl_beams; off when unset.
   std::optional<DvlNetTiltConfig> dvl_net_tilt = DvlNetTiltConfig{};
   // Also run the published global-pose node (the baseline) on the same inputs.

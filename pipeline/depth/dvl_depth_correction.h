@@ -1,7 +1,7 @@
 #pragma once
 // The DVL's corrections of dense depth, in the order the pipeline and the depth evaluation apply
-// them: the net's bar length (dvl_depth_scale.h: the image and d_net scaled), then the net's tilt
-// (dvl_net_tilt.h: the image turned about the optical axis's net point, psi and pitch offset),
+// them: the net's tilt (dvl_net_tilt.h: the image turned about the optical axis's net point, psi
+// and pitch offset), then the net's bar length (dvl_depth_scale.h: the image and d_net scaled),
 // each only where its config is set and only while it is engaged.
 //
 // Not thread-safe; the pipeline's global-pose worker owns one. Costs per frame: the two updates
