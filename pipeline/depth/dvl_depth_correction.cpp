@@ -28,8 +28,8 @@ DvlDepthCorrected DvlDepthCorrection::apply(int64_t t_frame_ns, const ImageF32& 
   if (tilt_) {
     out.tilt = tilt_->update(t_frame_ns, pose);
     if (out.tilt.engaged() && pose.valid()) {
-      out.depth_m = tilted_depth(depth_m, *rays_, pose, out.tilt.psi_offset_rad,
-                                 out.tilt.pitch_offset_rad);
+      out.depth_m =
+          tilted_depth(depth_m, *rays_, pose, out.tilt.psi_offset_rad, out.tilt.pitch_offset_rad);
       pose.psi_net_rad += out.tilt.psi_offset_rad;
       pose.pitch_net_rad += out.tilt.pitch_offset_rad;
     }
