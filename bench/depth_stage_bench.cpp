@@ -4,8 +4,8 @@
 // backend side by side: OpenCV DNN, the engine's CPU executor, the engine's Vulkan executor
 // (lavapipe on a machine without a GPU; S1/S2 on the device). ONNX Runtime CPU as the peer: node
 // bench/ort_bench.js models/compact_depth.onnx 20 image=1x1x240x320 prior=1x3x240x320. Then the
-// pose from dense depth (every pixel, IRLS), and the DVL's scale of it. Counters: GFLOP per frame
-// and achieved GFLOP/s. The frame: follow.yaml's first, rendered.
+// pose from dense depth (every pixel, IRLS), and the DVL's scale and tilt of it. Counters: GFLOP
+// per frame and achieved GFLOP/s. The frame: follow.yaml's first, rendered.
 #include <benchmark/benchmark.h>
 
 #include <filesystem>
@@ -13,6 +13,7 @@
 
 #include "pipeline/depth/depth_estimator.h"
 #include "pipeline/depth/dvl_depth_scale.h"
+#include "pipeline/depth/dvl_net_tilt.h"
 #include "pipeline/net_detector.h"
 #include "runtime/device.h"
 #include "sim/frame_state.h"
@@ -101,6 +102,14 @@ void BM_DepthPlanePose(benchmark::State& state) {
 }
 BENCHMARK(BM_DepthPlanePose)->Unit(benchmark::kMillisecond)->UseRealTime();
 
+// A 4 Hz DVL beside 10 Hz frames: the sample the frame at t_ns is the first after (DVL samples at
+// 0 and 250 ms of every half second meet the frames at 0 and 300 ms).
+std::optional<int64_t> dvl_sample_time(int64_t t_ns) {
+  if (t_ns % 500'000'000 == 0) return t_ns;
+  if (t_ns % 500'000'000 == 300'000'000) return t_ns - 50'000'000;
+  return std::nullopt;
+}
+
 // The DVL's scale of dense depth per frame at 720x540 (dvl_depth_scale.h): a 4 Hz DVL paired
 // with 10 Hz frames (0.4 samples a frame, four beam spots each) over a full 10 s window; then the
 // copy that applies an engaged scale.
@@ -117,8 +126,8 @@ void BM_DvlDepthScale(benchmark::State& state) {
   int64_t t_ns = 0;
   for (auto _ : state) {
     t_ns += 100'000'000;
-    if (t_ns % 500'000'000 == 0 || t_ns % 500'000'000 == 300'000'000) {
-      s.timestamp_ns = t_ns - (t_ns % 500'000'000 ? 50'000'000 : 0);
+    if (const auto t_dvl = dvl_sample_time(t_ns)) {
+      s.timestamp_ns = *t_dvl;
       scale.add(s);
     }
     benchmark::DoNotOptimize(scale.update(t_ns, depth).scale);
@@ -134,5 +143,49 @@ void BM_ScaledDepth(benchmark::State& state) {
   state.SetBytesProcessed(state.iterations() * static_cast<int64_t>(depth.pixels.size()) * 8);
 }
 BENCHMARK(BM_ScaledDepth)->Unit(benchmark::kMicrosecond)->UseRealTime();
+
+// The DVL's tilt per frame with a full 1.5 s window (a plane fit per new sample); then the pass
+// that turns an engaged frame's 720x540 depth.
+void BM_DvlNetTilt(benchmark::State& state) {
+  Eigen::Isometry3d T_body_camera = Eigen::Isometry3d::Identity();
+  T_body_camera.linear() << 0, 0, 1, 1, 0, 0, 0, 1, 0;
+  const DvlCalibration dvl = sim::dvl_calibration(sim::DvlConfig{});
+  DvlNetTilt tilt(T_body_camera, dvl);
+  DvlSample s;
+  s.valid = true;
+  s.beam_range_m = {1.1, 1.12, 1.1, 1.12};
+  DepthPlanePose pose;
+  pose.d_net_m = 1;
+  pose.psi_net_rad = pose.pitch_net_rad = 0;
+  pose.reason.clear();
+  int64_t t_ns = 0;
+  for (auto _ : state) {
+    t_ns += 100'000'000;
+    if (const auto t_dvl = dvl_sample_time(t_ns)) {
+      s.timestamp_ns = *t_dvl;
+      tilt.add(s);
+    }
+    benchmark::DoNotOptimize(tilt.update(t_ns, pose).psi_diff_rad);
+  }
+  state.counters["window"] = tilt.state().samples;
+}
+BENCHMARK(BM_DvlNetTilt)->Unit(benchmark::kMicrosecond)->UseRealTime();
+
+void BM_TiltedDepth(benchmark::State& state) {
+  const PinholeCamera cam = frame().camera;
+  const PixelRays rays(cam);
+  const ImageF32 depth(cam.width_px, cam.height_px, 1.0f);
+  DepthPlanePose pose;
+  pose.d_net_m = 1;
+  pose.psi_net_rad = 0.3;
+  pose.pitch_net_rad = 0.05;
+  pose.reason.clear();
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(tilted_depth(depth, rays, pose, 0.05, 0).pixels.data());
+  }
+  // The depth read and written, the rays read.
+  state.SetBytesProcessed(state.iterations() * static_cast<int64_t>(depth.pixels.size()) * 16);
+}
+BENCHMARK(BM_TiltedDepth)->Unit(benchmark::kMicrosecond)->UseRealTime();
 
 }  // namespace

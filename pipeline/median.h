@@ -17,9 +17,11 @@ inline double median(std::vector<double> values) {
   return *mid;
 }
 
+// A median's standard error is sqrt(pi / 2) times a mean's (normal data, many samples).
+inline constexpr double kMedianErrorOverMeanError = 1.2533;
+
 // A window's median and its standard error, robust to outliers: 1.4826 MAD is the standard
-// deviation of normal data, and a median's error is sqrt(pi / 2) times a mean's. NaN for no
-// values.
+// deviation of normal data. NaN for no values.
 struct MedianWithError {
   double median = kNaN, standard_error = kNaN;
 };
@@ -28,7 +30,7 @@ inline MedianWithError median_with_error(const std::vector<double>& values) {
   std::vector<double> deviations;
   deviations.reserve(values.size());
   for (double v : values) deviations.push_back(std::abs(v - m));
-  return {m, 1.2533 * 1.4826 * median(std::move(deviations)) /
+  return {m, kMedianErrorOverMeanError * 1.4826 * median(std::move(deviations)) /
                  std::sqrt(static_cast<double>(values.size()))};
 }
 

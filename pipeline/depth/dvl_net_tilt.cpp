@@ -13,7 +13,11 @@ namespace pensight {
 
 DvlNetTilt::DvlNetTilt(const Eigen::Isometry3d& T_body_camera, const DvlCalibration& dvl,
                        DvlNetTiltConfig config)
-    : T_body_camera_(T_body_camera), dvl_(dvl), config_(config), pairing_(config.max_pair_dt_s) {
+    : T_body_camera_(T_body_camera),
+      T_camera_body_(T_body_camera.inverse()),
+      dvl_(dvl),
+      config_(config),
+      pairing_(config.max_pair_dt_s) {
   if (!(config_.window_s > 0) || !(config_.max_pair_dt_s > 0) || config_.min_samples < 1 ||
       !(config_.trusted_rad >= 0) || !(config_.confidence_z >= 0) ||
       !(config_.max_residual_m > 0)) {
@@ -46,7 +50,7 @@ DvlNetTiltState DvlNetTilt::update(int64_t t_frame_ns, const DepthPlanePose& dep
     std::array<Eigen::Vector2d, 4> xy;
     for (size_t i = 0; i < 4; ++i) {
       const Eigen::Vector3d end_C =
-          T_body_camera_.inverse() *
+          T_camera_body_ *
           (dvl_.T_body_dvl * (p.sample.beam_range_m[i] * dvl_.beam_directions_S[i].normalized()));
       xy[i] = end_C.head<2>();
       mean += xy[i] / 4;
@@ -84,7 +88,8 @@ DvlNetTiltState DvlNetTilt::update(int64_t t_frame_ns, const DepthPlanePose& dep
   // The MAD of a few samples is near 0 by chance now and then: the range noise's standard error
   // of the median is its floor.
   const auto with_floor = [&](MedianWithError m, double var) {
-    m.standard_error = std::max(m.standard_error, 1.2533 * std::sqrt(var / samples));
+    m.standard_error =
+        std::max(m.standard_error, kMedianErrorOverMeanError * std::sqrt(var / samples));
     return m;
   };
   const MedianWithError m_psi = with_floor(median_with_error(psi), var_psi);

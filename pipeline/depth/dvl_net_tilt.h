@@ -11,8 +11,9 @@
 // 0.4-0.7 deg median against the camera's 0.05-0.3 deg). So, as the bar length's scale does
 // (dvl_depth_scale.h), the window's median of DVL minus dense depth replaces the camera's tilt
 // only where it exceeds a trusted band, with confidence (its standard error from the window's
-// MAD); on the shipped scenarios' uniform nets it never does. The window is short, as the bias
-// moves with the point the camera looks at.
+// MAD, floored by what the DVL's range noise gives over each sample's beam spread: the MAD of six
+// samples is near 0 now and then); on the shipped scenarios' uniform nets it never does. The window
+// is short, as the bias moves with the point the camera looks at.
 //
 // Not thread-safe; the pipeline's global-pose worker owns one (through dvl_depth_correction.h).
 // Cost per frame: a 3x3 eigen-decomposition per new DVL sample and a median over the window
@@ -81,7 +82,7 @@ class DvlNetTilt {
     double sigma_psi_rad, sigma_pitch_rad;  // from the range noise and the beams' spread
   };
 
-  Eigen::Isometry3d T_body_camera_;
+  Eigen::Isometry3d T_body_camera_, T_camera_body_;
   DvlCalibration dvl_;
   DvlNetTiltConfig config_;
   DvlFramePairing pairing_;
