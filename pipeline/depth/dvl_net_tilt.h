@@ -60,7 +60,7 @@ struct DvlNetTiltState {
 class DvlNetTilt {
  public:
   // Throws pensight::Error when the configuration is not usable (a non-positive window, pairing
-  // span or residual, a negative or NaN band or confidence, min_samples < 1).
+  // span or residual, a negative or NaN band, confidence or range noise, min_samples < 1).
   DvlNetTilt(const Eigen::Isometry3d& T_body_camera, const DvlCalibration& dvl,
              DvlNetTiltConfig config = {});
 

@@ -124,6 +124,9 @@ TEST(DvlNetTilt, BadInputIsRefusedOrIgnored) {
   DvlNetTiltConfig nan_band;
   nan_band.trusted_rad = kNaN;
   EXPECT_THROW(DvlNetTilt(camera_mount(), dvl, nan_band), Error);
+  DvlNetTiltConfig nan_noise;
+  nan_noise.range_noise_m = kNaN;
+  EXPECT_THROW(DvlNetTilt(camera_mount(), dvl, nan_noise), Error);
 
   std::mt19937_64 rng(1);
   FlatNetWorld w = random_flat_net_world(rng, 1.0);
