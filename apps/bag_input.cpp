@@ -2,8 +2,8 @@
 
 #include <cstdio>
 
-#include "runtime/error.h"
-#include "runtime/log.h"
+#include "core/error.h"
+#include "core/log.h"
 
 namespace pensight::app {
 namespace fs = std::filesystem;

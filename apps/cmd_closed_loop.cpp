@@ -9,8 +9,8 @@
 
 #include "apps/command.h"
 #include "apps/progress_bar.h"
+#include "core/log.h"
 #include "mavlink/vehicle_link.h"
-#include "runtime/log.h"
 #include "sim/closed_loop.h"
 #include "sim/closed_loop_report.h"
 #include "sim/scenario.h"
@@ -58,7 +58,7 @@ int cmd_closed_loop(const Args& args) {
     sim::validate(s);
   }
   sim::ClosedLoopOptions options;
-  options.renderer = renderer;
+  options.renderer = parse_backend(renderer);
   options.detector.backend = parse_backend(backend);
   if (!outage.empty()) {
     if (!(outage[0] >= 0 && outage[1] > outage[0])) {

@@ -8,10 +8,10 @@
 
 #include "apps/command.h"
 #include "apps/progress_bar.h"
+#include "core/timing.h"
 #include "pipeline/dataset/global_pose_csv.h"
 #include "pipeline/evaluation/evaluation.h"
 #include "pipeline/runner.h"
-#include "runtime/timing.h"
 #include "sim/generate.h"
 #include "sim/scenario.h"
 
@@ -58,7 +58,7 @@ int cmd_demo(const Args& args) {
 
   const sim::Scenario scenario = sim::parse_scenario(kBuiltinSweepYaml, "sweep.yaml");
   Device device;
-  const auto frame_renderer = sim::make_renderer(scenario, {}, renderer, device);
+  const auto frame_renderer = sim::make_renderer(scenario, {}, parse_backend(renderer), device);
   std::printf("1. rendering the built-in sweep (%d frames of 720x540, %s renderer)\n",
               scenario.num_frames(), frame_renderer->name());
   std::fflush(stdout);  // before the progress bar on stderr

@@ -4,7 +4,7 @@
 
 #include "apps/command.h"
 #include "apps/progress_bar.h"
-#include "runtime/log.h"
+#include "core/log.h"
 #include "sim/depth_training.h"
 
 namespace pensight::app {

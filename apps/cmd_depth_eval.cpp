@@ -7,10 +7,10 @@
 
 #include "apps/command.h"
 #include "apps/default_model.h"
+#include "core/error.h"
+#include "core/units.h"
 #include "pipeline/depth/depth_accuracy.h"
 #include "pipeline/runner.h"
-#include "runtime/error.h"
-#include "runtime/units.h"
 
 namespace pensight::app {
 
@@ -24,12 +24,16 @@ int cmd_depth_eval(const Args& args) {
       "without them). One Markdown table row per dataset.",
       "pensight depth-eval");
   std::vector<std::string> datasets;
-  std::string model, backend = "auto";
+  std::string model, backend = "auto", cpu_inference = "auto";
   size_t stride = 1;
   bool no_dvl_scale = false, no_dvl_tilt = false;
   cli.add_option("DATASET", datasets, "rendered dataset folders")->required();
   cli.add_option("--model", model, "depth network (default: the shipped one)");
-  cli.add_option("--depth-backend", backend, "auto|opencv|engine-cpu|vulkan")
+  cli.add_option("--depth-backend", backend, "auto|cpu|vulkan (auto: vulkan on a real GPU)")
+      ->capture_default_str();
+  cli.add_option("--depth-cpu-inference", cpu_inference,
+                 "auto|opencv|engine: the network's library on the cpu backend (auto: OpenCV DNN "
+                 "where it reads the model)")
       ->capture_default_str();
   cli.add_option("--stride", stride, "every N-th frame")->check(CLI::Range(1, 1000));
   cli.add_flag("--no-dvl-scale", no_dvl_scale, "the network's depth without the DVL's scale");
@@ -56,7 +60,8 @@ int cmd_depth_eval(const Args& args) {
     }
     DepthEstimator estimator(dataset.cam0.camera,
                              {.model = file,
-                              .backend = parse_depth_backend(backend),
+                              .backend = parse_backend(backend),
+                              .cpu_inference = parse_cpu_inference(cpu_inference),
                               .net_curvature_per_m = net_curvature_per_m(dataset.scene)},
                              device);
     std::optional<DvlDepthCorrection> dvl;

@@ -1,8 +1,8 @@
 #include <cstdio>
 
 #include "apps/command.h"
+#include "core/error.h"
 #include "runtime/cuda_device.h"
-#include "runtime/error.h"
 #include "runtime/vk_context.h"
 
 namespace pensight::app {

@@ -7,9 +7,9 @@
 #include <string>
 
 #include "apps/command.h"
+#include "core/error.h"
 #include "kernels/nn/nn_models.h"
 #include "kernels/nn/nn_onnx.h"
-#include "runtime/error.h"
 
 namespace pensight::app {
 namespace {

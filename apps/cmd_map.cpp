@@ -7,12 +7,12 @@
 
 #include "apps/command.h"
 #include "apps/progress_bar.h"
+#include "core/error.h"
 #include "mapping/map_io.h"
 #include "mapping/projective_integrator.h"
 #include "pipeline/dataset/dataset_reader.h"
 #include "pipeline/dataset/png_io.h"
 #include "pipeline/dataset/trajectory_tum.h"
-#include "runtime/error.h"
 
 namespace pensight::app {
 int cmd_map(const Args& args) {

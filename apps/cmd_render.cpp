@@ -4,7 +4,7 @@
 
 #include "apps/command.h"
 #include "apps/progress_bar.h"
-#include "runtime/log.h"
+#include "core/log.h"
 #include "sim/generate.h"
 #include "sim/scenario.h"
 
@@ -46,7 +46,7 @@ int cmd_render(const Args& args) {
   if (duration >= 0 || frames > 0) sim::validate(s);
 
   Device device;
-  const auto renderer = sim::make_renderer(s, options, renderer_name, device);
+  const auto renderer = sim::make_renderer(s, options, parse_backend(renderer_name), device);
   ProgressBar bar("render");
   sim::GenerateOptions gen;
   if (!quiet) {

@@ -6,12 +6,12 @@
 #include "apps/command.h"
 #include "apps/default_model.h"
 #include "apps/progress_bar.h"
+#include "core/error.h"
+#include "core/log.h"
 #include "pipeline/dataset/diagnostics_csv.h"
 #include "pipeline/dataset/global_pose_csv.h"
 #include "pipeline/dataset/trajectory_tum.h"
 #include "pipeline/runner.h"
-#include "runtime/error.h"
-#include "runtime/log.h"
 #if PENSIGHT_HAS_MAPPING
 #include "mapping/map_io.h"
 #include "mapping/mapping_stage.h"
@@ -56,7 +56,7 @@ int cmd_run(const Args& args) {
                "write OUT/overlays/<frame>.png for every frame (ROI grid, lattices, pose); "
                "without it, for 4 frames the report shows");
   cli.add_flag("--quiet", quiet, "no progress bar");
-  std::string model, depth_backend = "auto";
+  std::string model, depth_backend = "auto", depth_cpu_inference = "auto";
   bool no_depth = false;
   cli.add_option("--model", model,
                  "depth network (ONNX, models/README.md); default: the shipped one for the "
@@ -70,8 +70,11 @@ int cmd_run(const Args& args) {
   cli.add_flag("--no-dvl-tilt", no_dvl_tilt,
                "keep the camera's net tilt for dense depth even where the DVL's beam ranges "
                "measure another (docs/dense_depth.md)");
-  cli.add_option("--depth-backend", depth_backend,
-                 "auto|opencv|engine-cpu|vulkan (auto: vulkan on a real GPU, else OpenCV DNN)")
+  cli.add_option("--depth-backend", depth_backend, "auto|cpu|vulkan (auto: vulkan on a real GPU)")
+      ->capture_default_str();
+  cli.add_option("--depth-cpu-inference", depth_cpu_inference,
+                 "auto|opencv|engine: the network's library on the cpu backend (auto: OpenCV DNN "
+                 "where it reads the model)")
       ->capture_default_str();
   BagInputOptions bag_options;
   add_bag_options(cli, bag_options);
@@ -114,9 +117,11 @@ int cmd_run(const Args& args) {
     const std::filesystem::path file = model.empty() ? find_default_depth_model(dataset.cam0.camera)
                                                      : std::filesystem::path(model);
     if (!file.empty()) {
-      options.depth = DepthEstimatorConfig{.model = file,
-                                           .backend = parse_depth_backend(depth_backend),
-                                           .cpu_threads = options.detector.cpu_threads};
+      options.depth =
+          DepthEstimatorConfig{.model = file,
+                               .backend = parse_backend(depth_backend),
+                               .cpu_inference = parse_cpu_inference(depth_cpu_inference),
+                               .cpu_threads = options.detector.cpu_threads};
     } else {
       log_info(
           "no depth model for this camera's aspect in models/ (compact_depth*.onnx): the "

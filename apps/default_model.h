@@ -2,7 +2,7 @@
 // Where the command line finds a shipped depth network when no --model is given.
 #include <filesystem>
 
-#include "pipeline/camera.h"
+#include "core/camera.h"
 
 namespace pensight::app {
 

@@ -4,7 +4,7 @@
 #include <cstddef>
 #include <string>
 
-#include "runtime/timing.h"
+#include "core/timing.h"
 
 namespace pensight::app {
 

@@ -10,6 +10,7 @@
 
 #include <filesystem>
 #include <optional>
+#include <utility>
 
 #include "pipeline/depth/depth_estimator.h"
 #include "pipeline/depth/dvl_depth_scale.h"
@@ -59,14 +60,17 @@ void BM_DepthStage(benchmark::State& state) {
     state.SkipWithError("no models/compact_depth.onnx (scripts/train_depth.sh)");
     return;
   }
-  const DepthBackend backends[] = {DepthBackend::kOpenCv, DepthBackend::kEngineCpu,
-                                   DepthBackend::kVulkan};
+  const std::pair<Backend, CpuInference> backends[] = {{Backend::kCpu, CpuInference::kOpenCv},
+                                                       {Backend::kCpu, CpuInference::kEngine},
+                                                       {Backend::kVulkan, CpuInference::kAuto}};
   const Frame& f = frame();
   Device device;
   std::optional<DepthEstimator> estimator;
   try {
     estimator.emplace(f.camera,
-                      DepthEstimatorConfig{.model = kModel, .backend = backends[state.range(0)]},
+                      DepthEstimatorConfig{.model = kModel,
+                                           .backend = backends[state.range(0)].first,
+                                           .cpu_inference = backends[state.range(0)].second},
                       device);
   } catch (const std::exception& e) {
     state.SkipWithError(e.what());

@@ -20,9 +20,9 @@
 #include <opencv2/core.hpp>
 #include <vector>
 
+#include "core/timing.h"
 #include "kernels/fft_roi/fft_roi.h"
 #include "pipeline/net_detector.h"
-#include "runtime/timing.h"
 #include "runtime/vk_buffer.h"
 #include "runtime/vk_context.h"
 #include "runtime/vk_stream.h"

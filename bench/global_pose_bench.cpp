@@ -12,10 +12,10 @@
 #include <random>
 #include <vector>
 
-#include "pipeline/camera.h"
+#include "core/camera.h"
+#include "core/units.h"
 #include "pipeline/global_pose/global_pose_estimator.h"
 #include "pipeline/global_pose/published_global_pose.h"
-#include "runtime/units.h"
 
 namespace {
 
@@ -60,10 +60,6 @@ Eigen::Isometry3d pose_at(double t) {
   return T;
 }
 
-int64_t ns(double s) {
-  return static_cast<int64_t>(std::llround(s * 1e9));
-}
-
 // The optical axis' net point's move from t0 to t1 over a square 30 mm mesh (net_texture.h).
 TextureStep texture_step_at(double t0, double t1, const Eigen::Isometry3d& T_bc) {
   const auto axis_point = [&](double t) {
@@ -77,7 +73,7 @@ TextureStep texture_step_at(double t0, double t1, const Eigen::Isometry3d& T_bc)
   const Eigen::Matrix3d R_C_P = (pose_at(t1) * T_bc).linear().transpose();
   TextureStep s;
   s.valid = true;
-  s.from_ns = ns(t0);
+  s.from_ns = seconds_to_ns(t0);
   s.bars_C = {bar * R_C_P * Eigen::Vector3d(-std::sin(azimuth), std::cos(azimuth), 0),
               bar * R_C_P * Eigen::Vector3d::UnitZ()};
   const double moved[2] = {kRadius * wrap_angle(azimuth - std::atan2(a.y(), a.x())) / bar,
@@ -96,7 +92,7 @@ std::vector<Frame> make_frames() {
   for (int f = 0; f < kFrames; ++f) {
     const double t = 0.1 * f;
     Frame& fr = frames[static_cast<size_t>(f)];
-    fr.camera.t_ns = ns(t);
+    fr.camera.t_ns = seconds_to_ns(t);
     const Eigen::Isometry3d T_pc = pose_at(t) * T_bc;
     for (int i = 0; i < 30; ++i) {
       const Eigen::Vector3d dir =
@@ -111,7 +107,7 @@ std::vector<Frame> make_frames() {
     if (f > 0) fr.camera.texture = texture_step_at(t - 0.1, t, T_bc);
     for (const double s : {t + 0.007, t + 0.057}) {
       const Eigen::Matrix3d R = pose_at(s).linear();
-      fr.attitude.push_back({ns(s), 0.0, 0.0, std::atan2(R(1, 0), R(0, 0)) + 0.5});
+      fr.attitude.push_back({seconds_to_ns(s), 0.0, 0.0, std::atan2(R(1, 0), R(0, 0)) + 0.5});
     }
     if (f % 4 == 0 || f % 4 == 2) {
       const double s = t + 0.013, h = 1e-4;
@@ -119,14 +115,14 @@ std::vector<Frame> make_frames() {
       const Eigen::Vector3d v_P =
           (pose_at(s + h).translation() - pose_at(s - h).translation()) / (2 * h);
       DvlSample d;
-      d.timestamp_ns = ns(s);
+      d.timestamp_ns = seconds_to_ns(s);
       d.valid = true;
       d.velocity_B_mps =
           T.linear().transpose() * v_P + 0.01 * Eigen::Vector3d(n01(rng), n01(rng), n01(rng));
       d.beam_range_m = dvl_ranges_to_wall(dvl, T, NetWall::cylinder(kRadius));
       fr.dvl.push_back(d);
     }
-    if (f % 4 != 3) fr.depth.push_back({ns(t + 0.031), 5.0 + 0.02 * n01(rng)});
+    if (f % 4 != 3) fr.depth.push_back({seconds_to_ns(t + 0.031), 5.0 + 0.02 * n01(rng)});
   }
   return frames;
 }

@@ -8,7 +8,7 @@ set(PENSIGHT_INSTALL_CMAKEDIR ${CMAKE_INSTALL_LIBDIR}/cmake/pensight)
 
 # pensight_add_layer(NAME [DEPENDS LAYER...]): the static library of the layer whose folder calls
 # it, linking the layers below it (DEPENDS). Its folder's headers are installed, *_detail.h
-# (implementation-only) excepted; the library is exported as pensight::NAME and linked by
+# (implementation-only) and internal/ folders excepted; the library is exported as pensight::NAME and linked by
 # `pensight`.
 function(pensight_add_layer name)
   cmake_parse_arguments(PARSE_ARGV 1 arg "" "" "DEPENDS")
@@ -26,7 +26,7 @@ function(pensight_add_layer name)
   file(RELATIVE_PATH folder ${PROJECT_SOURCE_DIR} ${CMAKE_CURRENT_SOURCE_DIR})
   install(DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/
           DESTINATION ${PENSIGHT_INSTALL_INCLUDEDIR}/${folder}
-          FILES_MATCHING PATTERN "*.h" PATTERN "*_detail.h" EXCLUDE)
+          FILES_MATCHING PATTERN "*.h" PATTERN "*_detail.h" EXCLUDE PATTERN "internal" EXCLUDE)
 endfunction()
 
 # `cmake --install BUILD --prefix P`: the layers' libraries and headers, and
@@ -45,4 +45,33 @@ function(pensight_install_package)
   install(FILES ${PROJECT_BINARY_DIR}/pensightConfig.cmake
                 ${PROJECT_BINARY_DIR}/pensightConfigVersion.cmake
           DESTINATION ${PENSIGHT_INSTALL_CMAKEDIR})
+endfunction()
+
+# pensight_forbid_links(TARGET PATTERN...): stops the configure when anything TARGET links, directly
+# or through its dependencies, matches a regex PATTERN. Keeps the layers that must run on a
+# vehicle computer without a GPU stack (control, MAVLink, the vehicle model) free of it.
+function(pensight_forbid_links target)
+  set(todo ${target})
+  set(seen "")
+  while(todo)
+    list(POP_FRONT todo t)
+    if(t IN_LIST seen OR NOT TARGET ${t})
+      continue()
+    endif()
+    list(APPEND seen ${t})
+    get_target_property(links ${t} LINK_LIBRARIES)
+    get_target_property(interface_links ${t} INTERFACE_LINK_LIBRARIES)
+    foreach(link IN LISTS links interface_links)
+      string(REGEX REPLACE "^\\$<LINK_ONLY:(.*)>$" "\\1" link "${link}")
+      foreach(pattern ${ARGN})
+        if(link MATCHES "${pattern}")
+          message(FATAL_ERROR "${target} links ${link} (through ${t}); it may not link anything "
+                              "matching '${pattern}': move the code it needs down to core/")
+        endif()
+      endforeach()
+      if(link AND NOT link MATCHES "-NOTFOUND$")
+        list(APPEND todo ${link})
+      endif()
+    endforeach()
+  endwhile()
 endfunction()

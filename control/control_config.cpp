@@ -1,9 +1,11 @@
 #include "control/control_config.h"
 
 #include <cmath>
+#include <string_view>
 
-#include "pipeline/dataset/strict_yaml.h"
-#include "runtime/error.h"
+#include "core/error.h"
+#include "core/params.h"
+#include "core/strict_yaml.h"
 
 namespace pensight::control {
 
@@ -13,25 +15,113 @@ const char* to_string(VelocityStrategy s) {
 
 namespace {
 
-void read_gains(const YamlMap& parent, const std::string& key, PidGains& g) {
-  const auto m = parent.optional_map(key);
-  if (!m) return;
-  g.kp = m->number("kp", g.kp);
-  g.ki = m->number("ki", g.ki);
-  g.kd = m->number("kd", g.kd);
-  m->check_unknown_keys();
+const Param<PidGains> kGainParams[] = {
+    {"kp", &PidGains::kp, "", kNonNegative,
+     "proportional gain (the loop's sign is the controller's)"},
+    {"ki", &PidGains::ki, "", kNonNegative, "integral gain, per second"},
+    {"kd", &PidGains::kd, "", kNonNegative, "derivative gain, in seconds"},
+};
+
+const Param<LoopLimits> kLimitParams[] = {
+    {"surge_speed_mps", &LoopLimits::surge_speed_mps, "m/s", kPositive, "|u_ref|"},
+    {"sway_speed_mps", &LoopLimits::sway_speed_mps, "m/s", kPositive, "|v_ref| a leg may ask for"},
+    {"yaw_rate_radps", &LoopLimits::yaw_rate_radps, "rad/s", kPositive, "|r_ref|"},
+    {"climb_rate_mps", &LoopLimits::climb_rate_mps, "m/s", kPositive, "depth changes"},
+    {"depth_gain_per_s", &LoopLimits::depth_gain_per_s, "1/s", kPositive,
+     "climb-rate demand per metre of depth error"},
+    {"force_rate_n_per_s", &LoopLimits::force_rate_n_per_s, "N/s", kPositive,
+     "thrust ramp per horizontal axis"},
+};
+
+// ArduSub's ESC output spans 1100-1900 us around 1500 us neutral; above a pilot gain of 0.5 it
+// rescales a combined surge and sway stick, which the stick model (stick_map.h) does not.
+const Param<VehicleModel> kVehicleParams[] = {
+    {"surge_mass_kg", &VehicleModel::surge_mass_kg, "kg", kPositive, "mass + added mass, surge"},
+    {"sway_mass_kg", &VehicleModel::sway_mass_kg, "kg", kPositive, "mass + added mass, sway"},
+    {"surge_damping_linear", &VehicleModel::surge_damping_linear, "N s/m", kNonNegative,
+     "feed-forward F(u), linear term"},
+    {"surge_damping_quadratic", &VehicleModel::surge_damping_quadratic, "N s^2/m^2", kNonNegative,
+     "feed-forward F(u), quadratic term"},
+    {"sway_damping_linear", &VehicleModel::sway_damping_linear, "N s/m", kNonNegative,
+     "feed-forward F(v), linear term"},
+    {"sway_damping_quadratic", &VehicleModel::sway_damping_quadratic, "N s^2/m^2", kNonNegative,
+     "feed-forward F(v), quadratic term"},
+    {"pilot_gain",
+     &VehicleModel::pilot_gain,
+     "",
+     {0, 0.5, true, false},
+     "ArduSub's pilot gain on the x, y sticks"},
+    {"deadband_low_us",
+     &VehicleModel::deadband_low_us,
+     "us",
+     {1100, 1500, true, false},
+     "T200 ESC dead band, low end"},
+    {"deadband_high_us",
+     &VehicleModel::deadband_high_us,
+     "us",
+     {1500, 1900, false, true},
+     "T200 ESC dead band, high end"},
+    {"max_forward_n", &VehicleModel::max_forward_n, "N", kPositive, "T200 thrust at 1900 us"},
+    {"max_reverse_n", &VehicleModel::max_reverse_n, "N", kPositive, "T200 thrust at 1100 us"},
+    {"thrust_exponent", &VehicleModel::thrust_exponent, "", kPositive,
+     "T200 thrust ~ (PWM beyond the dead band)^exponent"},
+    {"full_stick_yaw_rate_radps", &VehicleModel::full_stick_yaw_rate_radps, "rad/s", kPositive,
+     "yaw rate a full r stick asks for"},
+    {"full_stick_climb_rate_mps", &VehicleModel::full_stick_climb_rate_mps, "m/s", kPositive,
+     "climb rate a full z stick asks for"},
+};
+
+const Param<SafetyConfig> kSafetyParams[] = {
+    {"startup_s", &SafetyConfig::startup_s, "s", kNonNegative,
+     "armed, in depth hold, held still before the first leg"},
+    {"pose_timeout_s", &SafetyConfig::pose_timeout_s, "s", kPositive,
+     "no valid relative pose for this long: hold"},
+    {"backoff_after_s", &SafetyConfig::backoff_after_s, "s", kPositive,
+     "no valid pose for this long: back away (at least pose_timeout_s)"},
+    {"backoff_speed_mps", &SafetyConfig::backoff_speed_mps, "m/s", kPositive,
+     "backing away, slowly so a net that reappears is not lost again"},
+    {"backoff_max_m", &SafetyConfig::backoff_max_m, "m", kPositive, "then hold again"},
+    {"dvl_timeout_s", &SafetyConfig::dvl_timeout_s, "s", kPositive,
+     "no DVL sample for this long: the open-loop strategy"},
+    {"dvl_gate_mps", &SafetyConfig::dvl_gate_mps, "m/s", kPositive,
+     "a DVL sample this far from the observer's velocity is a spike, unless the next agrees"},
+};
+
+// The net must stay in view: a heading of 1 rad from the net's normal is at the edge of it.
+const Param<Leg> kLegParams[] = {
+    {"d_ref_m", &Leg::d_ref_m, "m", kPositive, "distance to hold from the net (required)"},
+    {"heading_ref_rad",
+     &Leg::heading_ref_rad,
+     "rad",
+     {-1, 1, true, true},
+     "net-relative heading (0: squarely, > 0: turned right, as psi_net)"},
+    {"sway_speed_mps", &Leg::sway_speed_mps, "m/s", kAnyNumber,
+     "along the net (> 0: to the right), at most limits.sway_speed_mps"},
+    {"depth_m", &Leg::depth_m, "m", kNonNegative,
+     "depth of the leg (absent: the depth at its start)"},
+    {"duration_s", &Leg::duration_s, "s", kPositiveOrInfinite,
+     "the leg ends after this (absent: never)"},
+    {"length_m", &Leg::length_m, "m", kPositiveOrInfinite,
+     "the leg ends once this is travelled along the net (absent: never)"},
+};
+
+constexpr const char* kGainLoops[] = {"surge_position", "surge_velocity", "sway_position", "yaw"};
+
+template <class Gains>  // LoopGains or const LoopGains
+auto& gains_of(Gains& g, std::string_view loop) {
+  if (loop == "surge_position") return g.surge_position;
+  if (loop == "surge_velocity") return g.surge_velocity;
+  if (loop == "sway_position") return g.sway_position;
+  return g.yaw;
 }
 
-Leg read_leg(const YamlMap& m) {
-  Leg leg;
-  leg.d_ref_m = m.number("d_ref_m");
-  leg.heading_ref_rad = m.number("heading_ref_rad", leg.heading_ref_rad);
-  leg.sway_speed_mps = m.number("sway_speed_mps", leg.sway_speed_mps);
-  leg.depth_m = m.number("depth_m", leg.depth_m);
-  leg.duration_s = m.number("duration_s", leg.duration_s);
-  leg.length_m = m.number("length_m", leg.length_m);
-  m.check_unknown_keys();
-  return leg;
+template <class Config>
+void read_section(const YamlMap& parent, const std::string& key,
+                  std::span<const Param<Config>> params, Config& config) {
+  if (const auto m = parent.optional_map(key)) {
+    read_params(*m, params, config);
+    m->check_unknown_keys();
+  }
 }
 
 // `where` is "FILE: key 'PREFIX", so messages read like the YAML reader's own.
@@ -39,84 +129,51 @@ void require(bool ok, const std::string& where, const std::string& key, const st
   if (!ok) throw Error(where + key + "': " + what);
 }
 
-void check_gains(const PidGains& g, const std::string& where, const std::string& key) {
-  for (const auto& [name, v] : {std::pair{"kp", g.kp}, {"ki", g.ki}, {"kd", g.kd}}) {
-    require(std::isfinite(v) && v >= 0, where, key + "." + name,
-            "a gain is a finite number >= 0 (the loop's sign is fixed by the controller)");
-  }
-}
-
-void check_positive(double v, const std::string& where, const std::string& key) {
-  require(std::isfinite(v) && v > 0, where, key, "expected a finite number > 0");
-}
-
 }  // namespace
+
+std::string control_param_rows() {
+  const ControlConfig d;
+  std::string rows;
+  for (const char* loop : kGainLoops) {
+    rows += param_table_rows<PidGains>(kGainParams, gains_of(d.gains, loop),
+                                       "gains." + std::string(loop) + ".");
+  }
+  rows += param_table_rows<LoopLimits>(kLimitParams, d.limits, "limits.");
+  rows += param_table_rows<VehicleModel>(kVehicleParams, d.vehicle, "vehicle.");
+  rows += param_table_rows<SafetyConfig>(kSafetyParams, d.safety, "safety.");
+  rows += param_table_rows<Leg>(kLegParams, Leg{}, "legs[].");
+  return rows;
+}
 
 void validate(const ControlConfig& c, const std::string& file, const std::string& key_prefix) {
   const std::string where = file + ": key '" + key_prefix;
-  check_gains(c.gains.surge_position, where, "gains.surge_position");
-  check_gains(c.gains.surge_velocity, where, "gains.surge_velocity");
-  check_gains(c.gains.sway_position, where, "gains.sway_position");
-  check_gains(c.gains.yaw, where, "gains.yaw");
+  for (const char* loop : kGainLoops) {
+    check_params<PidGains>(gains_of(c.gains, loop), kGainParams, file,
+                           key_prefix + "gains." + loop + ".");
+  }
   require(c.gains.surge_position.kp > 0, where, "gains.surge_position.kp",
           "0 leaves the distance to the net uncontrolled; the published value is 3.0");
   require(c.gains.yaw.kp > 0, where, "gains.yaw.kp",
           "0 leaves the heading uncontrolled; the published value is 0.075");
-  const auto& l = c.limits;
-  check_positive(l.surge_speed_mps, where, "limits.surge_speed_mps");
-  check_positive(l.sway_speed_mps, where, "limits.sway_speed_mps");
-  check_positive(l.yaw_rate_radps, where, "limits.yaw_rate_radps");
-  check_positive(l.climb_rate_mps, where, "limits.climb_rate_mps");
-  check_positive(l.depth_gain_per_s, where, "limits.depth_gain_per_s");
-  check_positive(l.force_rate_n_per_s, where, "limits.force_rate_n_per_s");
+  check_params<LoopLimits>(c.limits, kLimitParams, file, key_prefix + "limits.");
   const auto& v = c.vehicle;
-  for (const auto& [name, x] : {std::pair{"surge_damping_linear", v.surge_damping_linear},
-                                {"surge_damping_quadratic", v.surge_damping_quadratic},
-                                {"sway_damping_linear", v.sway_damping_linear},
-                                {"sway_damping_quadratic", v.sway_damping_quadratic}}) {
-    require(std::isfinite(x) && x >= 0, where, std::string("vehicle.") + name,
-            "expected a finite number >= 0");
-  }
+  check_params<VehicleModel>(v, kVehicleParams, file, key_prefix + "vehicle.");
   require(v.surge_damping_linear + v.surge_damping_quadratic > 0 &&
               v.sway_damping_linear + v.sway_damping_quadratic > 0,
           where, "vehicle", "the feed-forward needs some damping on surge and sway");
-  require(std::isfinite(v.pilot_gain) && v.pilot_gain > 0 && v.pilot_gain <= 0.5, where,
-          "vehicle.pilot_gain",
-          "expected a number in (0, 0.5]: above it ArduSub rescales a combined surge and sway "
-          "stick, which the controller's stick model (stick_map.h) does not");
-  require(std::isfinite(v.deadband_low_us) && std::isfinite(v.deadband_high_us) &&
-              1100 < v.deadband_low_us && v.deadband_low_us <= 1500 && 1500 <= v.deadband_high_us &&
-              v.deadband_high_us < 1900,
-          where, "vehicle.deadband_low_us", "expected 1100 < low <= 1500 <= high < 1900 (us)");
-  check_positive(v.max_forward_n, where, "vehicle.max_forward_n");
-  check_positive(v.max_reverse_n, where, "vehicle.max_reverse_n");
-  check_positive(v.thrust_exponent, where, "vehicle.thrust_exponent");
-  check_positive(v.full_stick_yaw_rate_radps, where, "vehicle.full_stick_yaw_rate_radps");
-  check_positive(v.full_stick_climb_rate_mps, where, "vehicle.full_stick_climb_rate_mps");
   const auto& s = c.safety;
-  check_positive(s.startup_s + 1, where, "safety.startup_s");
-  check_positive(s.pose_timeout_s, where, "safety.pose_timeout_s");
-  require(std::isfinite(s.backoff_after_s) && s.backoff_after_s >= s.pose_timeout_s, where,
-          "safety.backoff_after_s", "expected a finite number >= safety.pose_timeout_s");
-  check_positive(s.backoff_speed_mps, where, "safety.backoff_speed_mps");
-  check_positive(s.backoff_max_m, where, "safety.backoff_max_m");
-  check_positive(s.dvl_timeout_s, where, "safety.dvl_timeout_s");
-  check_positive(s.dvl_gate_mps, where, "safety.dvl_gate_mps");
+  check_params<SafetyConfig>(s, kSafetyParams, file, key_prefix + "safety.");
+  require(s.backoff_after_s >= s.pose_timeout_s, where, "safety.backoff_after_s",
+          "expected a finite number >= safety.pose_timeout_s");
   require(!c.legs.empty(), where, "legs", "at least one leg is needed");
   for (size_t i = 0; i < c.legs.size(); ++i) {
-    const Leg& leg = c.legs[i];
-    const std::string k = "legs[" + std::to_string(i) + "]";
-    check_positive(leg.d_ref_m, where, k + ".d_ref_m");
-    require(std::isfinite(leg.heading_ref_rad) && std::abs(leg.heading_ref_rad) < 1.0, where,
-            k + ".heading_ref_rad", "expected |heading| < 1 rad (the net must stay in view)");
-    require(std::isfinite(leg.sway_speed_mps) && std::abs(leg.sway_speed_mps) <= l.sway_speed_mps,
-            where, k + ".sway_speed_mps", "expected |speed| <= limits.sway_speed_mps");
-    require(std::isnan(leg.depth_m) || (std::isfinite(leg.depth_m) && leg.depth_m >= 0), where,
-            k + ".depth_m", "expected a depth >= 0 m");
-    require(leg.duration_s > 0 && !std::isnan(leg.duration_s), where, k + ".duration_s",
-            "expected a number > 0 (leave it out for a leg without end)");
-    require(leg.length_m > 0 && !std::isnan(leg.length_m), where, k + ".length_m",
-            "expected a number > 0 (leave it out for a leg without end)");
+    Leg leg = c.legs[i];
+    const std::string k = "legs[" + std::to_string(i) + "].";
+    // An absent depth (NaN) is the depth at the leg's start.
+    if (std::isnan(leg.depth_m)) leg.depth_m = 0;
+    check_params<Leg>(leg, kLegParams, file, key_prefix + k);
+    require(std::abs(leg.sway_speed_mps) <= c.limits.sway_speed_mps, where, k + "sway_speed_mps",
+            "expected |speed| <= limits.sway_speed_mps");
   }
 }
 
@@ -132,56 +189,23 @@ ControlConfig parse_control_config(const YamlMap& map) {
   }
   if (map.has("legs")) {
     c.legs.clear();
-    for (const YamlMap& m : map.map_list("legs")) c.legs.push_back(read_leg(m));
+    for (const YamlMap& m : map.map_list("legs")) {
+      Leg leg;
+      m.number("d_ref_m");  // required: a leg without it has no meaning
+      read_params<Leg>(m, kLegParams, leg);
+      m.check_unknown_keys();
+      c.legs.push_back(leg);
+    }
   }
   if (const auto g = map.optional_map("gains")) {
-    read_gains(*g, "surge_position", c.gains.surge_position);
-    read_gains(*g, "surge_velocity", c.gains.surge_velocity);
-    read_gains(*g, "sway_position", c.gains.sway_position);
-    read_gains(*g, "yaw", c.gains.yaw);
+    for (const char* loop : kGainLoops) {
+      read_section<PidGains>(*g, loop, kGainParams, gains_of(c.gains, loop));
+    }
     g->check_unknown_keys();
   }
-  if (const auto m = map.optional_map("limits")) {
-    auto& l = c.limits;
-    l.surge_speed_mps = m->number("surge_speed_mps", l.surge_speed_mps);
-    l.sway_speed_mps = m->number("sway_speed_mps", l.sway_speed_mps);
-    l.yaw_rate_radps = m->number("yaw_rate_radps", l.yaw_rate_radps);
-    l.climb_rate_mps = m->number("climb_rate_mps", l.climb_rate_mps);
-    l.depth_gain_per_s = m->number("depth_gain_per_s", l.depth_gain_per_s);
-    l.force_rate_n_per_s = m->number("force_rate_n_per_s", l.force_rate_n_per_s);
-    m->check_unknown_keys();
-  }
-  if (const auto m = map.optional_map("vehicle")) {
-    auto& v = c.vehicle;
-    v.surge_damping_linear = m->number("surge_damping_linear", v.surge_damping_linear);
-    v.surge_damping_quadratic = m->number("surge_damping_quadratic", v.surge_damping_quadratic);
-    v.sway_damping_linear = m->number("sway_damping_linear", v.sway_damping_linear);
-    v.sway_damping_quadratic = m->number("sway_damping_quadratic", v.sway_damping_quadratic);
-    v.surge_mass_kg = m->number("surge_mass_kg", v.surge_mass_kg);
-    v.sway_mass_kg = m->number("sway_mass_kg", v.sway_mass_kg);
-    v.pilot_gain = m->number("pilot_gain", v.pilot_gain);
-    v.deadband_low_us = m->number("deadband_low_us", v.deadband_low_us);
-    v.deadband_high_us = m->number("deadband_high_us", v.deadband_high_us);
-    v.max_forward_n = m->number("max_forward_n", v.max_forward_n);
-    v.max_reverse_n = m->number("max_reverse_n", v.max_reverse_n);
-    v.thrust_exponent = m->number("thrust_exponent", v.thrust_exponent);
-    v.full_stick_yaw_rate_radps =
-        m->number("full_stick_yaw_rate_radps", v.full_stick_yaw_rate_radps);
-    v.full_stick_climb_rate_mps =
-        m->number("full_stick_climb_rate_mps", v.full_stick_climb_rate_mps);
-    m->check_unknown_keys();
-  }
-  if (const auto m = map.optional_map("safety")) {
-    auto& s = c.safety;
-    s.startup_s = m->number("startup_s", s.startup_s);
-    s.pose_timeout_s = m->number("pose_timeout_s", s.pose_timeout_s);
-    s.backoff_after_s = m->number("backoff_after_s", s.backoff_after_s);
-    s.backoff_speed_mps = m->number("backoff_speed_mps", s.backoff_speed_mps);
-    s.backoff_max_m = m->number("backoff_max_m", s.backoff_max_m);
-    s.dvl_timeout_s = m->number("dvl_timeout_s", s.dvl_timeout_s);
-    s.dvl_gate_mps = m->number("dvl_gate_mps", s.dvl_gate_mps);
-    m->check_unknown_keys();
-  }
+  read_section<LoopLimits>(map, "limits", kLimitParams, c.limits);
+  read_section<VehicleModel>(map, "vehicle", kVehicleParams, c.vehicle);
+  read_section<SafetyConfig>(map, "safety", kSafetyParams, c.safety);
   map.check_unknown_keys();
   validate(c, map.file(), map.key_path(""));
   return c;

@@ -8,7 +8,8 @@
 #include <vector>
 
 #include "control/pid.h"
-#include "sim/vehicle/bluerov2_params.h"
+#include "core/units.h"
+#include "vehicle/bluerov2_params.h"
 
 namespace pensight {
 class YamlMap;
@@ -30,7 +31,7 @@ struct Leg {
   double d_ref_m = 1.0;
   double heading_ref_rad = 0;
   double sway_speed_mps = 0;
-  double depth_m = std::numeric_limits<double>::quiet_NaN();
+  double depth_m = kNaN;
   double duration_s = std::numeric_limits<double>::infinity();
   double length_m = std::numeric_limits<double>::infinity();
 };
@@ -64,7 +65,7 @@ struct LoopLimits {
 // output) of the four vectored thrusters at 45 deg, which push as a T200 does (no thrust in the
 // ESC's dead band, a power law beyond); r asks for a yaw rate, z for a climb rate (stick_map.h
 // inverts this for the thrust a loop wants). The defaults are the published BlueROV2 Heavy and
-// ArduSub values the vehicle layer holds (sim/vehicle/bluerov2_params.h); a real vehicle's may
+// ArduSub values the vehicle layer holds (vehicle/bluerov2_params.h); a real vehicle's may
 // differ, which is why the controller has its own copy.
 struct VehicleModel {
   double surge_mass_kg = kHull.mass_kg + kHull.added_mass[0];
@@ -117,5 +118,8 @@ ControlConfig load_control_config(const std::string& file);
 // Throws like parse_control_config for a config built in code; messages read
 // "FILE: key 'PREFIXgains.yaw.kp': ..." (key_prefix: "control." for a scenario's section).
 void validate(const ControlConfig& c, const std::string& file, const std::string& key_prefix = "");
+// Every key of a `control:` mapping with its default, unit, valid range and help: the rows of a
+// Markdown table under core/params.h's kParamTableHeader (docs/parameters.md).
+std::string control_param_rows();
 
 }  // namespace pensight::control

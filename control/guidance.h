@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "control/control_config.h"
+#include "core/units.h"
 
 namespace pensight::control {
 
@@ -26,7 +27,7 @@ class LegTracker {
   std::vector<Leg> legs_;
   int index_ = 0;
   double elapsed_s_ = 0, along_m_ = 0;
-  double start_depth_m_ = std::numeric_limits<double>::quiet_NaN();
+  double start_depth_m_ = kNaN;
 };
 
 }  // namespace pensight::control

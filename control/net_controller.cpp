@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "control/stick_map.h"
-#include "runtime/units.h"
+#include "core/units.h"
 
 namespace pensight::control {
 

@@ -22,7 +22,7 @@
 
 #include "control/control_config.h"
 #include "control/guidance.h"
-#include "runtime/units.h"
+#include "core/units.h"
 
 namespace pensight::control {
 

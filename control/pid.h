@@ -4,6 +4,8 @@
 // at the caller's rate with the step passed in (no clock of its own).
 #include <limits>
 
+#include "core/units.h"
+
 namespace pensight::control {
 
 struct PidGains {
@@ -28,8 +30,7 @@ class Pid {
   // output and leaves the state alone.
   // Anti-windup by conditional integration: the integral does not grow while the output is
   // saturated in the error's direction, and Ki * integral alone never exceeds output_max.
-  double update(double error, double dt_s,
-                double error_rate = std::numeric_limits<double>::quiet_NaN());
+  double update(double error, double dt_s, double error_rate = kNaN);
   // Forgets the integral, the last error and the last output (a new mode starts from rest).
   void reset();
   // Bumpless transfer: sets the integral so that its term alone is `output` (clamped like

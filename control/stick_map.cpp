@@ -4,7 +4,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "sim/vehicle/thrusters.h"
+#include "vehicle/thrusters.h"
 
 namespace pensight::control {
 namespace {

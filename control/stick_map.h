@@ -1,7 +1,7 @@
 #pragma once
 // Sticks and thrust on ArduSub in ALT_HOLD, as the controller models them (VehicleModel): the
 // horizontal force the surge and sway sticks make together, and its inverse. The model is the
-// vehicle layer's (sim/vehicle/thrusters.h: ArduSub's VECTORED_6DOF mixing, the T200 curve, the
+// vehicle layer's (vehicle/thrusters.h: ArduSub's VECTORED_6DOF mixing, the T200 curve, the
 // BlueROV2 Heavy's thruster layout) with the controller's own parameters, because the sticks
 // share the four vectored thrusters: each runs x +- y, so with the T200's dead band and curve a
 // sway stick alone and the same stick beside a surge stick push differently (a 0.1 m/s sway

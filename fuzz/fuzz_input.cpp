@@ -6,7 +6,7 @@
 #include <fstream>
 #include <string_view>
 
-#include "runtime/log.h"
+#include "core/log.h"
 
 namespace pensight::fuzz {
 namespace fs = std::filesystem;

@@ -8,7 +8,7 @@
 #include <filesystem>
 #include <string>
 
-#include "runtime/error.h"
+#include "core/error.h"
 
 namespace pensight::fuzz {
 

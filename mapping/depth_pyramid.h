@@ -5,7 +5,7 @@
 // pixel once and writes 4/3 of the image per channel; a query reads at most 3x3 blocks.
 #include <vector>
 
-#include "runtime/image.h"
+#include "core/image.h"
 
 namespace pensight::mapping {
 

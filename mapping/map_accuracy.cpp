@@ -6,6 +6,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "core/units.h"
 #include "pipeline/evaluation/evaluation.h"
 
 namespace pensight::mapping {
@@ -35,8 +36,8 @@ MapAccuracy score_map(const OccupancyMap& map, const SurfaceMesh& mesh,
     buckets[(p.cast<double>() / v).array().floor().cast<int>().matrix()].push_back(p);
   }
   const ErrorStats e = error_stats(errors);
-  a.median_m = e.count ? e.median : std::nan("");
-  a.p95_m = e.count ? e.p95 : std::nan("");
+  a.median_m = e.count ? e.median : kNaN;
+  a.p95_m = e.count ? e.p95 : kNaN;
 
   a.observed_points = observed_P.size();
   size_t covered = 0;
@@ -61,7 +62,7 @@ MapAccuracy score_map(const OccupancyMap& map, const SurfaceMesh& mesh,
     }
     covered += near;
   }
-  a.completeness = observed_P.empty() ? std::nan("") : double(covered) / double(observed_P.size());
+  a.completeness = observed_P.empty() ? kNaN : double(covered) / double(observed_P.size());
 
   size_t in_front = 0;
   const auto threshold = static_cast<float>(map.config().occupied_log_odds);

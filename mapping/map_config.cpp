@@ -1,49 +1,62 @@
 #include "mapping/map_config.h"
 
-#include <cmath>
 #include <string>
 
-#include "pipeline/dataset/strict_yaml.h"
-#include "runtime/error.h"
+#include "core/error.h"
+#include "core/strict_yaml.h"
 
 namespace pensight::mapping {
 namespace {
 
-void check_range(const char* name, double value, double lo, double hi) {
-  if (!(value >= lo && value <= hi)) {
-    throw Error("map config: " + std::string(name) + " = " + std::to_string(value) +
-                " is outside [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
-  }
-}
+// Beyond 1-5 cm the map is too coarse to place a twine or too fine for the depth's noise; the
+// log-odds bounds keep every update and clamp of the right sign and finite.
+const Param<MapConfig> kMapParams[] = {
+    {"voxel_m", &MapConfig::voxel_m, "m", closed_range(0.01, 0.05), "voxel edge"},
+    {"hit_log_odds", &MapConfig::hit_log_odds, "", closed_range(1e-3, 10),
+     "added where a depth ends (0.85: p = 0.7)"},
+    {"miss_log_odds", &MapConfig::miss_log_odds, "", closed_range(-10, -1e-3),
+     "added where a ray passes (-0.4: p = 0.4)"},
+    {"min_log_odds", &MapConfig::min_log_odds, "", closed_range(-20, -1e-3),
+     "lower clamp: a voxel saturated free turns occupied after 3 hits"},
+    {"max_log_odds", &MapConfig::max_log_odds, "", closed_range(1e-3, 20),
+     "upper clamp: a voxel saturated occupied clears after 9 misses"},
+    {"occupied_log_odds", &MapConfig::occupied_log_odds, "", closed_range(0, 20),
+     "above: occupied, below its negative: free (at most max_log_odds)"},
+    {"min_range_m", &MapConfig::min_range_m, "m", closed_range(0, 100), "nearest depth used"},
+    {"max_range_m", &MapConfig::max_range_m, "m", closed_range(0, 100),
+     "farthest depth used; beyond it a pixel clears up to it and adds no hit"},
+    {"free_margin_m", &MapConfig::free_margin_m, "m", closed_range(0, 1),
+     "a voxel is free only this far in front of every depth in its footprint"},
+    {"threads", &MapConfig::threads, "", closed_range(0, 256),
+     "TBB workers of one integration (0: one per core)"},
+};
+
+constexpr const char* kWhere = "map config";
 
 }  // namespace
 
+std::span<const Param<MapConfig>> map_params() {
+  return kMapParams;
+}
+
 void validate(const MapConfig& c) {
-  check_range("voxel_m", c.voxel_m, 0.01, 0.05);
-  check_range("hit_log_odds", c.hit_log_odds, 1e-3, 10);
-  check_range("miss_log_odds", c.miss_log_odds, -10, -1e-3);
-  check_range("max_log_odds", c.max_log_odds, 1e-3, 20);
-  check_range("min_log_odds", c.min_log_odds, -20, -1e-3);
-  check_range("occupied_log_odds", c.occupied_log_odds, 0, c.max_log_odds);
-  check_range("min_range_m", c.min_range_m, 0, 100);
-  check_range("max_range_m", c.max_range_m, c.min_range_m + c.voxel_m, 100);
-  check_range("free_margin_m", c.free_margin_m, 0, 1);
-  check_range("threads", c.threads, 0, 256);
+  check_params(c, map_params(), kWhere);
+  if (!(c.occupied_log_odds <= c.max_log_odds)) {
+    throw Error(std::string(kWhere) +
+                ": key 'occupied_log_odds': " + format_param_value(c.occupied_log_odds) +
+                " is above max_log_odds (" + format_param_value(c.max_log_odds) + ")");
+  }
+  if (!(c.max_range_m >= c.min_range_m + c.voxel_m)) {
+    throw Error(std::string(kWhere) + ": key 'max_range_m': " + format_param_value(c.max_range_m) +
+                " m is not a voxel beyond min_range_m (" + format_param_value(c.min_range_m) +
+                " m)");
+  }
 }
 
 MapConfig read_map_config(const std::filesystem::path& file) {
   const YamlMap y = YamlMap::load_file(file);
   MapConfig c;
-  c.voxel_m = y.number("voxel_m", c.voxel_m);
-  c.hit_log_odds = y.number("hit_log_odds", c.hit_log_odds);
-  c.miss_log_odds = y.number("miss_log_odds", c.miss_log_odds);
-  c.min_log_odds = y.number("min_log_odds", c.min_log_odds);
-  c.max_log_odds = y.number("max_log_odds", c.max_log_odds);
-  c.occupied_log_odds = y.number("occupied_log_odds", c.occupied_log_odds);
-  c.min_range_m = y.number("min_range_m", c.min_range_m);
-  c.max_range_m = y.number("max_range_m", c.max_range_m);
-  c.free_margin_m = y.number("free_margin_m", c.free_margin_m);
-  c.threads = y.integer("threads", c.threads);
+  read_params(y, map_params(), c);
   y.check_unknown_keys();
   try {
     validate(c);

@@ -1,7 +1,10 @@
 #pragma once
-// Parameters of the occupancy map (docs/mapping.md lists them with their defaults). Log-odds
-// L = ln(p / (1 - p)); an unobserved voxel is unknown (inactive, L = 0), not free.
+// Parameters of the occupancy map (map_params() defines each key; docs/parameters.md lists them).
+// Log-odds L = ln(p / (1 - p)); an unobserved voxel is unknown (inactive, L = 0), not free.
 #include <filesystem>
+#include <span>
+
+#include "core/params.h"
 
 namespace pensight::mapping {
 
@@ -30,6 +33,9 @@ struct MapConfig {
 
   bool operator==(const MapConfig&) const = default;
 };
+
+// Key, unit, valid range and help of every MapConfig member; the defaults are the members'.
+std::span<const Param<MapConfig>> map_params();
 
 // Throws pensight::Error naming the parameter and its allowed range when one is out of range.
 void validate(const MapConfig& config);

@@ -6,17 +6,16 @@
 
 #include <algorithm>
 #include <cstring>
-#include <fstream>
 #include <optional>
 #include <sstream>
 #include <string>
 #include <string_view>
 #include <utility>
 
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "core/file_bytes.h"
 #include "mapping/vdb_layout.h"
-#include "pipeline/dataset/atomic_file.h"
-#include "runtime/error.h"
-#include "runtime/file_bytes.h"
 
 namespace pensight::mapping {
 namespace {
@@ -140,29 +139,27 @@ void write_map_vdb(const OccupancyMap& map, const std::filesystem::path& file) {
   for (const MetaKey& k : kMetaKeys) {
     grid->insertMeta(k.name, openvdb::DoubleMetadata(map.config().*k.member));
   }
-  const std::filesystem::path temp = temporary_sibling(file);
+  const auto fail = [&](const char* why) {
+    return Error("cannot write map '" + file.string() + "': " + why);
+  };
   try {
-    openvdb::io::File out(temp.string());
-    out.setCompression(openvdb::io::COMPRESS_ACTIVE_MASK);  // no zip or blosc: vdb_layout.h
-    out.write({grid});
-    out.close();
-    const std::optional<std::string> bytes = read_file_bytes(temp);
+    AtomicFile out(file);
+    openvdb::io::File vdb(out.temp_path().string());
+    vdb.setCompression(openvdb::io::COMPRESS_ACTIVE_MASK);  // no zip or blosc: vdb_layout.h
+    vdb.write({grid});
+    vdb.close();
+    const std::optional<std::string> bytes = read_file_bytes(out.temp_path());
     if (!bytes) throw openvdb::IoError("reading back the written grids failed");
     std::string trailer(kTrailerTag, sizeof kTrailerTag);
     put(trailer, crc32_of(*bytes));
     trailer.append(kTrailerVersion, sizeof kTrailerVersion);
-    std::ofstream append(temp, std::ios::binary | std::ios::app);
-    append.write(trailer.data(), static_cast<std::streamsize>(trailer.size()));
-    if (!append.flush()) throw openvdb::IoError("writing the checksum trailer failed");
+    out.stream().seekp(0, std::ios::end);
+    out.stream().write(trailer.data(), static_cast<std::streamsize>(trailer.size()));
+    out.commit();
   } catch (const openvdb::Exception& e) {
-    std::filesystem::remove(temp);
-    throw Error("cannot write map '" + file.string() + "': " + e.what());
-  }
-  std::error_code ec;
-  std::filesystem::rename(temp, file, ec);
-  if (ec) {
-    std::filesystem::remove(temp);
-    throw Error("cannot write map '" + file.string() + "': " + ec.message());
+    throw fail(e.what());
+  } catch (const Error& e) {
+    throw fail(e.what());
   }
 }
 

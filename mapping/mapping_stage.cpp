@@ -2,8 +2,8 @@
 
 #include <chrono>
 
-#include "runtime/error.h"
-#include "runtime/log.h"
+#include "core/error.h"
+#include "core/log.h"
 
 namespace pensight::mapping {
 

@@ -10,7 +10,7 @@
 #include <limits>
 #include <string>
 
-#include "runtime/error.h"
+#include "core/error.h"
 #include "runtime/simd_clones.h"
 
 namespace pensight::mapping {

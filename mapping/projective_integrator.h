@@ -24,10 +24,10 @@
 
 #include <vector>
 
+#include "core/camera.h"
+#include "core/image.h"
 #include "mapping/depth_pyramid.h"
 #include "mapping/occupancy_map.h"
-#include "pipeline/camera.h"
-#include "runtime/image.h"
 
 namespace pensight::mapping {
 

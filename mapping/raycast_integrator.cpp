@@ -4,8 +4,8 @@
 #include <cmath>
 #include <string>
 
+#include "core/error.h"
 #include "mapping/voxel_ray.h"
-#include "runtime/error.h"
 
 namespace pensight::mapping {
 

@@ -11,10 +11,10 @@
 // pixel), then one update per distinct voxel.
 #include <Eigen/Geometry>
 
+#include "core/camera.h"
+#include "core/image.h"
 #include "mapping/occupancy_map.h"
 #include "mapping/projective_integrator.h"
-#include "pipeline/camera.h"
-#include "runtime/image.h"
 
 namespace pensight::mapping {
 

@@ -10,7 +10,7 @@
 #include <cstring>
 #include <memory>
 
-#include "runtime/error.h"
+#include "core/error.h"
 
 namespace pensight::mavlink {
 namespace {

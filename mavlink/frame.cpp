@@ -2,9 +2,9 @@
 
 #include <string>
 
+#include "core/error.h"
 #include "mavlink/crc.h"
 #include "mavlink/messages.h"
-#include "runtime/error.h"
 
 namespace pensight::mavlink {
 namespace {

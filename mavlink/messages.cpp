@@ -5,7 +5,7 @@
 #include <string>
 #include <type_traits>
 
-#include "runtime/error.h"
+#include "core/error.h"
 
 namespace pensight::mavlink {
 namespace {

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <string>
 
-#include "runtime/error.h"
+#include "core/error.h"
 
 namespace pensight {
 

@@ -12,7 +12,7 @@
 #include <span>
 #include <vector>
 
-#include "pipeline/camera.h"
+#include "core/camera.h"
 #include "pipeline/net_geometry.h"
 #include "pipeline/relative_pose_fft.h"
 

@@ -19,8 +19,8 @@
 // (bins_y x 256) (256 x bins_x); about 60 us per ROI, 1.8 ms per frame of 30 ROIs on one core.
 #include <Eigen/Core>
 
+#include "core/camera.h"
 #include "kernels/fft_roi/fft_roi.h"
-#include "pipeline/camera.h"
 
 namespace pensight {
 

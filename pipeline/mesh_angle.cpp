@@ -6,7 +6,7 @@
 #include <numbers>
 #include <vector>
 
-#include "pipeline/median.h"
+#include "core/median.h"
 
 namespace pensight {
 namespace {
@@ -66,10 +66,10 @@ MeshAngleMeasurement measure_mesh_angle(std::span<const RoiNetPoint> rois,
   out.opening_angle_rad = median(angles);
   std::vector<double> deviation;
   for (double a : angles) deviation.push_back(std::abs(a - out.opening_angle_rad));
-  // 1.4826 MAD is sigma for Gaussian scatter. Not divided by sqrt(n): the ROIs share the plane's
-  // normal, whose error moves all their angles alike, and a frame far and oblique reads its
+  // kMadToSigma MAD is sigma for Gaussian scatter. Not divided by sqrt(n): the ROIs share the
+  // plane's normal, whose error moves all their angles alike, and a frame far and oblique reads its
   // median 2-3 deg off while claiming a tenth of that from sqrt(n).
-  out.sigma_rad = 1.4826 * median(deviation);
+  out.sigma_rad = kMadToSigma * median(deviation);
   return out;
 }
 

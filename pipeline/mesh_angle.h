@@ -17,8 +17,8 @@
 #include <optional>
 #include <span>
 
-#include "pipeline/camera.h"
-#include "pipeline/dataset/dataset_types.h"
+#include "core/camera.h"
+#include "core/dataset_types.h"
 #include "pipeline/net_geometry.h"
 
 namespace pensight {

@@ -4,34 +4,13 @@
 #include <optional>
 #include <thread>
 
+#include "core/error.h"
+#include "core/timing.h"
 #include "pipeline/lattice_chirp.h"
-#include "runtime/error.h"
-#include "runtime/timing.h"
 #include "runtime/vk_buffer.h"
 #include "runtime/vk_stream.h"
 
 namespace pensight {
-
-const char* to_string(Backend backend) {
-  switch (backend) {
-    case Backend::kAuto:
-      return "auto";
-    case Backend::kCpu:
-      return "cpu";
-    case Backend::kVulkan:
-      return "vulkan";
-    case Backend::kCuda:
-      return "cuda";
-  }
-  return "unknown";
-}
-
-Backend parse_backend(const std::string& name) {
-  for (Backend b : {Backend::kAuto, Backend::kCpu, Backend::kVulkan, Backend::kCuda}) {
-    if (name == to_string(b)) return b;
-  }
-  throw Error("unknown backend '" + name + "'; use auto, cpu, vulkan or cuda");
-}
 
 namespace {
 
@@ -158,21 +137,15 @@ struct NetDetector::Impl {
   }
 
   void choose(Device& device) {
-    switch (config.backend) {
-      case Backend::kCpu:
-        return make_cpu();
+    switch (choose_backend(config.backend, device, {.cuda = PENSIGHT_HAS_CUDA != 0})) {
       case Backend::kVulkan:
         return make_vulkan(device.vulkan());
       case Backend::kCuda:
         return make_cuda();
+      case Backend::kCpu:
       case Backend::kAuto:
-        break;
+        return make_cpu();
     }
-    if (PENSIGHT_HAS_CUDA && device.cuda_available()) return make_cuda();
-    // No Vulkan loader or device (nullptr) is not an error here: the CPU path is the answer.
-    vk::Context* ctx = device.try_vulkan();
-    if (ctx && vk::is_real_gpu(ctx->info().kind)) return make_vulkan(*ctx);
-    make_cpu();
   }
 };
 

@@ -9,8 +9,9 @@
 #include <string>
 #include <vector>
 
+#include "core/backend.h"
+#include "core/camera.h"
 #include "kernels/fft_roi/fft_roi.h"
-#include "pipeline/camera.h"
 #include "pipeline/depth_priors.h"
 #include "pipeline/mesh_angle.h"
 #include "pipeline/net_geometry.h"
@@ -19,11 +20,6 @@
 #include "runtime/device.h"
 
 namespace pensight {
-
-enum class Backend { kAuto, kCpu, kVulkan, kCuda };
-const char* to_string(Backend backend);
-// "auto" | "cpu" | "vulkan" | "cuda"; throws pensight::Error listing the choices otherwise.
-Backend parse_backend(const std::string& name);
 
 struct NetDetectorConfig {
   kernels::RoiGrid grid;  // default 5 x 6 ROIs of 300 px

@@ -7,8 +7,8 @@
 #include <numbers>
 #include <string>
 
-#include "runtime/error.h"
-#include "runtime/units.h"
+#include "core/error.h"
+#include "core/units.h"
 
 namespace pensight {
 

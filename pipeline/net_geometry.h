@@ -25,9 +25,9 @@
 #include <string>
 #include <vector>
 
+#include "core/camera.h"
 #include "kernels/fft_roi/fft_roi.h"
 #include "kernels/sparse_prior/sparse_prior.h"
-#include "pipeline/camera.h"
 
 namespace pensight {
 

@@ -7,7 +7,7 @@
 
 #include <Eigen/LU>
 
-#include "runtime/error.h"
+#include "core/error.h"
 
 namespace pensight {
 namespace {

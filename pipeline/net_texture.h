@@ -16,10 +16,10 @@
 #include <cstdint>
 #include <vector>
 
-#include "pipeline/camera.h"
+#include "core/camera.h"
+#include "core/image.h"
 #include "pipeline/net_geometry.h"
 #include "pipeline/relative_pose_fft.h"
-#include "runtime/image.h"
 
 namespace pensight {
 

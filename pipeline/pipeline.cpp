@@ -9,10 +9,10 @@
 #include <thread>
 #include <type_traits>
 
+#include "core/error.h"
+#include "core/log.h"
+#include "core/timing.h"
 #include "pipeline/bounded_queue.h"
-#include "runtime/error.h"
-#include "runtime/log.h"
-#include "runtime/timing.h"
 
 namespace pensight {
 namespace {

@@ -28,7 +28,8 @@
 #include <string>
 #include <vector>
 
-#include "pipeline/dataset/dataset_types.h"
+#include "core/dataset_types.h"
+#include "core/image.h"
 #include "pipeline/depth/depth_estimator.h"
 #include "pipeline/depth/dvl_depth_correction.h"
 #include "pipeline/global_pose/global_pose_estimator.h"
@@ -36,7 +37,6 @@
 #include "pipeline/net_detector.h"
 #include "pipeline/stage_stats.h"
 #include "runtime/device.h"
-#include "runtime/image.h"
 
 namespace pensight {
 

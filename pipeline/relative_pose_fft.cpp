@@ -9,7 +9,8 @@
 #include <utility>
 #include <vector>
 
-#include "runtime/units.h"
+#include "core/net_angles.h"
+#include "core/units.h"
 
 namespace pensight {
 namespace {
@@ -229,7 +230,7 @@ FftRelativePose relative_pose_fft(std::span<const RoiNetPoint> rois,
   plane = fit<3>(s, in, plane_basis);
   if (params.fuse_roi_tilt) fuse_roi_tilt(plane, s, in, rois);
 
-  const double psi = std::atan(plane(1)), pitch = std::atan(plane(2));
+  const auto [psi, pitch] = net_angles_from_plane_C(plane(1), plane(2));
   if (std::abs(psi) > params.max_obliquity_rad || std::abs(pitch) > params.max_obliquity_rad) {
     return invalid(rois.size(), valid, FftPoseStatus::kTooOblique,
                    "net too oblique (psi " + std::to_string(std::lround(rad_to_deg(psi))) +

@@ -15,8 +15,8 @@
 #include <string>
 #include <vector>
 
+#include "core/units.h"
 #include "pipeline/net_geometry.h"
-#include "runtime/units.h"
 
 namespace pensight {
 

@@ -13,6 +13,10 @@
 #include <thread>
 #include <vector>
 
+#include "core/error.h"
+#include "core/log.h"
+#include "core/timing.h"
+#include "core/units.h"
 #include "pipeline/dataset/diagnostics_csv.h"
 #include "pipeline/dataset/estimates_csv.h"
 #include "pipeline/dataset/global_pose_csv.h"
@@ -20,10 +24,6 @@
 #include "pipeline/pipeline.h"
 #include "pipeline/report/overlay.h"
 #include "pipeline/report/report_html.h"
-#include "runtime/error.h"
-#include "runtime/log.h"
-#include "runtime/timing.h"
-#include "runtime/units.h"
 
 namespace pensight {
 namespace {

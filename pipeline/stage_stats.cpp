@@ -2,7 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
+
+#include "core/units.h"
 
 namespace pensight {
 
@@ -19,11 +20,11 @@ void RunningStats::add(double value) {
 }
 
 double RunningStats::mean() const {
-  return count_ ? sum_ / static_cast<double>(count_) : std::numeric_limits<double>::quiet_NaN();
+  return count_ ? sum_ / static_cast<double>(count_) : kNaN;
 }
 
 double RunningStats::p95() const {
-  if (window_.empty()) return std::numeric_limits<double>::quiet_NaN();
+  if (window_.empty()) return kNaN;
   std::vector<double> v = window_;
   const auto rank = static_cast<size_t>(std::ceil(0.95 * static_cast<double>(v.size()))) - 1;
   std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(rank), v.end());
@@ -31,7 +32,7 @@ double RunningStats::p95() const {
 }
 
 double RunningStats::max() const {
-  return count_ ? max_ : std::numeric_limits<double>::quiet_NaN();
+  return count_ ? max_ : kNaN;
 }
 
 void StageMeter::add(double processing_ms, Clock::time_point pushed) {
@@ -51,8 +52,7 @@ StageStats StageMeter::stats(size_t dropped) const {
   s.p95_ms = processing_.p95();
   s.max_ms = processing_.max();
   const double span_s = std::chrono::duration<double>(last_ - first_).count();
-  s.rate_hz = s.processed > 1 && span_s > 0 ? static_cast<double>(s.processed - 1) / span_s
-                                            : std::numeric_limits<double>::quiet_NaN();
+  s.rate_hz = s.processed > 1 && span_s > 0 ? static_cast<double>(s.processed - 1) / span_s : kNaN;
   s.latency_mean_ms = latency_.mean();
   s.latency_p95_ms = latency_.p95();
   return s;

@@ -3,9 +3,9 @@
 #include <cstdio>
 #include <sstream>
 
-#include "pipeline/dataset/atomic_file.h"
-#include "pipeline/dataset/csv.h"
-#include "pipeline/dataset/dataset_types.h"
+#include "core/atomic_file.h"
+#include "core/csv.h"
+#include "core/dataset_types.h"
 
 namespace pensight {
 namespace {

@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "core/units.h"
 #include "pipeline/stage_stats.h"
-#include "runtime/units.h"
 
 namespace pensight {
 

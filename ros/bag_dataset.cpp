@@ -10,14 +10,14 @@
 #include <map>
 #include <optional>
 
+#include "core/error.h"
+#include "core/log.h"
 #include "pipeline/dataset/calibration_yaml.h"
 #include "pipeline/dataset/dataset_reader.h"
 #include "pipeline/dataset/dataset_writer.h"
 #include "ros/bag_structure.h"
 #include "ros/message_conversions_detail.h"
 #include "ros/ros_messages_detail.h"
-#include "runtime/error.h"
-#include "runtime/log.h"
 
 namespace pensight {
 namespace fs = std::filesystem;

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "runtime/error.h"
+#include "core/error.h"
 
 namespace pensight {
 namespace fs = std::filesystem;

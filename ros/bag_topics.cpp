@@ -1,6 +1,6 @@
 #include "ros/bag_topics.h"
 
-#include "pipeline/dataset/strict_yaml.h"
+#include "core/strict_yaml.h"
 
 namespace pensight {
 

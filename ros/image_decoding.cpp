@@ -8,8 +8,8 @@
 #include <string_view>
 #include <utility>
 
-#include "runtime/error.h"
-#include "runtime/image.h"
+#include "core/error.h"
+#include "core/image.h"
 
 namespace pensight {
 namespace {

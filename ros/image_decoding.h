@@ -6,7 +6,7 @@
 #include <span>
 #include <string>
 
-#include "runtime/image.h"
+#include "core/image.h"
 
 namespace pensight {
 

@@ -4,12 +4,12 @@
 #include <cmath>
 #include <vector>
 
+#include "core/error.h"
+#include "core/image.h"
+#include "core/units.h"
 #include "pipeline/dataset/sensor_mounts.h"
 #include "ros/image_decoding.h"
 #include "ros/ros_frames.h"
-#include "runtime/error.h"
-#include "runtime/image.h"
-#include "runtime/units.h"
 
 namespace pensight {
 

@@ -9,10 +9,10 @@
 #include <cstdint>
 #include <string>
 
-#include "pipeline/dataset/dataset_types.h"
+#include "core/dataset_types.h"
+#include "core/image.h"
 #include "ros/pressure_depth.h"
 #include "ros/ros_messages_detail.h"
-#include "runtime/image.h"
 
 namespace pensight {
 

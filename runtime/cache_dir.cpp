@@ -1,9 +1,9 @@
 #include "runtime/cache_dir.h"
 
-#include <unistd.h>
-
 #include <cstdlib>
-#include <fstream>
+
+#include "core/atomic_file.h"
+#include "core/error.h"
 
 namespace pensight {
 namespace {
@@ -29,18 +29,11 @@ std::filesystem::path cache_dir() {
 void write_cache_file(const std::filesystem::path& path, std::string_view bytes) {
   std::error_code ec;
   std::filesystem::create_directories(path.parent_path(), ec);
-  const auto tmp = path.string() + ".tmp" + std::to_string(::getpid());
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) return;
-    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    if (!out) {
-      std::filesystem::remove(tmp, ec);
-      return;
-    }
+  try {
+    write_file_atomically(path, bytes);
+  } catch (const Error&) {
+    // A read-only home or a full disk: the cache is an optimisation, not worth an error.
   }
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) std::filesystem::remove(tmp, ec);
 }
 
 }  // namespace pensight

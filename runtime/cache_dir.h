@@ -10,7 +10,7 @@ namespace pensight {
 
 std::filesystem::path cache_dir();
 
-// Writes to a temporary name and renames it onto path, so a concurrent reader never sees a
+// Writes by write_file_atomically (core/atomic_file.h), so a concurrent reader never sees a
 // truncated file; creates the directory. Failures (read-only home) are ignored: the cache is
 // an optimisation.
 void write_cache_file(const std::filesystem::path& path, std::string_view bytes);

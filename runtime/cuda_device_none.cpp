@@ -1,6 +1,6 @@
 // Built when PENSIGHT_CUDA is off, so callers need no #ifdefs.
+#include "core/error.h"
 #include "runtime/cuda_device.h"
-#include "runtime/error.h"
 
 namespace pensight::cuda {
 

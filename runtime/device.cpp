@@ -1,7 +1,7 @@
 #include "runtime/device.h"
 
+#include "core/error.h"
 #include "runtime/cuda_device.h"
-#include "runtime/error.h"
 
 namespace pensight {
 
@@ -32,6 +32,19 @@ std::string Device::vulkan_error() const {
 
 bool Device::cuda_available() const {
   return cuda::available();
+}
+
+Backend choose_backend(Backend requested, Device& device, BackendSupport support) {
+  if (requested != Backend::kAuto) return requested;
+  if (support.cuda && device.cuda_available()) return Backend::kCuda;
+  if (support.vulkan) {
+    // No Vulkan loader or device (nullptr) is not an error here: the CPU path is the answer.
+    const vk::Context* ctx = device.try_vulkan();
+    if (ctx && (support.software_vulkan || vk::is_real_gpu(ctx->info().kind))) {
+      return Backend::kVulkan;
+    }
+  }
+  return Backend::kCpu;
 }
 
 }  // namespace pensight

@@ -11,6 +11,7 @@
 #include <optional>
 #include <string>
 
+#include "core/backend.h"
 #include "runtime/vk_context.h"
 
 namespace pensight {
@@ -39,5 +40,21 @@ class Device {
   std::unique_ptr<vk::Context> vulkan_;
   std::optional<std::string> vulkan_error_;
 };
+
+// What kAuto means for one stage: the back-ends it has beyond the CPU, and whether a software
+// Vulkan device (lavapipe) beats its CPU path (the renderer's shader does; the FFT and the depth
+// network do not).
+struct BackendSupport {
+  bool vulkan = true;
+  bool cuda = false;
+  bool software_vulkan = false;
+};
+
+// The backend a stage runs on: `requested` when it is not kAuto (the stage's constructor then
+// fails with the reason if the device lacks it), else the first of CUDA, Vulkan and the CPU that
+// the stage supports and the device offers. Vulkan counts only on a real GPU unless
+// software_vulkan. Opens the Vulkan context to look (Device::try_vulkan); never throws for a
+// device that is missing.
+Backend choose_backend(Backend requested, Device& device, BackendSupport support);
 
 }  // namespace pensight

@@ -1,7 +1,7 @@
 #include <cstring>
 #include <string>
 
-#include "runtime/error.h"
+#include "core/error.h"
 #include "runtime/vk_detail.h"
 
 namespace pensight::vk {

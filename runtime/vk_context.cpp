@@ -2,17 +2,14 @@
 #include <cctype>
 #include <cstdlib>
 #include <cstring>
-#include <fstream>
 #include <mutex>
 #include <set>
 #include <sstream>
 
-#include <unistd.h>
-
+#include "core/error.h"
+#include "core/file_bytes.h"
+#include "core/log.h"
 #include "runtime/cache_dir.h"
-#include "runtime/error.h"
-#include "runtime/file_bytes.h"
-#include "runtime/log.h"
 #include "runtime/vk_detail.h"
 
 namespace pensight::vk {
@@ -439,21 +436,7 @@ void Context::save_pipeline_cache() const {
   PENSIGHT_VK(d.vk.vkGetPipelineCacheData(d.device, d.pipeline_cache, &size, nullptr));
   std::vector<char> data(size);
   PENSIGHT_VK(d.vk.vkGetPipelineCacheData(d.device, d.pipeline_cache, &size, data.data()));
-  std::error_code ec;
-  std::filesystem::create_directories(d.cache_path.parent_path(), ec);
-  // Write whole then rename, so a crash or a concurrent process never sees a truncated cache.
-  const auto tmp = d.cache_path.string() + ".tmp" + std::to_string(::getpid());
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) return;  // read-only home: the cache is an optimisation, not worth an error
-    out.write(data.data(), static_cast<std::streamsize>(size));
-    if (!out) {
-      std::filesystem::remove(tmp, ec);
-      return;
-    }
-  }
-  std::filesystem::rename(tmp, d.cache_path, ec);
-  if (ec) std::filesystem::remove(tmp, ec);
+  write_cache_file(d.cache_path, std::string_view(data.data(), size));
 }
 
 uint32_t Context::Impl::memory_type(uint32_t type_bits, VkMemoryPropertyFlags required,

@@ -2,22 +2,18 @@
 #include <string>
 #include <utility>
 
-#include "runtime/error.h"
+#include "core/error.h"
 #include "runtime/vk_detail.h"
 
 namespace pensight::vk {
-namespace detail {
-// Generated from shaders/ by PensightShaders.cmake.
-extern const std::pair<std::string_view, std::span<const uint32_t>> kEmbeddedShaders[];
-extern const std::size_t kEmbeddedShaderCount;
-}  // namespace detail
 
-std::span<const uint32_t> embedded_shader(const std::string& name) {
-  for (size_t i = 0; i < detail::kEmbeddedShaderCount; ++i) {
-    if (detail::kEmbeddedShaders[i].first == name) return detail::kEmbeddedShaders[i].second;
+ShaderCode find_shader(std::span<const EmbeddedShader> table, std::string_view name,
+                       std::string_view layer) {
+  for (const EmbeddedShader& s : table) {
+    if (s.name == name) return {s.name, s.spirv};
   }
-  throw Error("no embedded shader named '" + name + "' (shaders/" + name +
-              ".comp is not part of this build)");
+  throw Error("no embedded shader named '" + std::string(name) + "' in " + std::string(layer) +
+              " (shaders/" + std::string(name) + ".comp is not embedded by that layer)");
 }
 
 Pipeline::Impl::~Impl() {
@@ -35,9 +31,16 @@ Pipeline::Pipeline(const Context& ctx, PipelineDesc desc) : impl_(std::make_uniq
   p.ctx = &c;
   p.desc = std::move(desc);
   if (p.desc.push_constant_bytes % 4 != 0) {
-    throw Error("pipeline '" + p.desc.shader + "': push_constant_bytes must be a multiple of 4");
+    throw Error("pipeline '" + std::string(p.desc.shader.name) +
+                "': push_constant_bytes must be a multiple of 4");
   }
-  const std::span<const uint32_t> code = embedded_shader(p.desc.shader);
+  // SPIR-V starts with its magic number; anything else would reach the driver as garbage.
+  constexpr uint32_t kSpirvMagic = 0x07230203;
+  const std::span<const uint32_t> code = p.desc.shader.spirv;
+  if (code.size() < 5 || code[0] != kSpirvMagic) {
+    throw Error("pipeline '" + std::string(p.desc.shader.name) +
+                "': its code is not SPIR-V; take it from the layer's embedded shader table");
+  }
 
   VkShaderModuleCreateInfo smci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
   smci.codeSize = code.size_bytes();
@@ -78,7 +81,7 @@ Pipeline::Pipeline(const Context& ctx, PipelineDesc desc) : impl_(std::make_uniq
   const VkResult r =
       c.vk.vkCreateComputePipelines(c.device, c.pipeline_cache, 1, &cpci, nullptr, &p.pipeline);
   if (r != VK_SUCCESS) {
-    throw VulkanError("vkCreateComputePipelines('" + p.desc.shader + "')", r);
+    throw VulkanError("vkCreateComputePipelines('" + std::string(p.desc.shader.name) + "')", r);
   }
 }
 

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <map>
 
-#include "runtime/error.h"
+#include "core/error.h"
 #include "runtime/vk_detail.h"
 
 namespace pensight::vk {
@@ -154,12 +154,13 @@ void CommandStream::dispatch(const Pipeline& pipeline, std::span<const Binding> 
   Impl& s = *impl_;
   const Pipeline::Impl& p = ImplAccess::of(pipeline);
   if (buffers.size() != p.desc.num_buffers) {
-    throw Error("dispatch of '" + p.desc.shader + "': " + std::to_string(buffers.size()) +
-                " buffers bound, the pipeline has " + std::to_string(p.desc.num_buffers));
+    throw Error("dispatch of '" + std::string(p.desc.shader.name) +
+                "': " + std::to_string(buffers.size()) + " buffers bound, the pipeline has " +
+                std::to_string(p.desc.num_buffers));
   }
   if (push_bytes != p.desc.push_constant_bytes) {
-    throw Error("dispatch of '" + p.desc.shader + "': " + std::to_string(push_bytes) +
-                " push-constant bytes, the pipeline expects " +
+    throw Error("dispatch of '" + std::string(p.desc.shader.name) +
+                "': " + std::to_string(push_bytes) + " push-constant bytes, the pipeline expects " +
                 std::to_string(p.desc.push_constant_bytes));
   }
   if (groups.x == 0 || groups.y == 0 || groups.z == 0) return;
@@ -194,7 +195,7 @@ void CommandStream::dispatch(const Pipeline& pipeline, std::span<const Binding> 
                                  static_cast<uint32_t>(push_bytes), push_constants);
   }
   s.ctx->vk.vkCmdDispatch(s.cmd, groups.x, groups.y, groups.z);
-  s.names.push_back(name.empty() ? p.desc.shader : std::move(name));
+  s.names.push_back(name.empty() ? std::string(p.desc.shader.name) : std::move(name));
   s.timestamp(static_cast<uint32_t>(s.names.size()));
 }
 

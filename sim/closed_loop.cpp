@@ -6,17 +6,18 @@
 #include <random>
 #include <thread>
 
+#include "core/error.h"
+#include "core/units.h"
 #include "pipeline/dataset/dataset_reader.h"
 #include "pipeline/dataset/dataset_writer.h"
 #include "pipeline/pipeline.h"
 #include "pipeline/runner.h"
-#include "runtime/error.h"
 #include "sim/closed_loop_report.h"
 #include "sim/generate.h"
 #include "sim/ground_truth.h"
 #include "sim/net_geometry.h"
 #include "sim/sensors.h"
-#include "sim/vehicle/vehicle_sim.h"
+#include "vehicle/vehicle_sim.h"
 
 namespace pensight::sim {
 namespace {
@@ -99,9 +100,7 @@ ClosedLoopSummary run_closed_loop(const Scenario& s, const std::filesystem::path
   const double camera_period_s = 1.0 / s.camera.calibration.rate_hz;
   Schedule dvl{1.0 / s.dvl.rate_hz}, pressure{1.0 / s.pressure.rate_hz},
       attitude{1.0 / s.attitude.rate_hz};
-  const auto ns_at = [&](double t_s) {
-    return s.start_time_ns + static_cast<int64_t>(std::llround(t_s * 1e9));
-  };
+  const auto ns_at = [&](double t_s) { return s.start_time_ns + seconds_to_ns(t_s); };
 
   ClosedLoopSummary summary;
   summary.renderer = renderer->name();

@@ -37,8 +37,8 @@ struct ClosedLoopStep {
 };
 
 struct ClosedLoopOptions {
-  std::string renderer = "auto";  // as `pensight render`
-  NetDetectorConfig detector;     // the backend; the net's keys come from the scenario
+  Backend renderer = Backend::kAuto;  // as `pensight render`
+  NetDetectorConfig detector;         // the backend; the net's keys come from the scenario
   std::optional<control::VelocityStrategy> strategy;  // instead of the scenario's
   // [from, to) seconds after the start in which perception yields no pose, or the DVL nothing.
   std::vector<std::pair<double, double>> perception_outages_s, dvl_outages_s;

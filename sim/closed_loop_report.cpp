@@ -4,10 +4,10 @@
 #include <cmath>
 #include <sstream>
 
-#include "pipeline/dataset/atomic_file.h"
-#include "pipeline/dataset/csv.h"
+#include "core/atomic_file.h"
+#include "core/csv.h"
+#include "core/units.h"
 #include "pipeline/report/svg_chart.h"
-#include "runtime/units.h"
 
 namespace pensight::sim {
 

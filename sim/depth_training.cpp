@@ -8,13 +8,13 @@
 #include <random>
 #include <thread>
 
-#include "pipeline/dataset/atomic_file.h"
+#include "core/atomic_file.h"
+#include "core/error.h"
 #include "pipeline/dataset/dataset_reader.h"
 #include "pipeline/depth/depth_input.h"
 #include "pipeline/net_detector.h"
 #include "pipeline/runner.h"
 #include "runtime/device.h"
-#include "runtime/error.h"
 #include "sim/frame_state.h"
 #include "sim/ground_truth.h"
 #include "sim/render_cpu.h"

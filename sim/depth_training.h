@@ -20,9 +20,9 @@
 #include <functional>
 #include <vector>
 
+#include "core/image.h"
 #include "pipeline/depth/prior_surface.h"
 #include "pipeline/net_geometry.h"
-#include "runtime/image.h"
 #include "sim/scenario.h"
 
 namespace pensight::sim {

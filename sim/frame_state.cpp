@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "core/units.h"
+
 namespace pensight::sim {
 
 FrameState frame_state(const Scenario& s, int frame) {
@@ -13,7 +15,7 @@ FrameState frame_state_at(const Scenario& s, const BodyState& body, int frame, d
   FrameState f;
   f.frame = frame;
   f.t_s = t_s;
-  f.timestamp_ns = s.start_time_ns + static_cast<int64_t>(std::llround(t_s * 1e9));
+  f.timestamp_ns = s.start_time_ns + seconds_to_ns(t_s);
   f.body = body;
   f.T_pen_camera = f.body.T_pen_body * s.camera.calibration.T_body_camera;
   for (const Lamp& l : s.light.lamps) {

@@ -1,9 +1,9 @@
 #include "sim/generate.h"
 
+#include "core/error.h"
+#include "core/log.h"
 #include "pipeline/dataset/dataset_reader.h"
 #include "pipeline/dataset/dataset_writer.h"
-#include "runtime/error.h"
-#include "runtime/log.h"
 #include "sim/ground_truth.h"
 #include "sim/render_vk.h"
 #include "sim/sensors.h"
@@ -42,17 +42,20 @@ std::unique_ptr<FrameRenderer> make_cpu_renderer(const Scenario& s, const Render
 }
 
 std::unique_ptr<FrameRenderer> make_renderer(const Scenario& s, const RenderOptions& o,
-                                             const std::string& which, Device& device) {
-  if (which == "cpu") return make_cpu_renderer(s, o);
-  if (which == "vulkan") return std::make_unique<VulkanRenderer>(device.vulkan(), s, o);
-  if (which == "auto") {
-    // The shader is the faster of the two even on lavapipe (a CPU Vulkan device, about 2x the
-    // C++ reference on the same cores, docs/performance.md), so any device will do.
-    if (vk::Context* ctx = device.try_vulkan()) return std::make_unique<VulkanRenderer>(*ctx, s, o);
-    log_warning("no Vulkan renderer (" + device.vulkan_error() + "); using the CPU reference");
-    return make_cpu_renderer(s, o);
+                                             Backend backend, Device& device) {
+  switch (choose_backend(backend, device, {.software_vulkan = true})) {
+    case Backend::kVulkan:
+      return std::make_unique<VulkanRenderer>(device.vulkan(), s, o);
+    case Backend::kCuda:
+      throw Error("the renderer has no CUDA path; use --renderer vulkan or cpu");
+    case Backend::kCpu:
+    case Backend::kAuto:
+      break;
   }
-  throw Error("unknown renderer '" + which + "': use auto, vulkan or cpu");
+  if (backend == Backend::kAuto) {
+    log_warning("no Vulkan renderer (" + device.vulkan_error() + "); using the CPU reference");
+  }
+  return make_cpu_renderer(s, o);
 }
 
 DatasetContents dataset_contents(const Scenario& s) {

@@ -23,10 +23,12 @@ class FrameRenderer {
 };
 
 std::unique_ptr<FrameRenderer> make_cpu_renderer(const Scenario& s, const RenderOptions& o);
-// "cpu", "vulkan", or "auto" (Vulkan where `device` opens a context, else the CPU reference). The
-// Vulkan renderer borrows device's context, which must outlive it.
+// The renderer on `backend`: kCpu the C++ reference, kVulkan the shader, kAuto the shader on any
+// Vulkan device (lavapipe too: about 2x the C++ reference on the same cores, docs/performance.md),
+// else the reference; kCuda is refused (no CUDA renderer). The Vulkan renderer borrows device's
+// context, which must outlive it.
 std::unique_ptr<FrameRenderer> make_renderer(const Scenario& s, const RenderOptions& o,
-                                             const std::string& which, Device& device);
+                                             Backend backend, Device& device);
 
 // What a dataset of the scenario holds: its scene, camera, and the sensors it has enabled.
 DatasetContents dataset_contents(const Scenario& s);

@@ -3,7 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "runtime/units.h"
+#include "core/net_angles.h"
+#include "core/units.h"
 
 namespace pensight::sim {
 
@@ -17,8 +18,9 @@ NetRelative net_relative(const Scenario& s, const NetGeometry& net,
   if (d.z() < 0 && -o.z() / d.z() <= hit->t) return r;  // the surface comes first
   r.d_net_m = hit->t;
   r.m_C = T_pen_camera.linear().transpose() * hit->normal;
-  r.psi_net_rad = std::atan2(-r.m_C.x(), r.m_C.z());
-  r.pitch_net_rad = std::atan2(-r.m_C.y(), r.m_C.z());
+  const NetAngles angles = net_angles_from_normal_C(r.m_C);
+  r.psi_net_rad = angles.psi_rad;
+  r.pitch_net_rad = angles.pitch_rad;
   return r;
 }
 

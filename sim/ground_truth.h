@@ -1,6 +1,6 @@
 #pragma once
 // Ground truth of the net relative to cam0 (dataset-format.md, groundtruth0/data.csv).
-#include "pipeline/dataset/dataset_types.h"
+#include "core/dataset_types.h"
 #include "pipeline/dataset/dataset_writer.h"
 #include "sim/frame_state.h"
 #include "sim/net_geometry.h"

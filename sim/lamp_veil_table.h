@@ -11,7 +11,7 @@
 #include <array>
 #include <vector>
 
-#include "pipeline/camera.h"
+#include "core/camera.h"
 #include "sim/frame_state.h"
 
 namespace pensight::sim {

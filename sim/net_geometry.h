@@ -1,7 +1,7 @@
 #pragma once
 // Ray intersection with the net (cylinder wall with optional bottom, or a flat rectangle), with
 // the smooth bulges of NetConfig. Shared by the CPU renderer, the ground truth and the DVL; the
-// Vulkan shader (shaders/sim/net.glsl) implements the same steps in float.
+// Vulkan shader (shaders/sim/render.comp) implements the same steps in float.
 #include <Eigen/Core>
 #include <optional>
 

@@ -6,7 +6,7 @@
 #include <numbers>
 #include <vector>
 
-#include "runtime/units.h"
+#include "core/units.h"
 #include "sim/sim_hash.h"
 
 namespace pensight::sim {

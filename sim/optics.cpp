@@ -11,7 +11,7 @@
 #include <thread>
 #include <vector>
 
-#include "runtime/error.h"
+#include "core/error.h"
 #include "sim/sim_hash.h"
 
 namespace pensight::sim {

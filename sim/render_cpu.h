@@ -1,7 +1,7 @@
 #pragma once
 // The camera image and ground-truth depth of one frame, rendered on the CPU. This is the
 // reference the Vulkan renderer (render_vk.h) is tested against; docs/sim.md describes the model.
-#include "runtime/image.h"
+#include "core/image.h"
 #include "sim/frame_state.h"
 #include "sim/net_geometry.h"
 

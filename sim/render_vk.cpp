@@ -4,13 +4,14 @@
 #include <cmath>
 #include <cstring>
 
-#include "runtime/error.h"
+#include "core/error.h"
 #include "sim/lamp_veil_table.h"
 #include "sim/marine_snow.h"
 #include "sim/net_geometry.h"
 #include "sim/net_mesh.h"
 #include "sim/optics.h"
 #include "sim/sim_hash.h"
+#include "sim/sim_shader.h"
 
 namespace pensight::sim {
 namespace {
@@ -271,7 +272,7 @@ RenderVk::RenderVk(const vk::Context& ctx, const Scenario& s, const RenderOption
     : ctx_(&ctx),
       s_(s),
       options_(options),
-      pipeline_(&ctx.pipeline({.shader = "sim/render",
+      pipeline_(&ctx.pipeline({.shader = sim_shader("sim/render"),
                                .num_buffers = 5,
                                .push_constant_bytes = 0,
                                .specialization = specialization(s, options)})),

@@ -8,10 +8,10 @@
 #include <sstream>
 
 #include "control/control_config.h"
+#include "core/error.h"
+#include "core/strict_yaml.h"
+#include "core/units.h"
 #include "pipeline/dataset/sensor_mounts.h"
-#include "pipeline/dataset/strict_yaml.h"
-#include "runtime/error.h"
-#include "runtime/units.h"
 
 namespace pensight::sim {
 namespace {

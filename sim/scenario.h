@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "control/control_config.h"
-#include "pipeline/dataset/dataset_types.h"
-#include "sim/vehicle/bluerov2_params.h"
+#include "core/dataset_types.h"
+#include "vehicle/bluerov2_params.h"
 
 namespace pensight::sim {
 

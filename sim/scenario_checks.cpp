@@ -2,7 +2,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "runtime/error.h"
+#include "core/error.h"
 #include "sim/net_geometry.h"
 #include "sim/scenario.h"
 #include "sim/trajectory.h"

@@ -3,8 +3,8 @@
 #include <cmath>
 #include <random>
 
+#include "core/units.h"
 #include "pipeline/dataset/sensor_mounts.h"
-#include "runtime/units.h"
 #include "sim/trajectory.h"
 
 namespace pensight::sim {
@@ -20,7 +20,7 @@ void for_each_sample(const Scenario& s, double rate_hz, F&& f) {
   for (int k = 0;; ++k) {
     const double t = k / rate_hz;
     if (t > s.duration_s + 1e-9) break;
-    f(t, s.start_time_ns + static_cast<int64_t>(std::llround(t * 1e9)));
+    f(t, s.start_time_ns + seconds_to_ns(t));
   }
 }
 

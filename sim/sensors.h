@@ -6,7 +6,7 @@
 #include <random>
 #include <vector>
 
-#include "pipeline/dataset/dataset_types.h"
+#include "core/dataset_types.h"
 #include "sim/net_geometry.h"
 #include "sim/scenario.h"
 #include "sim/trajectory.h"

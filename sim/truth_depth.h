@@ -5,8 +5,8 @@
 // drawn. Much cheaper than rendering, for mapping tests and benchmarks over whole sequences.
 #include <Eigen/Geometry>
 
-#include "pipeline/camera.h"
-#include "runtime/image.h"
+#include "core/camera.h"
+#include "core/image.h"
 #include "sim/net_geometry.h"
 #include "sim/scenario.h"
 

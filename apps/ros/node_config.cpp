@@ -6,9 +6,9 @@
 #include <set>
 #include <vector>
 
+#include "core/error.h"
 #include "pipeline/dataset/calibration_yaml.h"
 #include "ros/message_conversions_detail.h"
-#include "runtime/error.h"
 
 namespace pensight::node {
 namespace {
@@ -28,6 +28,7 @@ const std::vector<std::string> kParameters = {"scene",
                                               "cpu_threads",
                                               "model",
                                               "depth_backend",
+                                              "depth_cpu_inference",
                                               "water_density",
                                               "surface_pressure_pa",
                                               "pen_frame",
@@ -145,9 +146,10 @@ NodeConfig read_node_config(const ros::NodeHandle& private_nh) {
   c.detector.cpu_threads = at_least(p, "cpu_threads", c.detector.cpu_threads, 0);
   try {
     c.detector.backend = parse_backend(p.text("backend").value_or("auto"));
-    c.depth_backend = parse_depth_backend(p.text("depth_backend").value_or("auto"));
+    c.depth_backend = parse_backend(p.text("depth_backend").value_or("auto"));
+    c.depth_cpu_inference = parse_cpu_inference(p.text("depth_cpu_inference").value_or("auto"));
   } catch (const Error& e) {
-    throw Error(std::string("~backend / ~depth_backend: ") + e.what());
+    throw Error(std::string("~backend / ~depth_backend / ~depth_cpu_inference: ") + e.what());
   }
   c.model = p.text("model").value_or(c.model);
   if (c.model.empty()) Params::fail("model", "auto, none or an ONNX file");

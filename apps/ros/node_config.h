@@ -9,7 +9,7 @@
 #include <optional>
 #include <string>
 
-#include "pipeline/dataset/dataset_types.h"
+#include "core/dataset_types.h"
 #include "pipeline/depth/depth_estimator.h"
 #include "pipeline/net_detector.h"
 #include "ros/pressure_depth.h"
@@ -30,9 +30,11 @@ struct NodeConfig {
   // ~roi_rows, ~roi_cols, ~roi_size_px, ~backend (auto|cpu|vulkan|cuda), ~cpu_threads.
   NetDetectorConfig detector;
   // ~model: "auto" (a shipped compact_depth*.onnx for the camera's aspect, else no depth stage),
-  // "none", or an ONNX file; ~depth_backend (auto|opencv|engine-cpu|vulkan).
+  // "none", or an ONNX file; ~depth_backend (auto|cpu|vulkan), ~depth_cpu_inference
+  // (auto|opencv|engine).
   std::string model = "auto";
-  DepthBackend depth_backend = DepthBackend::kAuto;
+  Backend depth_backend = Backend::kAuto;
+  CpuInference depth_cpu_inference = CpuInference::kAuto;
   WaterColumn water;  // ~water_density (kg/m^3), ~surface_pressure_pa
   // ~pen_frame, ~base_frame, ~camera_frame: the tf frame names.
   std::string pen_frame = "pen", base_frame = "base_link", camera_frame = "camera";

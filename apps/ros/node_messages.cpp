@@ -5,8 +5,8 @@
 #include <cmath>
 #include <cstring>
 
+#include "core/units.h"
 #include "pipeline/relative_pose_fft.h"
-#include "runtime/units.h"
 
 namespace pensight::node {
 namespace {

@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "pipeline/camera.h"
+#include "core/camera.h"
 #include "pipeline/pipeline.h"
 #include "ros/ros_messages_detail.h"
 

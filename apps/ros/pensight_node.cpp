@@ -28,12 +28,12 @@
 #include "apps/default_model.h"
 #include "apps/ros/node_config.h"
 #include "apps/ros/node_messages.h"
+#include "core/error.h"
+#include "core/units.h"
 #include "pipeline/pipeline.h"
 #include "pipeline/runner.h"
 #include "ros/bag_topics.h"
 #include "ros/message_conversions_detail.h"
-#include "runtime/error.h"
-#include "runtime/units.h"
 #if PENSIGHT_HAS_MAPPING
 #include "mapping/map_io.h"
 #include "mapping/mapping_stage.h"
@@ -142,6 +142,7 @@ class PensightNode {
     if (!model.empty()) {
       pc.depth = DepthEstimatorConfig{.model = model,
                                       .backend = config_.depth_backend,
+                                      .cpu_inference = config_.depth_cpu_inference,
                                       .cpu_threads = config_.detector.cpu_threads,
                                       .net_curvature_per_m = net_curvature_per_m(config_.scene)};
     }

@@ -30,8 +30,8 @@
 #include <cstddef>
 #include <memory>
 
-#include "pipeline/camera.h"  // pensight::PinholeCamera {width_px, height_px, fx_px, fy_px, cx_px, cy_px}
-#include "runtime/image.h"  // pensight::ImageF32 {width, height, pixels (row-major float)}
+#include "core/camera.h"  // pensight::PinholeCamera {width_px, height_px, fx_px, fy_px, cx_px, cy_px}
+#include "core/image.h"  // pensight::ImageF32 {width, height, pixels (row-major float)}
 
 namespace pensight::bench {
 

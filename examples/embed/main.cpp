@@ -6,11 +6,11 @@
 #include <cstdio>
 #include <exception>
 
+#include "core/units.h"
 #include "pipeline/dataset/dataset_reader.h"
 #include "pipeline/pipeline.h"
 #include "pipeline/runner.h"
 #include "runtime/device.h"
-#include "runtime/units.h"
 
 int main(int argc, char** argv) {
   if (argc != 2) {

@@ -15,13 +15,21 @@
 #include <span>
 #include <vector>
 
-#include "kernels/roi_normalize/roi_normalize.h"
-#include "runtime/image.h"
+#include "core/image.h"
 #include "runtime/vk_buffer.h"
 #include "runtime/vk_pipeline.h"
 #include "runtime/vk_stream.h"
 
 namespace pensight::kernels {
+
+struct RoiOrigin {
+  int32_t x = 0;  // top-left pixel of the ROI
+  int32_t y = 0;
+};
+
+// A flat ROI (variance below this, in grey levels^2) normalises to all zeros: no lattice, and no
+// division by a near-zero standard deviation. The shaders and CUDA use the same threshold.
+inline constexpr double kFlatVariance = 1e-9;
 
 // rows x cols ROIs of size_px; top-left corners spread evenly from border_px to the far edge
 // (the last column ends at width - 1, the last row at height - 1).
@@ -88,6 +96,8 @@ static_assert(sizeof(RoiLattice) == 8 * sizeof(float));
 // Which FFT sizes a backend can run: the CPU's FFTW any, the shaders' radix-2 stages powers of 2.
 enum class FftSizes { kAny, kPowerOfTwo };
 void validate(const FftRoiShape& shape, FftSizes sizes);
+// Throws pensight::Error naming the ROI when one leaves the shape's image.
+void validate(const FftRoiShape& shape, std::span<const RoiOrigin> rois);
 
 // Sub-bin offset of a spectral peak from the powers at -1, 0, +1 bins: the vertex of the parabola
 // through their logs (exact for a Gaussian peak; close to the Hann main lobe), within +-0.5; 0

@@ -10,10 +10,10 @@
 #include <numbers>
 #include <string>
 
+#include "core/error.h"
+#include "core/file_bytes.h"
 #include "kernels/fft_roi/fft_roi.h"
 #include "runtime/cache_dir.h"
-#include "runtime/error.h"
-#include "runtime/file_bytes.h"
 #include "runtime/simd_clones.h"
 
 namespace pensight::kernels {
@@ -366,7 +366,7 @@ void check_image(const FftRoiShape& s, const ImageU8& image, std::span<const Roi
                 std::to_string(image.height) + ", the stage was built for " +
                 std::to_string(s.width) + "x" + std::to_string(s.height));
   }
-  validate(RoiNormalizeShape{s.width, s.height, 8, s.roi_size}, rois);
+  validate(s, rois);
 }
 
 }  // namespace

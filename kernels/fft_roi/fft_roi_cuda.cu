@@ -6,10 +6,10 @@
 #include <numbers>
 #include <string>
 
+#include "core/error.h"
 #include "kernels/fft_roi/fft_roi.h"
 #include "runtime/cuda_check.cuh"
 #include "runtime/cuda_reduce.cuh"
-#include "runtime/error.h"
 
 namespace pensight::kernels {
 namespace {
@@ -355,7 +355,7 @@ std::vector<RoiLattice> FftRoiCuda::run(const ImageU8& image, std::span<const Ro
                 std::to_string(image.height) + ", the stage was built for " +
                 std::to_string(m.shape.width) + "x" + std::to_string(m.shape.height));
   }
-  validate(RoiNormalizeShape{m.shape.width, m.shape.height, 8, m.shape.roi_size}, rois);
+  validate(m.shape, rois);
   if (rois.empty()) return {};
   if (static_cast<int>(rois.size()) > m.max_rois) {
     throw Error("FftRoiCuda::run: " + std::to_string(rois.size()) + " ROIs, built for at most " +

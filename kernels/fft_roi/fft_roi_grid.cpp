@@ -1,7 +1,7 @@
 #include <string>
 
+#include "core/error.h"
 #include "kernels/fft_roi/fft_roi.h"
-#include "runtime/error.h"
 
 namespace pensight::kernels {
 
@@ -44,6 +44,17 @@ void validate(const FftRoiShape& s, FftSizes sizes) {
                 std::to_string(s.roi_size) + " px; use " +
                 (sizes == FftSizes::kPowerOfTwo ? "a power of two " : "a size ") +
                 "between 16 and min(roi size, 1024), e.g. 256 or 128");
+  }
+}
+
+void validate(const FftRoiShape& s, std::span<const RoiOrigin> rois) {
+  for (size_t i = 0; i < rois.size(); ++i) {
+    const RoiOrigin& r = rois[i];
+    if (r.x < 0 || r.y < 0 || r.x + s.roi_size > s.width || r.y + s.roi_size > s.height) {
+      throw Error("fft_roi: ROI " + std::to_string(i) + " at (" + std::to_string(r.x) + ", " +
+                  std::to_string(r.y) + ") of size " + std::to_string(s.roi_size) + " leaves the " +
+                  std::to_string(s.width) + "x" + std::to_string(s.height) + " image");
+    }
   }
 }
 

@@ -5,9 +5,9 @@
 #include <cmath>
 #include <utility>
 
+#include "core/units.h"
 #include "kernels/fft_roi/fft_roi.h"
 #include "runtime/simd_clones.h"
-#include "runtime/units.h"
 
 namespace pensight::kernels {
 namespace {

@@ -2,9 +2,10 @@
 #include <cmath>
 #include <string>
 
+#include "core/error.h"
+#include "core/units.h"
 #include "kernels/fft_roi/fft_roi.h"
-#include "runtime/error.h"
-#include "runtime/units.h"
+#include "kernels/kernel_shader.h"
 
 namespace pensight::kernels {
 namespace {
@@ -45,20 +46,20 @@ std::vector<uint32_t> peak_constants(const FftRoiShape& s, const PeakParams& p) 
 FftRoiVk::FftRoiVk(const vk::Context& ctx, const FftRoiShape& shape, const PeakParams& params)
     : ctx_(&ctx),
       shape_(checked(shape)),
-      extract_(&ctx.pipeline({.shader = "fft_roi/extract",
+      extract_(&ctx.pipeline({.shader = kernel_shader("fft_roi/extract"),
                               .num_buffers = 4,
                               .push_constant_bytes = sizeof(FftRoiPush),
                               .specialization = {u32(shape.width), u32(shape.roi_size),
                                                  u32(shape.fft_size), shape.window ? 1u : 0u}})),
-      rows_(&ctx.pipeline({.shader = "fft_roi/fft_rows",
+      rows_(&ctx.pipeline({.shader = kernel_shader("fft_roi/fft_rows"),
                            .num_buffers = 2,
                            .push_constant_bytes = sizeof(FftRoiPush),
                            .specialization = {u32(shape.fft_size), u32(shape.fft_size / 2)}})),
-      cols_(&ctx.pipeline({.shader = "fft_roi/fft_cols",
+      cols_(&ctx.pipeline({.shader = kernel_shader("fft_roi/fft_cols"),
                            .num_buffers = 1,
                            .push_constant_bytes = sizeof(FftRoiPush),
                            .specialization = {u32(shape.fft_size), u32(shape.fft_size / 2)}})),
-      peaks_(&ctx.pipeline({.shader = "fft_roi/peaks",
+      peaks_(&ctx.pipeline({.shader = kernel_shader("fft_roi/peaks"),
                             .num_buffers = 2,
                             .push_constant_bytes = sizeof(FftRoiPush),
                             .specialization = peak_constants(shape, params)})) {}
@@ -112,7 +113,7 @@ std::vector<RoiLattice> FftRoiVk::run(const ImageU8& image, std::span<const RoiO
                 std::to_string(image.height) + ", the stage was built for " +
                 std::to_string(shape_.width) + "x" + std::to_string(shape_.height));
   }
-  validate(RoiNormalizeShape{shape_.width, shape_.height, 8, shape_.roi_size}, rois);
+  validate(shape_, rois);
   if (rois.empty()) return {};
   const auto n = static_cast<uint32_t>(rois.size());
   vk::Buffer image_buf(*ctx_, image_bytes());

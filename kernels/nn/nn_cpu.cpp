@@ -4,9 +4,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/error.h"
 #include "kernels/nn/nn.h"
 #include "kernels/nn/nn_detail.h"
-#include "runtime/error.h"
 
 namespace pensight::nn {
 namespace {

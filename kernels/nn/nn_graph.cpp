@@ -1,8 +1,8 @@
 #include <algorithm>
 #include <numeric>
 
+#include "core/error.h"
 #include "kernels/nn/nn.h"
-#include "runtime/error.h"
 
 namespace pensight::nn {
 

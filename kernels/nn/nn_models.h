@@ -1,6 +1,7 @@
 #pragma once
 // Models built in code with random weights (tests, benchmarks, the export-onnx command): the
-// architectures matter here, not the weights (the trained model is a later step).
+// architectures matter here, not the weights. The trained, shipped network is models/*.onnx
+// (scripts/train_depth.py, models/README.md), read through nn_onnx.h.
 #include <cstdint>
 #include <random>
 
@@ -13,9 +14,11 @@ struct ModelSize {
   int height = 240;
 };
 
-// Compact depth-completion net: inputs "image" [1,1,H,W] and "prior" [1,2,H,W] (S1, S2); a
-// 3-level conv encoder, bilinear decoder with the prior concatenated at every scale; output
-// "depth" [1,1,H,W] (softplus).
+// Compact depth-completion net with the two-channel prior the depth stage also accepts: inputs
+// "image" [1,1,H,W] and "prior" [1,2,H,W] (S1, S2); a 3-level conv encoder, bilinear decoder with
+// the prior concatenated at every scale; output "depth" [1,1,H,W] (softplus). It is not the
+// shipped model's architecture: models/compact_depth.onnx takes "prior" [1,3,H,W] (S1, S2 and the
+// prior surface Q) and is the U-Net of scripts/train_depth.py.
 Graph compact_depth_net(ModelSize size, uint64_t seed);
 
 // TRUDepth architecture at reduced width (width_mult scales every channel count): inputs

@@ -2,12 +2,12 @@
 #include <onnx/onnx_pb.h>
 
 #include <Eigen/Core>
-#include <fstream>
 #include <map>
 #include <set>
 
+#include "core/atomic_file.h"
+#include "core/error.h"
 #include "kernels/nn/nn_onnx.h"
-#include "runtime/error.h"
 
 namespace pensight::nn {
 namespace {
@@ -236,16 +236,12 @@ std::string export_onnx_bytes(const Graph& graph, const OnnxExportOptions& optio
 void export_onnx(const Graph& graph, const std::filesystem::path& file,
                  const OnnxExportOptions& options) {
   const std::string bytes = export_onnx_bytes(graph, options);
-  const std::filesystem::path tmp = file.string() + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    if (!out || !out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()))) {
-      std::filesystem::remove(tmp);
-      throw Error("export_onnx: cannot write '" + file.string() +
-                  "' (check the folder exists and is writable)");
-    }
+  try {
+    write_file_atomically(file, bytes);
+  } catch (const Error&) {
+    throw Error("export_onnx: cannot write '" + file.string() +
+                "' (check the folder exists and is writable)");
   }
-  std::filesystem::rename(tmp, file);
 }
 
 std::string opencv_dnn_compatible(const std::string& onnx_bytes) {

@@ -6,9 +6,9 @@
 #include <optional>
 #include <set>
 
+#include "core/error.h"
+#include "core/file_bytes.h"
 #include "kernels/nn/nn_onnx.h"
-#include "runtime/error.h"
-#include "runtime/file_bytes.h"
 
 namespace pensight::nn {
 namespace {

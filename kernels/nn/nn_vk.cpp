@@ -9,9 +9,10 @@
 #include <optional>
 #include <set>
 
+#include "core/error.h"
+#include "kernels/kernel_shader.h"
 #include "kernels/nn/nn.h"
 #include "kernels/nn/nn_detail.h"
-#include "runtime/error.h"
 
 namespace pensight::nn {
 namespace {
@@ -125,8 +126,8 @@ struct VkModel::Impl {
   const vk::Pipeline& pipeline(const std::string& shader, uint32_t buffers, uint32_t push,
                                std::vector<uint32_t> spec) {
     const vk::Pipeline& p = ctx->pipeline(
-        {.shader =
-             "nn/" + shader + (fp16 && shader != "to_half" && shader != "to_float" ? "_f16" : ""),
+        {.shader = kernels::kernel_shader(
+             "nn/" + shader + (fp16 && shader != "to_half" && shader != "to_float" ? "_f16" : "")),
          .num_buffers = buffers,
          .push_constant_bytes = push,
          .specialization = std::move(spec)});

@@ -88,10 +88,4 @@ class SparsePriorVk {
   const vk::Pipeline* pipeline_;  // borrowed from the context's registry
 };
 
-#if PENSIGHT_HAS_CUDA
-// CUDA (same result); throws pensight::Error when no CUDA device is present.
-std::vector<float> sparse_prior_cuda(const SparsePriorShape& shape,
-                                     std::span<const SparsePoint> points);
-#endif
-
 }  // namespace pensight::kernels

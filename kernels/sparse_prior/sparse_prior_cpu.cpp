@@ -2,9 +2,9 @@
 #include <limits>
 #include <string>
 
+#include "core/error.h"
 #include "kernels/sparse_prior/sparse_prior.h"
 #include "kernels/sparse_prior/sparse_prior_detail.h"
-#include "runtime/error.h"
 
 namespace pensight::kernels {
 

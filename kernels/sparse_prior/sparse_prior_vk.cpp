@@ -1,9 +1,10 @@
 #include <bit>
 #include <string>
 
+#include "core/error.h"
+#include "kernels/kernel_shader.h"
 #include "kernels/sparse_prior/sparse_prior.h"
 #include "kernels/sparse_prior/sparse_prior_detail.h"
-#include "runtime/error.h"
 #include "runtime/vk_buffer.h"
 
 namespace pensight::kernels {
@@ -23,7 +24,7 @@ SparsePriorVk::SparsePriorVk(const vk::Context& ctx, const SparsePriorShape& sha
     : ctx_(&ctx),
       shape_((validate(shape, {}), shape)),
       pipeline_(&ctx.pipeline(
-          {.shader = "sparse_prior/sparse_prior",
+          {.shader = kernel_shader("sparse_prior/sparse_prior"),
            .num_buffers = 3,
            .push_constant_bytes = sizeof(SparsePriorPush),
            .specialization = {static_cast<uint32_t>(shape.width),

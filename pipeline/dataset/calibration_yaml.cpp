@@ -3,10 +3,10 @@
 #include <cmath>
 #include <sstream>
 
-#include "pipeline/dataset/csv.h"
-#include "pipeline/dataset/strict_yaml.h"
-#include "runtime/image.h"
-#include "runtime/units.h"
+#include "core/csv.h"
+#include "core/image.h"
+#include "core/strict_yaml.h"
+#include "core/units.h"
 
 namespace pensight {
 namespace {
@@ -162,21 +162,6 @@ std::string dvl_yaml(const DvlCalibration& c) {
     << "T_BS: " << matrix_yaml(c.T_body_dvl.matrix()) << "  # DVL -> body\n"
     << "beam_directions: " << matrix_yaml(beams) << "  # unit vectors in the DVL frame\n";
   return s.str();
-}
-
-const char* to_string(MeshType type) {
-  return type == MeshType::kDiamond ? "diamond" : "square";
-}
-
-double net_curvature_per_m(const SceneConfig& scene) {
-  return scene.flat_panel ? 0.0 : 1 / scene.pen_radius_m;
-}
-
-std::optional<MeshType> parse_mesh_type(const std::string& name) {
-  for (MeshType t : {MeshType::kSquare, MeshType::kDiamond}) {
-    if (name == to_string(t)) return t;
-  }
-  return std::nullopt;
 }
 
 SceneConfig read_scene_yaml(const std::filesystem::path& file) {

@@ -6,7 +6,7 @@
 #include <filesystem>
 #include <string>
 
-#include "pipeline/dataset/dataset_types.h"
+#include "core/dataset_types.h"
 
 namespace pensight {
 

@@ -3,11 +3,11 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/csv.h"
+#include "core/error.h"
+#include "core/log.h"
 #include "pipeline/dataset/calibration_yaml.h"
-#include "pipeline/dataset/csv.h"
 #include "pipeline/dataset/png_io.h"
-#include "runtime/error.h"
-#include "runtime/log.h"
 
 namespace pensight {
 namespace fs = std::filesystem;

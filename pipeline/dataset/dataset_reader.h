@@ -5,8 +5,8 @@
 #include <optional>
 #include <vector>
 
-#include "pipeline/dataset/dataset_types.h"
-#include "runtime/image.h"
+#include "core/dataset_types.h"
+#include "core/image.h"
 
 namespace pensight {
 

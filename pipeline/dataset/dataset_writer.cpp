@@ -1,11 +1,11 @@
 #include "pipeline/dataset/dataset_writer.h"
 
-#include "pipeline/dataset/atomic_file.h"
+#include "core/atomic_file.h"
+#include "core/csv.h"
+#include "core/error.h"
+#include "core/units.h"
 #include "pipeline/dataset/calibration_yaml.h"
-#include "pipeline/dataset/csv.h"
 #include "pipeline/dataset/png_io.h"
-#include "runtime/error.h"
-#include "runtime/units.h"
 
 namespace pensight {
 namespace fs = std::filesystem;

@@ -6,8 +6,8 @@
 #include <fstream>
 #include <optional>
 
-#include "pipeline/dataset/dataset_types.h"
-#include "runtime/image.h"
+#include "core/dataset_types.h"
+#include "core/image.h"
 
 namespace pensight {
 

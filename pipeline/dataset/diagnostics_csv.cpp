@@ -2,9 +2,9 @@
 
 #include <algorithm>
 
-#include "pipeline/dataset/atomic_file.h"
-#include "pipeline/dataset/csv.h"
-#include "runtime/error.h"
+#include "core/atomic_file.h"
+#include "core/csv.h"
+#include "core/error.h"
 
 namespace pensight {
 

@@ -1,6 +1,7 @@
 #pragma once
 // OUT/diagnostics.csv of `pensight run` (../shared/dataset-format.md, version 1.1): one row per
-// camera frame saying why an estimate is what it is. Columns (docs/diagnostics.md):
+// camera frame saying why an estimate is what it is. Columns (docs/runtime.md, "Outputs of
+// `pensight run`"):
 //   #timestamp [ns],valid_rois,inlier_rois,plane_rms [m],fft_reason,mesh_angle [deg],
 //   dvl_plane_d [m],dvl_plane_psi [rad], then <sensor>_accepted,<sensor>_rejected for each of
 //   dvl_velocity, dvl_plane, depth, attitude, vision_fix, vision_relative, net_texture; then
@@ -22,7 +23,7 @@
 #include <memory>
 #include <string>
 
-#include "pipeline/dataset/dataset_types.h"
+#include "core/dataset_types.h"
 
 namespace pensight {
 

@@ -6,7 +6,7 @@
 #include <memory>
 #include <vector>
 
-#include "pipeline/dataset/dataset_types.h"
+#include "core/dataset_types.h"
 
 namespace pensight {
 

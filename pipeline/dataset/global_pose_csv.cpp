@@ -1,8 +1,8 @@
 #include "pipeline/dataset/global_pose_csv.h"
 
-#include "pipeline/dataset/atomic_file.h"
-#include "pipeline/dataset/csv.h"
-#include "runtime/error.h"
+#include "core/atomic_file.h"
+#include "core/csv.h"
+#include "core/error.h"
 
 namespace pensight {
 

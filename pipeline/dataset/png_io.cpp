@@ -8,9 +8,9 @@
 #include <string>
 #include <string_view>
 
-#include "pipeline/dataset/atomic_file.h"
-#include "runtime/error.h"
-#include "runtime/file_bytes.h"
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "core/file_bytes.h"
 
 namespace pensight {
 namespace {

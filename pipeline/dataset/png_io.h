@@ -2,7 +2,7 @@
 // PNG reading and writing for datasets (OpenCV imgcodecs underneath).
 #include <filesystem>
 
-#include "runtime/image.h"
+#include "core/image.h"
 
 namespace pensight {
 

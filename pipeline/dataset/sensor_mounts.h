@@ -4,7 +4,7 @@
 // tilt, and a Janus DVL's four beams.
 #include <Eigen/Geometry>
 
-#include "pipeline/dataset/dataset_types.h"
+#include "core/dataset_types.h"
 
 namespace pensight {
 

@@ -10,9 +10,10 @@
 #include <fstream>
 #include <sstream>
 
-#include "pipeline/dataset/atomic_file.h"
-#include "pipeline/dataset/csv.h"
-#include "runtime/error.h"
+#include "core/atomic_file.h"
+#include "core/csv.h"
+#include "core/error.h"
+#include "core/units.h"
 
 namespace pensight {
 namespace {
@@ -58,7 +59,7 @@ bool parse_seconds(const std::string& s, int64_t& t_ns) {
   if (s.empty() || end != s.c_str() + s.size() || errno == ERANGE || !std::isfinite(v) ||
       std::abs(v) > 9e9)
     return false;
-  t_ns = std::llround(v * 1e9);
+  t_ns = seconds_to_ns(v);
   return true;
 }
 

@@ -4,11 +4,11 @@
 #include <cmath>
 #include <vector>
 
+#include "core/error.h"
+#include "core/median.h"
 #include "kernels/sparse_prior/sparse_prior.h"
 #include "pipeline/depth/depth_input.h"
 #include "pipeline/depth/prior_surface.h"
-#include "pipeline/median.h"
-#include "runtime/error.h"
 
 namespace pensight {
 namespace {

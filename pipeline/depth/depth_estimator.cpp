@@ -9,40 +9,37 @@
 #include <thread>
 #include <vector>
 
+#include "core/error.h"
+#include "core/file_bytes.h"
+#include "core/timing.h"
 #include "kernels/nn/nn.h"
 #include "kernels/nn/nn_onnx.h"
 #include "kernels/sparse_prior/sparse_prior.h"
 #include "pipeline/depth/depth_input.h"
 #include "pipeline/depth/prior_surface.h"
-#include "runtime/error.h"
-#include "runtime/file_bytes.h"
-#include "runtime/timing.h"
 #include "runtime/vk_buffer.h"
 #include "runtime/vk_context.h"
 #include "runtime/vk_stream.h"
 
 namespace pensight {
 
-const char* to_string(DepthBackend backend) {
-  switch (backend) {
-    case DepthBackend::kAuto:
+const char* to_string(CpuInference inference) {
+  switch (inference) {
+    case CpuInference::kAuto:
       return "auto";
-    case DepthBackend::kOpenCv:
+    case CpuInference::kOpenCv:
       return "opencv";
-    case DepthBackend::kEngineCpu:
-      return "engine-cpu";
-    case DepthBackend::kVulkan:
-      return "vulkan";
+    case CpuInference::kEngine:
+      return "engine";
   }
   return "unknown";
 }
 
-DepthBackend parse_depth_backend(const std::string& name) {
-  for (DepthBackend b : {DepthBackend::kAuto, DepthBackend::kOpenCv, DepthBackend::kEngineCpu,
-                         DepthBackend::kVulkan}) {
-    if (name == to_string(b)) return b;
+CpuInference parse_cpu_inference(const std::string& name) {
+  for (CpuInference i : {CpuInference::kAuto, CpuInference::kOpenCv, CpuInference::kEngine}) {
+    if (name == to_string(i)) return i;
   }
-  throw Error("unknown depth backend '" + name + "'; use auto, opencv, engine-cpu or vulkan");
+  throw Error("unknown CPU inference '" + name + "'; use auto, opencv or engine");
 }
 
 namespace {
@@ -114,7 +111,8 @@ struct DepthEstimator::Impl {
   nn::Graph graph;
   kernels::SparsePriorShape shape;
   int prior_channels = 2;
-  DepthBackend backend = DepthBackend::kEngineCpu;
+  Backend backend = Backend::kCpu;
+  CpuInference inference = CpuInference::kEngine;  // on the CPU backend
   int threads = 1;
   std::optional<cv::dnn::Net> opencv;
   std::unique_ptr<VulkanNet> vulkan;
@@ -197,40 +195,33 @@ DepthEstimator::DepthEstimator(const PinholeCamera& camera, const DepthEstimator
       const std::string compatible = nn::opencv_dnn_compatible(*bytes);
       m.opencv = cv::dnn::readNetFromONNX(compatible.data(), compatible.size());
       cv::setNumThreads(m.threads);
-      m.backend = DepthBackend::kOpenCv;
+      m.inference = CpuInference::kOpenCv;
       return true;
     } catch (const cv::Exception& e) {
-      if (config.backend == DepthBackend::kOpenCv) {
+      if (config.cpu_inference == CpuInference::kOpenCv) {
         throw Error("OpenCV DNN cannot read " + file + " (" + e.msg +
-                    "); use --depth-backend engine-cpu");
+                    "); use --depth-cpu-inference engine");
       }
       return false;
     }
   };
-  auto make_vulkan = [&](vk::Context& ctx) {
-    m.vulkan = std::make_unique<VulkanNet>(ctx, m.graph, m.shape);
-    m.device_name = ctx.info().name;
-    m.backend = DepthBackend::kVulkan;
-  };
-  switch (config.backend) {
-    case DepthBackend::kOpenCv:
-      make_opencv();
-      break;
-    case DepthBackend::kEngineCpu:
-      m.backend = DepthBackend::kEngineCpu;
-      break;
-    case DepthBackend::kVulkan:
-      make_vulkan(device.vulkan());
-      break;
-    case DepthBackend::kAuto: {
-      vk::Context* ctx = device.try_vulkan();
-      if (ctx && vk::is_real_gpu(ctx->info().kind)) {
-        make_vulkan(*ctx);
-      } else if (!make_opencv()) {
-        m.backend = DepthBackend::kEngineCpu;
-      }
+  switch (choose_backend(config.backend, device, {})) {
+    case Backend::kVulkan: {
+      vk::Context& ctx = device.vulkan();
+      m.vulkan = std::make_unique<VulkanNet>(ctx, m.graph, m.shape);
+      m.device_name = ctx.info().name;
+      m.backend = Backend::kVulkan;
       break;
     }
+    case Backend::kCuda:
+      throw Error("the depth stage has no CUDA path; use --depth-backend vulkan or cpu");
+    case Backend::kCpu:
+    case Backend::kAuto:
+      m.backend = Backend::kCpu;
+      if (config.cpu_inference == CpuInference::kEngine || !make_opencv()) {
+        m.inference = CpuInference::kEngine;
+      }
+      break;
   }
 }
 
@@ -238,8 +229,12 @@ DepthEstimator::~DepthEstimator() = default;
 DepthEstimator::DepthEstimator(DepthEstimator&&) noexcept = default;
 DepthEstimator& DepthEstimator::operator=(DepthEstimator&&) noexcept = default;
 
-DepthBackend DepthEstimator::backend() const {
+Backend DepthEstimator::backend() const {
   return impl_->backend;
+}
+
+CpuInference DepthEstimator::cpu_inference() const {
+  return impl_->inference;
 }
 
 double DepthEstimator::gflop() const {
@@ -251,16 +246,12 @@ std::string DepthEstimator::description() const {
   char flops[32];
   std::snprintf(flops, sizeof flops, "%.2f GFLOP", gflop());
   std::string where;
-  switch (m.backend) {
-    case DepthBackend::kVulkan:
-      where = "vulkan (" + m.device_name + ")";
-      break;
-    case DepthBackend::kOpenCv:
-      where = "opencv dnn (" + std::to_string(m.threads) + " threads)";
-      break;
-    default:
-      where = "engine cpu";
-      break;
+  if (m.backend == Backend::kVulkan) {
+    where = "vulkan (" + m.device_name + ")";
+  } else if (m.inference == CpuInference::kOpenCv) {
+    where = "opencv dnn (" + std::to_string(m.threads) + " threads)";
+  } else {
+    where = "engine cpu";
   }
   return where + ", " + std::to_string(m.shape.width) + "x" + std::to_string(m.shape.height) +
          ", " + flops;

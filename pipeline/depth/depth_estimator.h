@@ -13,32 +13,36 @@
 // prior_surface.h; the shipped model's form), output "depth" [1,1,H,W] in metres. H x W is the
 // model's; the image is area-resized to it and the priors moved into its pixels (depth_input.h).
 //
-// Backends: OpenCV DNN (Debian's, the fastest correct CPU path, measured in docs/dense_depth.md),
-// the engine's CPU reference executor, or the engine's Vulkan executor with S1/S2 computed on the
+// Backends (core/backend.h): the CPU, or the engine's Vulkan executor with S1/S2 computed on the
 // device straight into the network's input (Q, a 6-coefficient surface, is rendered on the CPU
-// and uploaded beside them). kAuto: Vulkan on a real GPU, else OpenCV DNN, else
-// the engine's CPU executor (a model OpenCV cannot read).
+// and uploaded beside them); kAuto is Vulkan on a real GPU, else the CPU. On the CPU the network
+// runs in OpenCV DNN (Debian's, the fastest correct CPU path, measured in docs/dense_depth.md) or
+// in the engine's CPU reference executor; CpuInference::kAuto takes OpenCV DNN where it reads the
+// model.
 #include <filesystem>
 #include <memory>
 #include <span>
 #include <string>
 
-#include "pipeline/camera.h"
+#include "core/backend.h"
+#include "core/camera.h"
+#include "core/image.h"
 #include "pipeline/depth/depth_plane.h"
 #include "pipeline/net_geometry.h"
 #include "runtime/device.h"
-#include "runtime/image.h"
 
 namespace pensight {
 
-enum class DepthBackend { kAuto, kOpenCv, kEngineCpu, kVulkan };
-const char* to_string(DepthBackend backend);  // "auto" | "opencv" | "engine-cpu" | "vulkan"
+// Which library runs the network on the CPU backend.
+enum class CpuInference { kAuto, kOpenCv, kEngine };
+const char* to_string(CpuInference inference);  // "auto" | "opencv" | "engine"
 // Throws pensight::Error listing the choices for any other name.
-DepthBackend parse_depth_backend(const std::string& name);
+CpuInference parse_cpu_inference(const std::string& name);
 
 struct DepthEstimatorConfig {
-  std::filesystem::path model;  // ONNX file
-  DepthBackend backend = DepthBackend::kAuto;
+  std::filesystem::path model;       // ONNX file
+  Backend backend = Backend::kAuto;  // no CUDA path: kCuda is refused
+  CpuInference cpu_inference = CpuInference::kAuto;
   int cpu_threads = 0;  // 0: all hardware threads
   float sigma_px = 10;  // S2's radius in network pixels, as in training
   // The net wall's curvature for the prior surface Q (net_curvature_per_m(SceneConfig); 0: flat),
@@ -59,15 +63,16 @@ class DepthEstimator {
  public:
   // Throws pensight::Error naming the file: missing or unreadable model, or one that is not a
   // depth network (inputs/outputs other than the contract's); an explicitly requested backend
-  // that is not available.
+  // or CPU inference that is not available.
   DepthEstimator(const PinholeCamera& camera, const DepthEstimatorConfig& config, Device& device);
   ~DepthEstimator();
   DepthEstimator(DepthEstimator&&) noexcept;
   DepthEstimator& operator=(DepthEstimator&&) noexcept;
 
-  DepthBackend backend() const;     // never kAuto
-  std::string description() const;  // e.g. "opencv dnn (2 threads), 320x240, 1.1 GFLOP"
-  double gflop() const;             // the network's multiply-adds x 2 per frame
+  Backend backend() const;             // kCpu or kVulkan
+  CpuInference cpu_inference() const;  // on kCpu: kOpenCv or kEngine
+  std::string description() const;     // e.g. "opencv dnn (2 threads), 320x240, 1.1 GFLOP"
+  double gflop() const;                // the network's multiply-adds x 2 per frame
 
   // Throws pensight::Error when the image size differs from the camera's. No priors: no depth,
   // with the reason.

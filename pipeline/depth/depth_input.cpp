@@ -5,7 +5,7 @@
 #include <opencv2/imgproc.hpp>
 #include <string>
 
-#include "runtime/error.h"
+#include "core/error.h"
 
 namespace pensight {
 

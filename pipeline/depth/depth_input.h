@@ -6,9 +6,9 @@
 #include <span>
 #include <vector>
 
+#include "core/image.h"
 #include "kernels/sparse_prior/sparse_prior.h"
 #include "pipeline/net_geometry.h"
-#include "runtime/image.h"
 
 namespace pensight {
 

@@ -6,8 +6,9 @@
 #include <random>
 #include <vector>
 
-#include "pipeline/median.h"
-#include "runtime/error.h"
+#include "core/error.h"
+#include "core/median.h"
+#include "core/net_angles.h"
 
 namespace pensight {
 namespace {
@@ -104,7 +105,7 @@ DepthPlanePose depth_plane_pose(const ImageF32& depth_m, const PixelRays& rays,
       return out;
     }
     // A floor of 1 mm keeps an exact plane from dividing by zero.
-    const double c = 4.685 * std::max(1.4826 * median(std::move(near)), 1e-3);
+    const double c = 4.685 * std::max(kMadToSigma * median(std::move(near)), 1e-3);
     Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
     Eigen::Vector3d b = Eigen::Vector3d::Zero();
     for (size_t i = 0; i < samples.size(); ++i) {
@@ -139,8 +140,9 @@ DepthPlanePose depth_plane_pose(const ImageF32& depth_m, const PixelRays& rays,
   }
   out.inlier_share = static_cast<double>(inliers) / static_cast<double>(samples.size());
   out.reason.clear();
-  out.psi_net_rad = std::atan(abc.x());
-  out.pitch_net_rad = std::atan(abc.y());
+  const NetAngles angles = net_angles_from_plane_C(abc.x(), abc.y());
+  out.psi_net_rad = angles.psi_rad;
+  out.pitch_net_rad = angles.pitch_rad;
   out.d_net_m = central_sum / central_count;
   return out;
 }

@@ -6,17 +6,17 @@
 // Method: a consensus start (the best of `hypotheses` three-pixel planes, scored on a strided
 // subset of ~2000 pixels), then iteratively reweighted least squares over every valid pixel on
 // the 3x3 normal equations (one O(pixels) pass per iteration) with Tukey's biweight, its scale
-// 4.685 x 1.4826 x the median residual of the pixels within inlier_rel of the plane; so fish,
-// ropes or a second surface in view do not tilt the plane. d_net averages the central window's
-// pixels on the plane. A pixel is valid when its depth is finite and > 0. Cost at 320x240:
-// about a millisecond.
+// 4.685 x kMadToSigma (core/median.h) x the median residual of the pixels within inlier_rel of the
+// plane; so fish, ropes or a second surface in view do not tilt the plane. d_net averages the
+// central window's pixels on the plane. A pixel is valid when its depth is finite and > 0. Cost at
+// 320x240: about a millisecond.
 #include <Eigen/Core>
 #include <string>
 #include <vector>
 
-#include "pipeline/camera.h"
-#include "runtime/image.h"
-#include "runtime/units.h"
+#include "core/camera.h"
+#include "core/image.h"
+#include "core/units.h"
 
 namespace pensight {
 

@@ -9,12 +9,12 @@
 #include <Eigen/Geometry>
 #include <optional>
 
-#include "pipeline/camera.h"
-#include "pipeline/dataset/dataset_types.h"
+#include "core/camera.h"
+#include "core/dataset_types.h"
+#include "core/image.h"
 #include "pipeline/depth/depth_plane.h"
 #include "pipeline/depth/dvl_depth_scale.h"
 #include "pipeline/depth/dvl_net_tilt.h"
-#include "runtime/image.h"
 
 namespace pensight {
 

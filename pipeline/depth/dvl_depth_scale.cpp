@@ -3,8 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
-#include "pipeline/median.h"
-#include "runtime/error.h"
+#include "core/error.h"
+#include "core/median.h"
+#include "core/units.h"
 
 namespace pensight {
 
@@ -84,7 +85,7 @@ DvlDepthScaleState DvlDepthScale::update(int64_t t_frame_ns, const ImageF32& dep
     const double lr = sample_log_ratio(p.sample, p.dt_s, depth_m);
     if (std::isfinite(lr)) window_.push_back({p.sample.timestamp_ns, lr});
   }
-  const auto window_ns = static_cast<int64_t>(config_.window_s * 1e9);
+  const auto window_ns = seconds_to_ns_toward_zero(config_.window_s);
   while (!window_.empty() && window_.front().t_ns < t_frame_ns - window_ns) window_.pop_front();
 
   state_.samples = static_cast<int>(window_.size());

@@ -21,10 +21,10 @@
 #include <deque>
 #include <vector>
 
-#include "pipeline/camera.h"
-#include "pipeline/dataset/dataset_types.h"
+#include "core/camera.h"
+#include "core/dataset_types.h"
+#include "core/image.h"
 #include "pipeline/depth/dvl_frame_pairing.h"
-#include "runtime/image.h"
 
 namespace pensight {
 

@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "pipeline/dataset/dataset_types.h"
+#include "core/dataset_types.h"
 
 namespace pensight {
 

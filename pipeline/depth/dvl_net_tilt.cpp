@@ -5,9 +5,10 @@
 #include <cmath>
 #include <vector>
 
+#include "core/error.h"
+#include "core/median.h"
+#include "core/units.h"
 #include "pipeline/global_pose/dvl_plane.h"
-#include "pipeline/median.h"
-#include "runtime/error.h"
 
 namespace pensight {
 
@@ -63,7 +64,7 @@ DvlNetTiltState DvlNetTilt::update(int64_t t_frame_ns, const DepthPlanePose& dep
                        config_.range_noise_m * cos2_psi / std::sqrt(spread.x()),
                        config_.range_noise_m * cos2_pitch / std::sqrt(spread.y())});
   }
-  const auto window_ns = static_cast<int64_t>(config_.window_s * 1e9);
+  const auto window_ns = seconds_to_ns_toward_zero(config_.window_s);
   while (!window_.empty() && window_.front().t_ns < t_frame_ns - window_ns) window_.pop_front();
 
   const int samples = static_cast<int>(window_.size());

@@ -22,11 +22,11 @@
 #include <cstdint>
 #include <deque>
 
-#include "pipeline/dataset/dataset_types.h"
+#include "core/dataset_types.h"
+#include "core/image.h"
+#include "core/units.h"
 #include "pipeline/depth/depth_plane.h"
 #include "pipeline/depth/dvl_frame_pairing.h"
-#include "runtime/image.h"
-#include "runtime/units.h"
 
 namespace pensight {
 

@@ -7,10 +7,10 @@
 #include <span>
 #include <string>
 
+#include "core/dataset_types.h"
+#include "core/units.h"
 #include "pipeline/dataset/dataset_reader.h"
-#include "pipeline/dataset/dataset_types.h"
 #include "pipeline/dataset/estimates_csv.h"
-#include "runtime/units.h"
 
 namespace pensight {
 

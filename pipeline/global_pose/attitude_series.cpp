@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/units.h"
+
 namespace pensight::global_pose {
 namespace {
 bool earlier(const AttitudeSample& a, int64_t t) {
@@ -20,7 +22,7 @@ bool AttitudeSeries::insert(const AttitudeSample& s) {
 
 std::optional<AttitudeSample> AttitudeSeries::at(int64_t t_ns, double max_gap_s) const {
   if (samples_.empty()) return std::nullopt;
-  const auto max_gap_ns = static_cast<int64_t>(max_gap_s * 1e9);
+  const auto max_gap_ns = seconds_to_ns_toward_zero(max_gap_s);
   const auto hi = std::lower_bound(samples_.begin(), samples_.end(), t_ns, earlier);
   if (hi == samples_.end()) {
     const AttitudeSample& last = samples_.back();
@@ -49,7 +51,7 @@ std::optional<AttitudeSample> AttitudeSeries::at(int64_t t_ns, double max_gap_s)
 }
 
 std::optional<double> AttitudeSeries::yaw_rate(int64_t t_ns, double window_s) const {
-  const int64_t from_ns = t_ns - static_cast<int64_t>(window_s * 1e9);
+  const int64_t from_ns = t_ns - seconds_to_ns_toward_zero(window_s);
   auto it = std::lower_bound(samples_.begin(), samples_.end(), from_ns, earlier);
   double n = 0, st = 0, sy = 0, stt = 0, sty = 0, yaw = 0, previous = 0;
   for (; it != samples_.end() && it->timestamp_ns <= t_ns; ++it) {

@@ -1,6 +1,6 @@
 #include "pipeline/global_pose/circle_fit.h"
 
-#include "runtime/error.h"
+#include "core/error.h"
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>

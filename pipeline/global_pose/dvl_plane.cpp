@@ -3,6 +3,8 @@
 #include <Eigen/Eigenvalues>
 #include <cmath>
 
+#include "core/net_angles.h"
+
 namespace pensight::global_pose {
 
 NetRelativePose DvlPlane::in_camera(const Eigen::Isometry3d& T_body_camera) const {
@@ -11,7 +13,8 @@ NetRelativePose DvlPlane::in_camera(const Eigen::Isometry3d& T_body_camera) cons
   const Eigen::Vector3d m = T_body_camera.linear().transpose() * normal_B;
   const double offset = distance_m - normal_B.dot(T_body_camera.translation());
   if (!(m.z() > 1e-9) || !(offset > 0)) return {};
-  return {offset / m.z(), std::atan2(-m.x(), m.z()), std::atan2(-m.y(), m.z())};
+  const NetAngles angles = net_angles_from_normal_C(m);
+  return {offset / m.z(), angles.psi_rad, angles.pitch_rad};
 }
 
 DvlPlane dvl_net_plane(const DvlCalibration& dvl, const std::array<double, 4>& range_m,

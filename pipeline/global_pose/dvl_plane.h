@@ -5,7 +5,7 @@
 #include <Eigen/Geometry>
 #include <array>
 
-#include "pipeline/dataset/dataset_types.h"
+#include "core/dataset_types.h"
 #include "pipeline/global_pose/pen_geometry.h"
 
 namespace pensight::global_pose {

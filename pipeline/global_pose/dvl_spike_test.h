@@ -14,7 +14,7 @@
 
 #include <Eigen/Core>
 
-#include "pipeline/dataset/dataset_types.h"
+#include "core/dataset_types.h"
 
 namespace pensight::global_pose {
 

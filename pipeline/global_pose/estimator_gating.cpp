@@ -1,14 +1,14 @@
 // GlobalPoseEstimator, part 3 of 4: re-locking after rejections in a row (the gate itself,
-// gated_update, is in estimator_internal.h, as every sensor model instantiates it).
+// gated_update, is in estimator_detail.h, as every sensor model instantiates it).
 #include "pipeline/global_pose/global_pose_estimator.h"
 
 #include <cmath>
 #include <cstdio>
 #include <span>
 
-#include "runtime/log.h"
+#include "core/log.h"
 
-#include "pipeline/global_pose/estimator_internal.h"
+#include "pipeline/global_pose/estimator_detail.h"
 
 namespace pensight::global_pose {
 using namespace internal;

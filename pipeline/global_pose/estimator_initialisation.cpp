@@ -5,7 +5,9 @@
 #include <cmath>
 #include <cstdio>
 
-#include "pipeline/global_pose/estimator_internal.h"
+#include "core/units.h"
+
+#include "pipeline/global_pose/estimator_detail.h"
 
 namespace pensight::global_pose {
 using namespace internal;
@@ -126,8 +128,8 @@ void GlobalPoseEstimator::initialise(const PenFix& fix, int64_t t_ns) {
   // The vehicle may be turning fast when the first fix comes (a sweep): take the yaw rate from
   // the attitude sensor when it has samples around t.
   const auto yaw_now = attitude_.at(t_ns, cfg_.max_attitude_gap_s);
-  const auto yaw_before = attitude_.at(t_ns - static_cast<int64_t>(pr.psi_rate_window_s * 1e9),
-                                       cfg_.max_attitude_gap_s);
+  const auto yaw_before =
+      attitude_.at(t_ns - seconds_to_ns_toward_zero(pr.psi_rate_window_s), cfg_.max_attitude_gap_s);
   if (cfg_.use_attitude_yaw && yaw_now && yaw_before && std::isfinite(yaw_now->yaw_rad) &&
       std::isfinite(yaw_before->yaw_rad) && yaw_now->timestamp_ns != yaw_before->timestamp_ns) {
     ekf.x(kPsiRate) = wrap_angle(yaw_now->yaw_rad - yaw_before->yaw_rad) /

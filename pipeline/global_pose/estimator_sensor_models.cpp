@@ -4,9 +4,10 @@
 #include <cmath>
 #include <cstdio>
 
-#include "runtime/log.h"
+#include "core/log.h"
+#include "core/units.h"
 
-#include "pipeline/global_pose/estimator_internal.h"
+#include "pipeline/global_pose/estimator_detail.h"
 
 namespace pensight::global_pose {
 using namespace internal;
@@ -294,7 +295,7 @@ void GlobalPoseEstimator::apply_texture(const NetObservation& obs, double roll, 
   const double window_s = n.net_texture_yaw_rate_window_s;
   const auto rate_now = attitude_.yaw_rate(obs.t_ns, window_s);
   const auto rate_before =
-      attitude_.yaw_rate(obs.t_ns - static_cast<int64_t>(window_s * 1e9), window_s);
+      attitude_.yaw_rate(obs.t_ns - seconds_to_ns_toward_zero(window_s), window_s);
   // In a turn the prediction is too coarse to count bars by: a yaw rate that changed between the
   // last two windows by enough to move the point by the allowed ambiguity over the interval (the
   // sweep's 2.5 rad/s turns; following changes it by hundredths of a rad/s).

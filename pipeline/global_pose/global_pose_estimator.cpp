@@ -7,10 +7,11 @@
 #include <cstdio>
 #include <utility>
 
-#include "runtime/error.h"
-#include "runtime/log.h"
+#include "core/error.h"
+#include "core/log.h"
+#include "core/units.h"
 
-#include "pipeline/global_pose/estimator_internal.h"
+#include "pipeline/global_pose/estimator_detail.h"
 
 namespace pensight::global_pose {
 using namespace internal;
@@ -162,7 +163,7 @@ void GlobalPoseEstimator::enqueue(Event e, SensorCounters& arrival) {
     return;
   }
   if (e.t_ns < state_.last_time_ns) {
-    const int64_t window_start = state_.last_time_ns - static_cast<int64_t>(cfg_.history_s * 1e9);
+    const int64_t window_start = state_.last_time_ns - seconds_to_ns_toward_zero(cfg_.history_s);
     // Before the oldest kept sample only while nothing has been trimmed (then the oldest
     // sample's snapshot is the initial state).
     const bool covered =
@@ -191,12 +192,12 @@ GlobalPose GlobalPoseEstimator::estimate(int64_t t_ns) {
   }
   pending_.erase(pending_.begin(), pending_.begin() + static_cast<std::ptrdiff_t>(n));
   if (n > 0) {
-    const int64_t window_start = state_.last_time_ns - static_cast<int64_t>(cfg_.history_s * 1e9);
+    const int64_t window_start = state_.last_time_ns - seconds_to_ns_toward_zero(cfg_.history_s);
     while (!history_.empty() && history_.front().event.t_ns < window_start) {
       history_.pop_front();
       history_trimmed_ = true;
     }
-    attitude_.trim_before(window_start - static_cast<int64_t>(cfg_.max_attitude_gap_s * 1e9));
+    attitude_.trim_before(window_start - seconds_to_ns_toward_zero(cfg_.max_attitude_gap_s));
     motion_.trim_before(window_start);
   }
 

@@ -1,13 +1,13 @@
 #pragma once
 // What the global-pose estimators take besides the dataset's sensor samples (DvlSample,
-// PressureSample, AttitudeSample of pipeline/dataset/dataset_types.h, fed as read), and what they
+// PressureSample, AttitudeSample of core/dataset_types.h, fed as read), and what they
 // give. Timestamps are integer nanoseconds on the clock shared by all sensors.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <cstdint>
 #include <vector>
 
-#include "pipeline/dataset/dataset_types.h"
+#include "core/dataset_types.h"
 #include "pipeline/global_pose/pen_geometry.h"
 #include "pipeline/net_texture.h"
 

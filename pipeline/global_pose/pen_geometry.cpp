@@ -3,6 +3,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "core/net_angles.h"
+
 namespace pensight::global_pose {
 
 Eigen::Matrix3d rotation_level_body(double roll_rad, double pitch_rad) {
@@ -84,7 +86,8 @@ NetRelativePose net_relative_pose(const Eigen::Isometry3d& T_pen_camera, const N
   const double bearing = wall.normal_bearing_rad(hit_P.head<2>());
   const Eigen::Vector3d normal_P(std::cos(bearing), std::sin(bearing), 0);
   const Eigen::Vector3d m = T_pen_camera.linear().transpose() * normal_P;
-  return {*t, std::atan2(-m.x(), m.z()), std::atan2(-m.y(), m.z())};
+  const NetAngles angles = net_angles_from_normal_C(m);
+  return {*t, angles.psi_rad, angles.pitch_rad};
 }
 
 }  // namespace pensight::global_pose

@@ -8,8 +8,8 @@
 #include <Eigen/Geometry>
 #include <optional>
 
-#include "pipeline/dataset/dataset_types.h"
-#include "runtime/units.h"
+#include "core/dataset_types.h"
+#include "core/units.h"
 
 namespace pensight::global_pose {
 

@@ -3,8 +3,8 @@
 #include <cmath>
 #include <utility>
 
-#include "runtime/error.h"
-#include "runtime/log.h"
+#include "core/error.h"
+#include "core/log.h"
 
 namespace pensight::global_pose {
 

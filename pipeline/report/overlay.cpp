@@ -10,9 +10,9 @@
 #include <string_view>
 #include <vector>
 
-#include "pipeline/dataset/atomic_file.h"
-#include "runtime/error.h"
-#include "runtime/units.h"
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "core/units.h"
 
 namespace pensight {
 namespace {

@@ -5,9 +5,9 @@
 #include <filesystem>
 #include <span>
 
+#include "core/image.h"
 #include "kernels/fft_roi/fft_roi.h"
 #include "pipeline/net_detector.h"
-#include "runtime/image.h"
 
 namespace pensight {
 

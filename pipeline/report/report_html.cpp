@@ -18,17 +18,17 @@
 
 #include <opencv2/imgcodecs.hpp>
 
-#include "pipeline/dataset/atomic_file.h"
-#include "pipeline/dataset/csv.h"
+#include "core/atomic_file.h"
+#include "core/csv.h"
+#include "core/error.h"
+#include "core/file_bytes.h"
+#include "core/units.h"
 #include "pipeline/dataset/diagnostics_csv.h"
 #include "pipeline/dataset/estimates_csv.h"
 #include "pipeline/dataset/global_pose_csv.h"
 #include "pipeline/evaluation/evaluation.h"
 #include "pipeline/report/svg_chart.h"
 #include "pipeline/timing_table.h"
-#include "runtime/error.h"
-#include "runtime/file_bytes.h"
-#include "runtime/units.h"
 
 namespace pensight {
 namespace {

@@ -6,7 +6,7 @@
 #include <string_view>
 #include <vector>
 
-#include "runtime/units.h"
+#include "core/units.h"
 
 namespace pensight {
 

@@ -2,8 +2,8 @@
 
 #include <gtest/gtest.h>
 
-#include "pipeline/dataset/strict_yaml.h"
-#include "runtime/error.h"
+#include "core/error.h"
+#include "core/strict_yaml.h"
 
 namespace pensight::control {
 namespace {

@@ -10,7 +10,7 @@
 namespace pensight::control {
 namespace {
 
-// A planar stand-in for the vehicle (the 6-DOF model is tested in tests/sim/vehicle): surge and
+// A planar stand-in for the vehicle (the 6-DOF model is tested in tests/vehicle): surge and
 // sway with the published added mass and damping, yaw rate following the stick's demand with a
 // 0.2 s lag, depth following the climb demand. The net is the plane X = 0, the vehicle at X = -d
 // facing it at heading psi (0: squarely, > 0 turned right, as psi_net); the current flows along X.

@@ -1,4 +1,4 @@
-// The controller flying the 6-DOF BlueROV2 Heavy model (sim/vehicle) in front of a flat net, with
+// The controller flying the 6-DOF BlueROV2 Heavy model (vehicle/) in front of a flat net, with
 // perception replaced by the true pose plus noise: the loops, the vehicle model and the safety
 // logic together, without the renderer (the rendered closed loop is tests/sim/closed_loop).
 #include <gtest/gtest.h>
@@ -10,8 +10,8 @@
 
 #include "control/net_controller.h"
 #include "control/stick_map.h"
-#include "sim/vehicle/vehicle_sim.h"
 #include "tests/support/test_seed.h"
+#include "vehicle/vehicle_sim.h"
 
 namespace pensight::control {
 namespace {

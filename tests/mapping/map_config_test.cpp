@@ -6,8 +6,8 @@
 #include <fstream>
 #include <string>
 
+#include "core/error.h"
 #include "mapping/map_config.h"
-#include "runtime/error.h"
 
 namespace pensight::mapping {
 namespace {

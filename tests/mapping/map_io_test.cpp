@@ -9,9 +9,9 @@
 #include <random>
 #include <string>
 
+#include "core/error.h"
+#include "core/file_bytes.h"
 #include "mapping/map_io.h"
-#include "runtime/error.h"
-#include "runtime/file_bytes.h"
 
 namespace pensight::mapping {
 namespace {

@@ -8,8 +8,8 @@
 #include <chrono>
 #include <thread>
 
+#include "core/error.h"
 #include "mapping/mapping_stage.h"
-#include "runtime/error.h"
 
 namespace pensight::mapping {
 namespace {

@@ -6,8 +6,8 @@
 #include <random>
 #include <vector>
 
+#include "core/units.h"
 #include "mapping/occupancy_map.h"
-#include "runtime/units.h"
 
 namespace pensight::mapping {
 namespace {

@@ -11,8 +11,8 @@
 #include <set>
 #include <tuple>
 
+#include "core/error.h"
 #include "mapping/projective_integrator.h"
-#include "runtime/error.h"
 
 namespace pensight::mapping {
 namespace {

@@ -7,8 +7,8 @@
 #include <cmath>
 #include <limits>
 
+#include "core/error.h"
 #include "mapping/raycast_integrator.h"
-#include "runtime/error.h"
 
 namespace pensight::mapping {
 namespace {

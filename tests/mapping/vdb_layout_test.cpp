@@ -10,7 +10,7 @@
 #include <sstream>
 #include <string>
 
-#include "runtime/error.h"
+#include "core/error.h"
 #include "tests/support/vulkan_fixture.h"
 
 namespace pensight::mapping {

@@ -8,10 +8,10 @@
 #include <unordered_set>
 #include <vector>
 
+#include "core/error.h"
 #include "mavlink/crc.h"
 #include "mavlink/frame.h"
 #include "mavlink/messages.h"
-#include "runtime/error.h"
 #include "tests/mavlink/samples.h"
 
 namespace pensight::mavlink {

@@ -6,9 +6,9 @@
 #include <optional>
 #include <thread>
 
+#include "core/error.h"
 #include "mavlink/endpoint.h"
 #include "mavlink/vehicle_link.h"
-#include "runtime/error.h"
 
 namespace pensight::mavlink {
 namespace {

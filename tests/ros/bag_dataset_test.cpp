@@ -10,13 +10,13 @@
 #include <filesystem>
 #include <string>
 
+#include "core/file_bytes.h"
+#include "core/units.h"
 #include "pipeline/dataset/calibration_yaml.h"
 #include "pipeline/dataset/dataset_reader.h"
 #include "pipeline/dataset/estimates_csv.h"
 #include "pipeline/runner.h"
 #include "ros/bag_dataset.h"
-#include "runtime/file_bytes.h"
-#include "runtime/units.h"
 #include "sim/generate.h"
 #include "sim/scenario.h"
 #include "tests/ros/dataset_to_bag.h"

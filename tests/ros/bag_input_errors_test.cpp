@@ -12,12 +12,12 @@
 #include <random>
 #include <string>
 
+#include "core/error.h"
 #include "pipeline/dataset/calibration_yaml.h"
 #include "pipeline/dataset/dataset_reader.h"
 #include "ros/bag_dataset.h"
 #include "ros/ros_frames.h"
 #include "ros/ros_messages_detail.h"
-#include "runtime/error.h"
 #include "tests/support/test_seed.h"
 
 namespace pensight {

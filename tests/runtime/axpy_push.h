@@ -1,6 +1,6 @@
 #pragma once
-// The push constants of shaders/runtime_test/axpy.comp (y = SCALE * a * x + y over n floats), the
-// test shader of the runtime's own tests.
+// The push constants of tests/runtime/shaders/runtime_test/axpy.comp (y = SCALE * a * x + y over n
+// floats), the test shader of the runtime's own tests.
 #include <cstdint>
 
 namespace pensight::testing {

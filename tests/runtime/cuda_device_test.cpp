@@ -1,7 +1,7 @@
 #include <gtest/gtest.h>
 
+#include "core/error.h"
 #include "runtime/cuda_device.h"
-#include "runtime/error.h"
 
 namespace pensight {
 namespace {

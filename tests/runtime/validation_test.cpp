@@ -11,6 +11,7 @@
 #include "runtime/vk_pipeline.h"
 #include "runtime/vk_stream.h"
 #include "tests/runtime/axpy_push.h"
+#include "tests/runtime/test_shader.h"
 
 namespace pensight {
 namespace {
@@ -45,9 +46,9 @@ TEST(Validation, WrongDescriptorLayoutIsReported) {
   {
     vk::Context ctx(rec.options());
     // axpy reads bindings 0 and 1; a layout with only binding 0 is invalid.
-    vk::Pipeline wrong(
-        ctx,
-        {.shader = "runtime_test/axpy", .num_buffers = 1, .push_constant_bytes = sizeof(AxpyPush)});
+    vk::Pipeline wrong(ctx, {.shader = testing::test_shader("runtime_test/axpy"),
+                             .num_buffers = 1,
+                             .push_constant_bytes = sizeof(AxpyPush)});
     EXPECT_GT(ctx.validation_errors(), 0u);
   }
   EXPECT_FALSE(rec.messages.empty());
@@ -62,9 +63,9 @@ TEST(Validation, MissingBarrierIsReported) {
     x.fill(1.f);
     y.fill(0.f);
     z.fill(0.f);
-    vk::Pipeline axpy(
-        ctx,
-        {.shader = "runtime_test/axpy", .num_buffers = 2, .push_constant_bytes = sizeof(AxpyPush)});
+    vk::Pipeline axpy(ctx, {.shader = testing::test_shader("runtime_test/axpy"),
+                            .num_buffers = 2,
+                            .push_constant_bytes = sizeof(AxpyPush)});
     vk::CommandStream stream(ctx);
     // y is written but declared read-only, so the stream inserts no barrier before y is read.
     stream.dispatch(axpy, {vk::in(x), vk::in(y)}, {4}, AxpyPush{1.f, n});
@@ -84,9 +85,9 @@ TEST(Validation, CorrectChainIsClean) {
   x.fill(1.f);
   y.fill(0.f);
   z.fill(0.f);
-  vk::Pipeline axpy(
-      ctx,
-      {.shader = "runtime_test/axpy", .num_buffers = 2, .push_constant_bytes = sizeof(AxpyPush)});
+  vk::Pipeline axpy(ctx, {.shader = testing::test_shader("runtime_test/axpy"),
+                          .num_buffers = 2,
+                          .push_constant_bytes = sizeof(AxpyPush)});
   vk::CommandStream stream(ctx);
   stream.dispatch(axpy, {vk::in(x), vk::inout(y)}, {4}, AxpyPush{1.f, n});
   stream.dispatch(axpy, {vk::in(y), vk::inout(z)}, {4}, AxpyPush{1.f, n});

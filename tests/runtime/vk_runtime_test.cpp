@@ -7,11 +7,12 @@
 #include <random>
 #include <thread>
 
-#include "runtime/error.h"
+#include "core/error.h"
 #include "runtime/vk_buffer.h"
 #include "runtime/vk_pipeline.h"
 #include "runtime/vk_stream.h"
 #include "tests/runtime/axpy_push.h"
+#include "tests/runtime/test_shader.h"
 #include "tests/support/vulkan_fixture.h"
 
 namespace pensight {
@@ -21,13 +22,13 @@ using testing::AxpyPush;
 using testing::VulkanTest;
 
 vk::Pipeline make_axpy(const vk::Context& ctx) {
-  return vk::Pipeline(
-      ctx,
-      {.shader = "runtime_test/axpy", .num_buffers = 2, .push_constant_bytes = sizeof(AxpyPush)});
+  return vk::Pipeline(ctx, {.shader = testing::test_shader("runtime_test/axpy"),
+                            .num_buffers = 2,
+                            .push_constant_bytes = sizeof(AxpyPush)});
 }
 
 vk::PipelineDesc axpy_desc(float scale) {
-  return {.shader = "runtime_test/axpy",
+  return {.shader = testing::test_shader("runtime_test/axpy"),
           .num_buffers = 2,
           .push_constant_bytes = sizeof(AxpyPush),
           .specialization = {std::bit_cast<uint32_t>(scale)}};
@@ -72,10 +73,23 @@ TEST_F(VulkanTest, BufferRoundTripAndRangeCheck) {
 
 TEST_F(VulkanTest, UnknownShaderIsNamed) {
   try {
-    vk::Pipeline p(ctx(), {.shader = "no/such_shader"});
+    testing::test_shader("no/such_shader");
     FAIL() << "expected an error";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("no/such_shader"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("runtime_test"), std::string::npos) << e.what();
+  }
+  // The kernels' and the renderer's shaders are not the test's: each layer embeds its own.
+  EXPECT_THROW(testing::test_shader("fft_roi/extract"), Error);
+}
+
+TEST_F(VulkanTest, CodeThatIsNotSpirvIsRefusedBeforeTheDriver) {
+  const uint32_t not_spirv[8] = {};
+  try {
+    vk::Pipeline p(ctx(), {.shader = {"bad/words", not_spirv}});
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("bad/words"), std::string::npos) << e.what();
   }
 }
 
@@ -219,8 +233,9 @@ TEST_F(VulkanTest, PipelineRequestsFromManyThreadsAgree) {
 
 TEST_F(VulkanTest, FailedPipelineIsNamedAndNotKept) {
   const size_t before = ctx().num_pipelines();
-  EXPECT_THROW(ctx().pipeline({.shader = "no/such_shader"}), Error);
-  EXPECT_THROW(ctx().pipeline({.shader = "no/such_shader"}), Error);
+  const uint32_t not_spirv[8] = {};
+  EXPECT_THROW(ctx().pipeline({.shader = {"bad/words", not_spirv}}), Error);
+  EXPECT_THROW(ctx().pipeline({.shader = {"bad/words", not_spirv}}), Error);
   EXPECT_EQ(ctx().num_pipelines(), before);
 }
 

@@ -8,10 +8,10 @@
 #include <cmath>
 #include <random>
 
-#include "pipeline/camera.h"
-#include "pipeline/dataset/dataset_types.h"
-#include "runtime/image.h"
-#include "runtime/units.h"
+#include "core/camera.h"
+#include "core/dataset_types.h"
+#include "core/image.h"
+#include "core/units.h"
 
 namespace pensight::testing {
 
@@ -66,7 +66,7 @@ struct FlatNetWorld {
   DvlSample dvl_sample(const DvlCalibration& dvl, double t_s, std::mt19937_64& rng) const {
     std::normal_distribution<double> range_noise(0, 0.01), velocity_noise(0, 0.005);
     DvlSample s;
-    s.timestamp_ns = static_cast<int64_t>(std::llround(t_s * 1e9));
+    s.timestamp_ns = seconds_to_ns(t_s);
     s.valid = true;
     s.velocity_B_mps = velocity_B_mps + Eigen::Vector3d(velocity_noise(rng), velocity_noise(rng),
                                                         velocity_noise(rng));

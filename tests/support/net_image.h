@@ -8,9 +8,9 @@
 
 #include <numbers>
 
-#include "pipeline/camera.h"
-#include "pipeline/dataset/dataset_types.h"
-#include "runtime/image.h"
+#include "core/camera.h"
+#include "core/dataset_types.h"
+#include "core/image.h"
 
 namespace pensight::testing {
 

@@ -46,7 +46,7 @@ std::unique_ptr<sim::FrameRenderer> test_renderer(const sim::Scenario& s) {
   if (std::string(which) != "vulkan")
     throw std::runtime_error(std::string("PENSIGHT_TEST_RENDERER=") + which +
                              ": unknown renderer (use cpu or vulkan)");
-  return sim::make_renderer(s, {}, "vulkan", test_device());
+  return sim::make_renderer(s, {}, Backend::kVulkan, test_device());
 }
 
 sim::Scenario shipped_scenario(const std::string& file, double duration_s) {

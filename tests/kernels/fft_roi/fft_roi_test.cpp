@@ -6,10 +6,10 @@
 #include <numbers>
 #include <random>
 
+#include "core/error.h"
+#include "core/units.h"
 #include "pipeline/net_geometry.h"
 #include "runtime/cuda_device.h"
-#include "runtime/error.h"
-#include "runtime/units.h"
 #include "runtime/vk_buffer.h"
 #include "tests/support/net_image.h"
 #include "tests/support/vulkan_fixture.h"

@@ -2,10 +2,10 @@
 // every activation buffer poisoned (NaN) before the run.
 #include <gtest/gtest.h>
 
+#include "core/error.h"
 #include "kernels/nn/nn.h"
 #include "kernels/nn/nn_models.h"
 #include "kernels/sparse_prior/sparse_prior.h"
-#include "runtime/error.h"
 #include "runtime/vk_buffer.h"
 #include "tests/kernels/nn/nn_test_util.h"
 #include "tests/support/vulkan_fixture.h"

@@ -6,8 +6,7 @@
 #include <opencv2/imgproc.hpp>
 #include <random>
 
-#include "runtime/cuda_device.h"
-#include "runtime/error.h"
+#include "core/error.h"
 #include "runtime/vk_buffer.h"
 #include "tests/support/vulkan_fixture.h"
 
@@ -263,20 +262,6 @@ TEST_F(VulkanTest, SparsePriorCountIsClampedToThePointsBuffer) {
   stream.submit_and_wait();
   expect_prior(out.to_vector(), want, 0, 1e-6f);
   EXPECT_THROW(kernel.record(stream, point_buf, params, out.raw(), 1), Error);  // output too small
-}
-
-TEST(SparsePriorCuda, MatchesReference) {
-#if PENSIGHT_HAS_CUDA
-  if (!cuda::available()) GTEST_SKIP() << "no CUDA device";
-  std::mt19937_64 rng(testing::fresh_seed());
-  const SparsePriorShape s{320, 240, 10};
-  const auto pts = random_points(s, 300, rng);
-  std::vector<float> want(2 * 320 * 240);
-  sparse_prior_cpu_reference(s, pts, want);
-  expect_prior(sparse_prior_cuda(s, pts), want, 0, 1e-6f);
-#else
-  GTEST_SKIP() << "built without CUDA";
-#endif
 }
 
 }  // namespace

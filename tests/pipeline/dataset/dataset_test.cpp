@@ -10,17 +10,17 @@
 #include <opencv2/imgcodecs.hpp>
 #include <random>
 
+#include "core/csv.h"
+#include "core/error.h"
+#include "core/log.h"
+#include "core/units.h"
 #include "pipeline/dataset/calibration_yaml.h"
-#include "pipeline/dataset/csv.h"
 #include "pipeline/dataset/dataset_reader.h"
 #include "pipeline/dataset/dataset_writer.h"
 #include "pipeline/dataset/estimates_csv.h"
 #include "pipeline/dataset/global_pose_csv.h"
 #include "pipeline/dataset/png_io.h"
 #include "pipeline/dataset/trajectory_tum.h"
-#include "runtime/error.h"
-#include "runtime/log.h"
-#include "runtime/units.h"
 #include "tests/support/vulkan_fixture.h"
 
 namespace pensight {

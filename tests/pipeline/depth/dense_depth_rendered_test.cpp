@@ -11,11 +11,11 @@
 #include <cstdlib>
 #include <filesystem>
 
-#include "pipeline/dataset/csv.h"
+#include "core/csv.h"
+#include "core/median.h"
 #include "pipeline/dataset/diagnostics_csv.h"
 #include "pipeline/dataset/estimates_csv.h"
 #include "pipeline/depth/depth_accuracy.h"
-#include "pipeline/median.h"
 #include "pipeline/runner.h"
 #include "tests/support/rendered_run.h"
 #include "tests/support/vulkan_fixture.h"

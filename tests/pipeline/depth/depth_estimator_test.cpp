@@ -10,20 +10,27 @@
 #include <filesystem>
 #include <fstream>
 #include <random>
+#include <utility>
 
+#include "core/error.h"
 #include "kernels/nn/nn_models.h"
 #include "kernels/nn/nn_onnx.h"
 #include "pipeline/depth/depth_estimator.h"
 #include "pipeline/depth/depth_input.h"
 #include "pipeline/depth/prior_surface.h"
 #include "pipeline/net_detector.h"
-#include "runtime/error.h"
 #include "tests/support/depth_models.h"
 #include "tests/support/net_image.h"
 #include "tests/support/vulkan_fixture.h"
 
 namespace pensight {
 namespace {
+
+// Every way the network runs: both CPU libraries and the Vulkan executor.
+constexpr std::pair<Backend, CpuInference> kEveryInference[] = {
+    {Backend::kCpu, CpuInference::kEngine},
+    {Backend::kCpu, CpuInference::kOpenCv},
+    {Backend::kVulkan, CpuInference::kAuto}};
 namespace fs = std::filesystem;
 
 class DepthEstimatorTest : public ::testing::Test {
@@ -78,10 +85,13 @@ TEST_F(DepthEstimatorTest, BackendsAgreeOnTheContract) {
   const Frame f = plane_frame(cam, testing::fresh_seed());
   ASSERT_FALSE(f.priors.empty());
   std::vector<ImageF32> outputs;
-  for (const DepthBackend b :
-       {DepthBackend::kEngineCpu, DepthBackend::kOpenCv, DepthBackend::kVulkan}) {
-    DepthEstimator estimator(cam, {.model = model, .backend = b}, testing::test_device());
-    EXPECT_EQ(estimator.backend(), b) << estimator.description();
+  for (const auto& [backend, inference] : kEveryInference) {
+    DepthEstimator estimator(cam, {.model = model, .backend = backend, .cpu_inference = inference},
+                             testing::test_device());
+    EXPECT_EQ(estimator.backend(), backend) << estimator.description();
+    if (backend == Backend::kCpu) {
+      EXPECT_EQ(estimator.cpu_inference(), inference);
+    }
     const DenseDepth d = estimator.estimate(f.image, f.priors);
     ASSERT_TRUE(d.reason.empty()) << d.reason;
     ASSERT_EQ(d.depth_m.width, cam.width_px);
@@ -130,9 +140,9 @@ TEST_F(DepthEstimatorTest, ThirdPriorChannelIsThePriorSurface) {
                                              fy * ((1 - fx) * at(0, 1) + fx * at(1, 1)));
     }
   }
-  for (const DepthBackend b :
-       {DepthBackend::kEngineCpu, DepthBackend::kOpenCv, DepthBackend::kVulkan}) {
-    DepthEstimator estimator(cam, {.model = model, .backend = b}, testing::test_device());
+  for (const auto& [backend, inference] : kEveryInference) {
+    DepthEstimator estimator(cam, {.model = model, .backend = backend, .cpu_inference = inference},
+                             testing::test_device());
     const DenseDepth d = estimator.estimate(f.image, f.priors);
     ASSERT_TRUE(d.reason.empty()) << d.reason;
     double num = 0, den = 0;
@@ -143,13 +153,16 @@ TEST_F(DepthEstimatorTest, ThirdPriorChannelIsThePriorSurface) {
     // The stage's alignment to the priors moves a surface fitted through them a little:
     // measured 2.1e-4 to 1.7e-3 over 16 seeds. A third channel left empty or holding S2 is off
     // by tens of per cent (on this plane S1 comes within 0.3-2 %, too close to tell apart).
-    EXPECT_LT(std::sqrt(num / den), 4e-3) << to_string(b);
+    EXPECT_LT(std::sqrt(num / den), 4e-3) << estimator.description();
   }
 }
 
 TEST_F(DepthEstimatorTest, PlaneFromDenseDepthRecoversTheNet) {
   const PinholeCamera cam;
-  DepthEstimator estimator(cam, {.model = s1_model(320, 240), .backend = DepthBackend::kEngineCpu},
+  DepthEstimator estimator(cam,
+                           {.model = s1_model(320, 240),
+                            .backend = Backend::kCpu,
+                            .cpu_inference = CpuInference::kEngine},
                            testing::test_device());
   std::mt19937_64 rng(testing::fresh_seed());
   for (int trial = 0; trial < 3; ++trial) {
@@ -172,9 +185,15 @@ TEST_F(DepthEstimatorTest, ScaleIsAlignedToThePriors) {
   const Frame f = plane_frame(cam, testing::fresh_seed());
   ASSERT_FALSE(f.priors.empty());
   testing::write_s1_depth_model(dir_ / "s1x2.onnx", 320, 240, 2.0f);
-  DepthEstimator doubled(cam, {.model = dir_ / "s1x2.onnx", .backend = DepthBackend::kEngineCpu},
+  DepthEstimator doubled(cam,
+                         {.model = dir_ / "s1x2.onnx",
+                          .backend = Backend::kCpu,
+                          .cpu_inference = CpuInference::kEngine},
                          testing::test_device());
-  DepthEstimator plain(cam, {.model = s1_model(320, 240), .backend = DepthBackend::kEngineCpu},
+  DepthEstimator plain(cam,
+                       {.model = s1_model(320, 240),
+                        .backend = Backend::kCpu,
+                        .cpu_inference = CpuInference::kEngine},
                        testing::test_device());
   const DenseDepth a = doubled.estimate(f.image, f.priors), b = plain.estimate(f.image, f.priors);
   ASSERT_EQ(a.depth_m.pixels.size(), b.depth_m.pixels.size());
@@ -205,8 +224,10 @@ TEST_F(DepthEstimatorTest, BadModelsSizesAndFramesWithoutPriors) {
   std::ofstream(dir_ / "junk.onnx") << "not a protobuf";
   EXPECT_THROW(DepthEstimator(cam, {.model = dir_ / "junk.onnx"}, testing::test_device()), Error);
 
-  DepthEstimator estimator(cam, {.model = s1_model(64, 48), .backend = DepthBackend::kEngineCpu},
-                           testing::test_device());
+  DepthEstimator estimator(
+      cam,
+      {.model = s1_model(64, 48), .backend = Backend::kCpu, .cpu_inference = CpuInference::kEngine},
+      testing::test_device());
   EXPECT_THROW(estimator.estimate(ImageU8(640, 480), {}), Error);
   const DenseDepth none = estimator.estimate(ImageU8(cam.width_px, cam.height_px), {});
   EXPECT_FALSE(none.reason.empty());
@@ -214,7 +235,11 @@ TEST_F(DepthEstimatorTest, BadModelsSizesAndFramesWithoutPriors) {
   EXPECT_TRUE(std::isnan(none.pose.d_net_m));
   const std::vector<SparseDepth> nan_prior = {{{100, 100, std::nanf("")}, 1}};
   EXPECT_THROW(estimator.estimate(ImageU8(cam.width_px, cam.height_px), nan_prior), Error);
-  EXPECT_THROW(parse_depth_backend("tensorrt"), Error);
+  EXPECT_THROW(parse_cpu_inference("tensorrt"), Error);
+  // No CUDA path for the network: asked for, it is refused with the alternatives.
+  EXPECT_THROW(DepthEstimator(cam, {.model = s1_model(64, 48), .backend = Backend::kCuda},
+                              testing::test_device()),
+               Error);
 }
 
 }  // namespace

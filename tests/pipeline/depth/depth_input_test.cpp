@@ -4,8 +4,8 @@
 
 #include <random>
 
+#include "core/error.h"
 #include "pipeline/depth/depth_input.h"
-#include "runtime/error.h"
 #include "tests/support/vulkan_fixture.h"
 
 namespace pensight {

@@ -5,8 +5,8 @@
 #include <cmath>
 #include <random>
 
+#include "core/error.h"
 #include "pipeline/depth_priors.h"
-#include "runtime/error.h"
 #include "tests/support/vulkan_fixture.h"
 
 namespace pensight {

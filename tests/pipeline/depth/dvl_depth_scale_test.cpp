@@ -10,7 +10,8 @@
 #include <functional>
 #include <random>
 
-#include "runtime/error.h"
+#include "core/error.h"
+#include "core/units.h"
 #include "sim/sensors.h"
 #include "tests/support/flat_net_world.h"
 #include "tests/support/test_seed.h"
@@ -45,8 +46,7 @@ DvlDepthScaleState run(const World& w, double duration_s, std::mt19937_64& rng,
       if (alter) alter(s, samples++);
       scale.add(s);
     }
-    state = scale.update(static_cast<int64_t>(std::llround(t * 1e9)),
-                         w.camera_depth(cam, camera_mount(), t));
+    state = scale.update(seconds_to_ns(t), w.camera_depth(cam, camera_mount(), t));
   }
   return state;
 }
@@ -79,8 +79,8 @@ TEST(DvlDepthScale, ANetAtItsNominalSizeIsLeftAlone) {
     for (int f = 0; f <= 200; ++f) {
       const double t = f * 0.1;
       if (f % 5 == 0 || f % 5 == 3) scale.add(w.dvl_sample(dvl, t - (f % 5 == 3 ? 0.05 : 0), rng));
-      const DvlDepthScaleState st = scale.update(static_cast<int64_t>(std::llround(t * 1e9)),
-                                                 w.camera_depth(cam, camera_mount(), t));
+      const DvlDepthScaleState st =
+          scale.update(seconds_to_ns(t), w.camera_depth(cam, camera_mount(), t));
       ASSERT_FALSE(st.engaged) << "seed " << seed << " trial " << trial << " t " << t << " s";
       ASSERT_EQ(st.scale, 1.0);
       if (f >= 30) {

@@ -10,8 +10,9 @@
 #include <functional>
 #include <random>
 
+#include "core/error.h"
+#include "core/units.h"
 #include "pipeline/depth/dvl_depth_correction.h"
-#include "runtime/error.h"
 #include "sim/sensors.h"
 #include "tests/support/flat_net_world.h"
 #include "tests/support/test_seed.h"
@@ -53,7 +54,7 @@ DvlNetTiltState run_tilt(const FlatNetWorld& w, double duration_s, std::mt19937_
       if (alter) alter(s, samples++);
       tilt.add(s);
     }
-    state = tilt.update(static_cast<int64_t>(std::llround(t * 1e9)), camera_pose(w, 0.001, rng));
+    state = tilt.update(seconds_to_ns(t), camera_pose(w, 0.001, rng));
     if (check) check(t, state);
   }
   return state;
@@ -202,7 +203,7 @@ TEST(DvlDepthCorrection, ScalesThenTurnsToTheTruePlane) {
       correction.add(w.dvl_sample(dvl, next_dvl_s, rng));
     const ImageF32 depth = w.camera_depth(cam, camera_mount(), t);
     pose = depth_plane_pose(depth, rays);
-    c = correction.apply(static_cast<int64_t>(std::llround(t * 1e9)), depth, pose);
+    c = correction.apply(seconds_to_ns(t), depth, pose);
   }
   ASSERT_TRUE(c.scale.engaged) << "seed " << seed;
   ASSERT_TRUE(c.tilt.psi_engaged) << "seed " << seed << " psi diff " << c.tilt.psi_diff_rad;

@@ -13,7 +13,7 @@
 #include <random>
 #include <vector>
 
-#include "runtime/error.h"
+#include "core/error.h"
 #include "tests/support/vulkan_fixture.h"
 
 namespace pensight {

@@ -5,8 +5,8 @@
 #include <cmath>
 #include <vector>
 
-#include "runtime/error.h"
-#include "runtime/units.h"
+#include "core/error.h"
+#include "core/units.h"
 
 namespace pensight {
 namespace {

@@ -3,7 +3,7 @@
 
 #include <random>
 
-#include "runtime/units.h"
+#include "core/units.h"
 #include "tests/pipeline/fft_detection/sweep.h"
 #include "tests/support/vulkan_fixture.h"
 
@@ -12,11 +12,7 @@ namespace {
 
 using testing::NetScene;
 
-std::vector<ImageU8> render_all(const PinholeCamera& cam, const std::vector<NetScene>& scenes) {
-  std::vector<ImageU8> frames;
-  for (const NetScene& s : scenes) frames.push_back(testing::render_net(cam, s));
-  return frames;
-}
+using testing::render_all;
 
 TEST(FftAccuracy, SweepMeetsBounds) {
   const PinholeCamera cam{.k1 = -0.04, .k2 = 0.01};
@@ -124,77 +120,6 @@ TEST(FftAccuracy, HalfNetFramesRejectTheEmptyRois) {
   EXPECT_LE(testing::percentile(e.d_rel, 0.5), 0.03);
   EXPECT_LE(testing::percentile(e.psi_deg, 0.5), 2.5);
   EXPECT_LE(testing::percentile(e.d_rel, 1.0), 0.2);  // no wrong distance
-}
-
-// Ablation table for docs/fft_detection.md (run with --gtest_also_run_disabled_tests): each
-// improvement over the published method switched on in turn, on the same rendered frames.
-TEST(FftAccuracy, DISABLED_Ablation) {
-  const PinholeCamera cam;
-  const auto full = testing::sweep_scenes(32, 7, {.noise_sigma = 3});
-  const auto half = testing::sweep_scenes(16, 8, {.noise_sigma = 3, .edge_m = 0.0});
-  const auto full_frames = render_all(cam, full), half_frames = render_all(cam, half);
-  struct Variant {
-    const char* label;
-    NetDetectorConfig config;
-  };
-  NetDetectorConfig published{
-      .fft_size = 300, .window = false, .backend = Backend::kCpu, .cpu_threads = 1};
-  published.points.use_centroid = false;
-  published.peaks.subbin = false;
-  published.peaks.subharmonic_ratio = 1e9f;
-  published.points.min_quality = 0;
-  published.pose.inlier_rel = 1e9;
-  published.pose.max_curvature_share = 1e9;
-  NetDetectorConfig window = published;
-  window.window = true;
-  NetDetectorConfig subbin = window;
-  subbin.peaks.subbin = true;
-  NetDetectorConfig resample = subbin;
-  resample.fft_size = 256;
-  NetDetectorConfig centroid = resample;
-  centroid.points.use_centroid = true;
-  NetDetectorConfig reject = centroid;
-  reject.peaks.subharmonic_ratio = 0.2f;
-  reject.points.min_quality = 0.03;
-  reject.pose = {};
-  NetDetectorConfig small = reject;
-  small.fft_size = 128;
-  for (const Variant& v :
-       {Variant{"published (300, no window)", published}, Variant{"+ Hann window", window},
-        Variant{"+ sub-bin peaks", subbin}, Variant{"+ resample 300->256", resample},
-        Variant{"+ energy centroid", centroid}, Variant{"+ rejection (default)", reject},
-        Variant{"default with 128", small}}) {
-    NetDetector detector(cam, v.config, testing::test_device());
-    const auto e = testing::run_sweep(full_frames, full, detector);
-    const auto h = testing::run_sweep(half_frames, half, detector);
-    testing::print_errors(v.label, e);
-    int wrong = 0;
-    for (double d : h.d_rel) wrong += d > 0.2;
-    std::printf("%-28s half net: d_rel median %.2f%% p95 %.2f%%, >20%% off: %d/%d, NaN %d\n", "",
-                100 * testing::percentile(h.d_rel, 0.5), 100 * testing::percentile(h.d_rel, 0.95),
-                wrong, h.frames, h.invalid);
-  }
-}
-
-// Plane slopes alone vs fused with the per-ROI tilts (docs/fft_detection.md), on 48 full-net and
-// 48 half-net frames (the net ends at the optical axis), fixed seeds.
-TEST(FftAccuracy, DISABLED_TiltFusion) {
-  const PinholeCamera cam;
-  for (double edge : {1e9, 0.0}) {
-    const auto scenes = testing::sweep_scenes(48, 8, {.noise_sigma = 3, .edge_m = edge});
-    const auto frames = render_all(cam, scenes);
-    for (bool fuse : {false, true}) {
-      NetDetectorConfig config{.backend = Backend::kCpu};
-      config.pose.fuse_roi_tilt = fuse;
-      NetDetector detector(cam, config, testing::test_device());
-      const std::string label = std::string(edge > 1 ? "full" : "half") + (fuse ? ", fused" : "");
-      const auto e = testing::run_sweep(frames, scenes, detector);
-      testing::print_errors(label.c_str(), e);
-      std::printf("%-28s > 20 %% off: %ld of %d\n", "",
-                  std::count_if(e.d_rel.begin(), e.d_rel.end(), [](double d) { return d > 0.2; }),
-                  e.frames);
-    }
-  }
 }
 
 }  // namespace

@@ -12,8 +12,9 @@
 #include <utility>
 #include <vector>
 
+#include "core/units.h"
 #include "pipeline/net_detector.h"
-#include "runtime/units.h"
+#include "tests/pipeline/fft_detection/chirp_errors.h"
 #include "tests/pipeline/fft_detection/sweep.h"
 #include "tests/support/net_image.h"
 #include "tests/support/test_seed.h"
@@ -25,21 +26,6 @@ namespace {
 struct RangeErrors {
   std::vector<double> measured, corrected;  // |range / truth - 1| per valid ROI
 };
-
-// ROI i's range / truth - 1 from a detection made with the correction off: as measured, and
-// corrected on the scene's true plane (1 where the corrected ROI is not valid). Square mesh.
-std::pair<double, double> roi_range_errors(const NetDetection& d, size_t i,
-                                           const NetDetector& detector, const PinholeCamera& cam,
-                                           const testing::NetScene& s) {
-  const Eigen::Vector3d normal = net_plane_normal(std::tan(s.psi_rad), std::tan(s.pitch_rad));
-  const Eigen::Vector2d px = d.points[i].centre_px;
-  const double truth = ray_on_plane(cam.ray(px), {0, 0, s.distance_m}, normal).norm();
-  const kernels::RoiOrigin o = detector.rois()[i];
-  const MeshModel mesh{s.mesh_m, std::numbers::pi / 2};
-  const RoiNetPoint corrected = roi_net_point(
-      chirp_corrected(d.lattices[i], o, 300, px, cam, normal), o, 300, cam, mesh, {}, &normal);
-  return {d.points[i].range_m / truth - 1, corrected.valid() ? corrected.range_m / truth - 1 : 1.0};
-}
 
 // Oblique nets (|psi| 15-35 deg, |pitch| <= 10 deg) at 0.5-1.5 m, square mesh, thin twines.
 RangeErrors range_errors(uint64_t seed, int frames) {
@@ -60,7 +46,7 @@ RangeErrors range_errors(uint64_t seed, int frames) {
     const NetDetection d = detector.detect(testing::render_net(cam, s));
     for (size_t i = 0; i < d.points.size(); ++i) {
       if (!d.points[i].valid()) continue;
-      const auto [measured, corrected] = roi_range_errors(d, i, detector, cam, s);
+      const auto [measured, corrected] = testing::roi_range_errors(d, i, detector, cam, s);
       e.measured.push_back(std::abs(measured));
       e.corrected.push_back(std::abs(corrected));
     }
@@ -85,35 +71,6 @@ TEST(LatticeChirp, CorrectedRangesLieOnTheRenderedNet) {
   EXPECT_LE(med_after, 0.0035);
   EXPECT_LE(med_after, 0.65 * med_before);
   EXPECT_LE(p95_after, 0.025);
-}
-
-// The row of ROIs through the image centre, near to far side, as measured / corrected on the
-// true plane, for the table in docs/fft_detection.md ("psi bias and the chirp correction").
-TEST(LatticeChirp, DISABLED_RowThroughTheCentre) {
-  const PinholeCamera cam{.k1 = -0.04, .k2 = 0.01};
-  NetDetectorConfig config{.backend = Backend::kCpu};
-  config.chirp_correction = false;
-  NetDetector detector(cam, config, testing::test_device());
-  for (double blur : {0.3, 0.6, 1.2}) {
-    for (double psi_deg : {0.0, 30.0}) {
-      for (double distance : {0.7, 1.5}) {
-        testing::NetScene s{.distance_m = distance,
-                            .psi_rad = deg_to_rad(psi_deg),
-                            .blur_sigma_px = blur,
-                            .noise_sigma = 0};
-        s.twine_m = 0.2 * s.mesh_m;
-        const NetDetection d = detector.detect(testing::render_net(cam, s));
-        std::printf("blur %.1f px, psi %2.0f deg, %.1f m, range error %% as measured / corrected:",
-                    blur, psi_deg, distance);
-        for (size_t i = 0; i < d.points.size(); ++i) {
-          if (!d.points[i].valid() || std::abs(d.points[i].centre_px.y() - 269.5) > 10) continue;
-          const auto [measured, corrected] = roi_range_errors(d, i, detector, cam, s);
-          std::printf(" %+.2f/%+.2f", 100 * measured, 100 * corrected);
-        }
-        std::printf("\n");
-      }
-    }
-  }
 }
 
 TEST(LatticeChirp, DegenerateInputIsReturnedUnchanged) {

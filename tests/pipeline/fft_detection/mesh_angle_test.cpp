@@ -9,7 +9,7 @@
 #include <numbers>
 #include <random>
 
-#include "runtime/units.h"
+#include "core/units.h"
 #include "tests/support/exact_lattice.h"
 #include "tests/support/vulkan_fixture.h"
 

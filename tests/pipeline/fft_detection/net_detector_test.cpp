@@ -5,7 +5,7 @@
 #include <cmath>
 #include <random>
 
-#include "runtime/error.h"
+#include "core/error.h"
 #include "tests/support/net_image.h"
 #include "tests/support/vulkan_fixture.h"
 

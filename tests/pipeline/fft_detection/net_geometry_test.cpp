@@ -8,7 +8,7 @@
 #include <opencv2/calib3d.hpp>
 #include <random>
 
-#include "runtime/error.h"
+#include "core/error.h"
 #include "tests/support/exact_lattice.h"
 #include "tests/support/vulkan_fixture.h"
 

@@ -10,11 +10,11 @@
 #include <filesystem>
 #include <random>
 
+#include "core/error.h"
+#include "core/units.h"
 #include "pipeline/dataset/dataset_reader.h"
 #include "pipeline/net_detector.h"
 #include "pipeline/runner.h"
-#include "runtime/error.h"
-#include "runtime/units.h"
 #include "tests/support/net_image.h"
 #include "tests/support/test_seed.h"
 #include "tests/support/vulkan_fixture.h"

@@ -9,11 +9,11 @@
 #include <filesystem>
 #include <vector>
 
+#include "core/median.h"
+#include "core/units.h"
 #include "pipeline/dataset/dataset_reader.h"
-#include "pipeline/median.h"
 #include "pipeline/net_detector.h"
 #include "pipeline/runner.h"
-#include "runtime/units.h"
 #include "tests/support/vulkan_fixture.h"
 
 namespace pensight {

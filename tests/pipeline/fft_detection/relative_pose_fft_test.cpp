@@ -7,8 +7,8 @@
 #include <cmath>
 #include <random>
 
+#include "core/units.h"
 #include "kernels/fft_roi/fft_roi.h"
-#include "runtime/units.h"
 #include "tests/support/vulkan_fixture.h"
 
 namespace pensight {

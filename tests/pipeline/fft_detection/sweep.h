@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "core/units.h"
 #include "pipeline/net_detector.h"
-#include "runtime/units.h"
 #include "tests/support/net_image.h"
 
 namespace pensight::testing {
@@ -85,6 +85,14 @@ inline SweepErrors run_sweep(const std::vector<ImageU8>& frames,
     }
   }
   return e;
+}
+
+// The scenes rendered through `cam`, one frame each.
+inline std::vector<ImageU8> render_all(const PinholeCamera& cam,
+                                       const std::vector<NetScene>& scenes) {
+  std::vector<ImageU8> frames;
+  for (const NetScene& s : scenes) frames.push_back(render_net(cam, s));
+  return frames;
 }
 
 inline void print_errors(const char* label, const SweepErrors& e) {

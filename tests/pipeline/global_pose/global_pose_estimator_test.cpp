@@ -8,11 +8,11 @@
 #include <random>
 #include <string>
 
+#include "core/error.h"
+#include "core/log.h"
 #include "pipeline/evaluation/evaluation.h"
 #include "pipeline/global_pose/attitude_series.h"
 #include "pipeline/global_pose/published_global_pose.h"
-#include "runtime/error.h"
-#include "runtime/log.h"
 #include "tests/pipeline/global_pose/pen_sim.h"
 #include "tests/support/vulkan_fixture.h"
 

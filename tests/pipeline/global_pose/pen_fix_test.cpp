@@ -6,8 +6,8 @@
 #include <numbers>
 #include <random>
 
+#include "core/error.h"
 #include "pipeline/global_pose/published_global_pose.h"
-#include "runtime/error.h"
 #include "tests/pipeline/global_pose/pen_sim.h"
 #include "tests/support/vulkan_fixture.h"
 

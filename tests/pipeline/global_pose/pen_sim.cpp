@@ -4,6 +4,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "core/units.h"
+
 namespace pensight::global_pose::sim {
 
 Eigen::Isometry3d Pose::T_pen_body() const {
@@ -67,7 +69,7 @@ NetObservation net_observation(const Pose& pose, double radius_m,
                                const Eigen::Isometry3d& T_body_camera, const PointNoise& noise,
                                std::mt19937_64& rng, const PinholeCamera& camera) {
   NetObservation obs;
-  obs.t_ns = kStartNs + static_cast<int64_t>(std::llround(pose.t_s * 1e9));
+  obs.t_ns = kStartNs + seconds_to_ns(pose.t_s);
   const Eigen::Isometry3d T_pen_camera = pose.T_pen_body() * T_body_camera;
   std::normal_distribution<double> unit(0.0, 1.0);
   std::uniform_real_distribution<double> u01(0.0, 1.0);
@@ -119,7 +121,7 @@ Eigen::Vector3d Trajectory::body_velocity(double t_s) const {
 
 namespace {
 int64_t to_ns(double t_s) {
-  return kStartNs + static_cast<int64_t>(std::llround(t_s * 1e9));
+  return kStartNs + seconds_to_ns(t_s);
 }
 }  // namespace
 

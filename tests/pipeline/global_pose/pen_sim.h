@@ -8,8 +8,8 @@
 #include <random>
 #include <vector>
 
-#include "pipeline/camera.h"
-#include "pipeline/dataset/dataset_types.h"
+#include "core/camera.h"
+#include "core/dataset_types.h"
 #include "pipeline/global_pose/dvl_plane.h"
 #include "pipeline/global_pose/measurements.h"
 

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "core/units.h"
 #include "pipeline/evaluation/evaluation.h"
 #include "tests/support/rendered_run.h"
 
@@ -129,8 +130,8 @@ TEST(GlobalPoseRendered, DriftAndDvlSpikeRecovery) {
   const testing::RenderedDataset rendered(s);
   Dataset clean = rendered.dataset();
   ASSERT_TRUE(clean.dvl0.has_value());
-  const int64_t spike_from = s.start_time_ns + static_cast<int64_t>(spike.t_s * 1e9);
-  const int64_t spike_to = spike_from + static_cast<int64_t>(spike.duration_s * 1e9);
+  const int64_t spike_from = s.start_time_ns + seconds_to_ns_toward_zero(spike.t_s);
+  const int64_t spike_to = spike_from + seconds_to_ns_toward_zero(spike.duration_s);
   int spiked_samples = 0;
   for (DvlSample& d : clean.dvl0->samples) {
     if (d.valid && d.timestamp_ns >= spike_from && d.timestamp_ns < spike_to) {

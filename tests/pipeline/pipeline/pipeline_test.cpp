@@ -12,12 +12,12 @@
 #include <random>
 #include <thread>
 
-#include "pipeline/dataset/csv.h"
+#include "core/csv.h"
+#include "core/error.h"
 #include "pipeline/dataset/diagnostics_csv.h"
 #include "pipeline/dataset/png_io.h"
 #include "pipeline/dataset/trajectory_tum.h"
 #include "pipeline/runner.h"
-#include "runtime/error.h"
 #include "tests/support/depth_models.h"
 #include "tests/support/net_image.h"
 #include "tests/support/rendered_run.h"
@@ -265,8 +265,8 @@ TEST(Pipeline, RunWithTheDepthStageWritesDepthPngsAndColumns) {
   options.detector.backend = Backend::kCpu;
   // The engine's executor: OpenCV DNN's own thread pool is not instrumented for ThreadSanitizer
   // (depth_estimator_test covers that backend).
-  options.depth =
-      DepthEstimatorConfig{.model = out / "s1.onnx", .backend = DepthBackend::kEngineCpu};
+  options.depth = DepthEstimatorConfig{
+      .model = out / "s1.onnx", .backend = Backend::kCpu, .cpu_inference = CpuInference::kEngine};
   const RunSummary summary = run_dataset(d, out, options, test_device());
   const std::vector<EstimateRow> rows = read_estimates_csv(out / "estimates.csv");
   ASSERT_EQ(rows.size(), d.frames.size());

@@ -12,6 +12,8 @@
 #include <sstream>
 #include <string>
 
+#include "core/error.h"
+#include "core/units.h"
 #include "pipeline/dataset/diagnostics_csv.h"
 #include "pipeline/dataset/estimates_csv.h"
 #include "pipeline/dataset/global_pose_csv.h"
@@ -19,8 +21,6 @@
 #include "pipeline/report/overlay.h"
 #include "pipeline/report/report_html.h"
 #include "pipeline/timing_table.h"
-#include "runtime/error.h"
-#include "runtime/units.h"
 #include "tests/support/net_image.h"
 #include "tests/support/vulkan_fixture.h"
 

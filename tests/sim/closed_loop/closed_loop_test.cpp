@@ -9,12 +9,12 @@
 #include <string>
 #include <thread>
 
+#include "core/csv.h"
+#include "core/error.h"
 #include "mavlink/endpoint.h"
 #include "mavlink/frame.h"
 #include "mavlink/messages.h"
-#include "pipeline/dataset/csv.h"
 #include "pipeline/dataset/dataset_reader.h"
-#include "runtime/error.h"
 #include "sim/closed_loop_report.h"
 #include "tests/support/vulkan_fixture.h"
 

@@ -9,7 +9,7 @@
 #include <random>
 #include <sstream>
 
-#include "runtime/error.h"
+#include "core/error.h"
 #include "sim/depth_training.h"
 #include "tests/support/vulkan_fixture.h"
 

@@ -11,9 +11,9 @@
 #include <fstream>
 #include <iterator>
 
+#include "core/error.h"
+#include "core/units.h"
 #include "pipeline/dataset/dataset_reader.h"
-#include "runtime/error.h"
-#include "runtime/units.h"
 #include "sim/generate.h"
 #include "sim/sensors.h"
 #include "sim/trajectory.h"

@@ -8,7 +8,7 @@
 #include <complex>
 #include <numbers>
 
-#include "runtime/units.h"
+#include "core/units.h"
 #include "sim/frame_state.h"
 #include "sim/ground_truth.h"
 #include "sim/net_mesh.h"

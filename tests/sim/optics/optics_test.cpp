@@ -7,8 +7,8 @@
 
 #include <cmath>
 
+#include "core/error.h"
 #include "pipeline/dataset/png_io.h"
-#include "runtime/error.h"
 #include "sim/frame_state.h"
 #include "sim/generate.h"
 #include "sim/optics.h"

@@ -6,9 +6,9 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "core/error.h"
+#include "core/units.h"
 #include "pipeline/dataset/sensor_mounts.h"
-#include "runtime/error.h"
-#include "runtime/units.h"
 #include "sim/scenario.h"
 #include "sim/trajectory.h"
 #include "tests/sim/sim_test_scenes.h"
