@@ -10,10 +10,10 @@
 #include "apps/progress_bar.h"
 #include "core/timing.h"
 #include "pipeline/dataset/global_pose_csv.h"
-#include "pipeline/evaluation/evaluation.h"
-#include "pipeline/runner.h"
 #include "sim/generate.h"
 #include "sim/scenario.h"
+#include "tools/evaluation/evaluation.h"
+#include "tools/runner.h"
 
 namespace pensight::app {
 

@@ -10,7 +10,7 @@
 #include "core/error.h"
 #include "core/units.h"
 #include "pipeline/depth/depth_accuracy.h"
-#include "pipeline/runner.h"
+#include "tools/runner.h"
 
 namespace pensight::app {
 

@@ -3,7 +3,7 @@
 
 #include "apps/command.h"
 #include "pipeline/dataset/global_pose_csv.h"
-#include "pipeline/evaluation/evaluation.h"
+#include "tools/evaluation/evaluation.h"
 
 namespace pensight::app {
 

@@ -11,7 +11,7 @@
 #include "pipeline/dataset/diagnostics_csv.h"
 #include "pipeline/dataset/global_pose_csv.h"
 #include "pipeline/dataset/trajectory_tum.h"
-#include "pipeline/runner.h"
+#include "tools/runner.h"
 #if PENSIGHT_HAS_MAPPING
 #include "mapping/map_io.h"
 #include "mapping/mapping_stage.h"

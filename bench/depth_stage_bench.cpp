@@ -15,7 +15,7 @@
 #include "pipeline/depth/depth_estimator.h"
 #include "pipeline/depth/dvl_depth_scale.h"
 #include "pipeline/depth/dvl_net_tilt.h"
-#include "pipeline/net_detector.h"
+#include "pipeline/fft/net_detector.h"
 #include "runtime/device.h"
 #include "sim/frame_state.h"
 #include "sim/net_geometry.h"

@@ -22,7 +22,7 @@
 
 #include "core/timing.h"
 #include "kernels/fft_roi/fft_roi.h"
-#include "pipeline/net_detector.h"
+#include "pipeline/fft/net_detector.h"
 #include "runtime/vk_buffer.h"
 #include "runtime/vk_context.h"
 #include "runtime/vk_stream.h"

@@ -27,10 +27,10 @@
 #include "mapping/map_io.h"
 #include "mapping/projective_integrator.h"
 #include "mapping/raycast_integrator.h"
-#include "pipeline/evaluation/evaluation.h"
 #include "sim/frame_state.h"
 #include "sim/scenario.h"
 #include "sim/truth_depth.h"
+#include "tools/evaluation/evaluation.h"
 #if PENSIGHT_HAVE_WAVEMAP
 #include "bench/mapping/wavemap_peer.h"
 #endif

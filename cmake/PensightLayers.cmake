@@ -1,7 +1,7 @@
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
 
-# The installed headers keep the include paths the code uses ("pipeline/net_detector.h"), under
+# The installed headers keep the include paths the code uses ("pipeline/fft/net_detector.h"), under
 # their own folder so they cannot clash with another package's runtime/ or pipeline/.
 set(PENSIGHT_INSTALL_INCLUDEDIR ${CMAKE_INSTALL_INCLUDEDIR}/pensight)
 set(PENSIGHT_INSTALL_CMAKEDIR ${CMAKE_INSTALL_LIBDIR}/cmake/pensight)

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "core/units.h"
-#include "pipeline/evaluation/evaluation.h"
+#include "tools/evaluation/evaluation.h"
 
 namespace pensight::mapping {
 namespace {

@@ -32,9 +32,9 @@
 #include "core/image.h"
 #include "pipeline/depth/depth_estimator.h"
 #include "pipeline/depth/dvl_depth_correction.h"
+#include "pipeline/fft/net_detector.h"
 #include "pipeline/global_pose/global_pose_estimator.h"
 #include "pipeline/global_pose/published_global_pose.h"
-#include "pipeline/net_detector.h"
 #include "pipeline/stage_stats.h"
 #include "runtime/device.h"
 

@@ -11,12 +11,12 @@
 #include "pipeline/dataset/dataset_reader.h"
 #include "pipeline/dataset/dataset_writer.h"
 #include "pipeline/pipeline.h"
-#include "pipeline/runner.h"
 #include "sim/closed_loop_report.h"
 #include "sim/generate.h"
 #include "sim/ground_truth.h"
 #include "sim/net_geometry.h"
 #include "sim/sensors.h"
+#include "tools/runner.h"
 #include "vehicle/vehicle_sim.h"
 
 namespace pensight::sim {

@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "control/net_controller.h"
-#include "pipeline/net_detector.h"
+#include "pipeline/fft/net_detector.h"
 #include "runtime/device.h"
 #include "sim/scenario.h"
 

@@ -7,7 +7,7 @@
 #include "core/atomic_file.h"
 #include "core/csv.h"
 #include "core/units.h"
-#include "pipeline/report/svg_chart.h"
+#include "tools/report/svg_chart.h"
 
 namespace pensight::sim {
 

@@ -12,12 +12,12 @@
 #include "core/error.h"
 #include "pipeline/dataset/dataset_reader.h"
 #include "pipeline/depth/depth_input.h"
-#include "pipeline/net_detector.h"
-#include "pipeline/runner.h"
+#include "pipeline/fft/net_detector.h"
 #include "runtime/device.h"
 #include "sim/frame_state.h"
 #include "sim/ground_truth.h"
 #include "sim/render_cpu.h"
+#include "tools/runner.h"
 
 namespace pensight::sim {
 namespace {

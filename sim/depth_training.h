@@ -22,7 +22,7 @@
 
 #include "core/image.h"
 #include "pipeline/depth/prior_surface.h"
-#include "pipeline/net_geometry.h"
+#include "pipeline/fft/net_geometry.h"
 #include "sim/scenario.h"
 
 namespace pensight::sim {

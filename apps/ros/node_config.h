@@ -11,7 +11,7 @@
 
 #include "core/dataset_types.h"
 #include "pipeline/depth/depth_estimator.h"
-#include "pipeline/net_detector.h"
+#include "pipeline/fft/net_detector.h"
 #include "ros/pressure_depth.h"
 
 namespace pensight::node {

@@ -6,7 +6,7 @@
 #include <cstring>
 
 #include "core/units.h"
-#include "pipeline/relative_pose_fft.h"
+#include "pipeline/fft/relative_pose_fft.h"
 
 namespace pensight::node {
 namespace {

@@ -31,9 +31,9 @@
 #include "core/error.h"
 #include "core/units.h"
 #include "pipeline/pipeline.h"
-#include "pipeline/runner.h"
 #include "ros/bag_topics.h"
 #include "ros/message_conversions_detail.h"
+#include "tools/runner.h"
 #if PENSIGHT_HAS_MAPPING
 #include "mapping/map_io.h"
 #include "mapping/mapping_stage.h"

@@ -9,8 +9,8 @@
 #include "core/units.h"
 #include "pipeline/dataset/dataset_reader.h"
 #include "pipeline/pipeline.h"
-#include "pipeline/runner.h"
 #include "runtime/device.h"
+#include "tools/runner.h"
 
 int main(int argc, char** argv) {
   if (argc != 2) {

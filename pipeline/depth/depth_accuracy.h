@@ -15,7 +15,7 @@
 #include "pipeline/dataset/dataset_reader.h"
 #include "pipeline/depth/depth_estimator.h"
 #include "pipeline/depth/dvl_depth_correction.h"
-#include "pipeline/net_detector.h"
+#include "pipeline/fft/net_detector.h"
 
 namespace pensight {
 

@@ -28,7 +28,7 @@
 #include "core/camera.h"
 #include "core/image.h"
 #include "pipeline/depth/depth_plane.h"
-#include "pipeline/net_geometry.h"
+#include "pipeline/fft/net_geometry.h"
 #include "runtime/device.h"
 
 namespace pensight {

@@ -8,7 +8,7 @@
 
 #include "core/image.h"
 #include "kernels/sparse_prior/sparse_prior.h"
-#include "pipeline/net_geometry.h"
+#include "pipeline/fft/net_geometry.h"
 
 namespace pensight {
 

@@ -29,7 +29,7 @@
 #include <span>
 #include <vector>
 
-#include "pipeline/net_geometry.h"
+#include "pipeline/fft/net_geometry.h"
 
 namespace pensight {
 

@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "core/dataset_types.h"
+#include "pipeline/fft/net_texture.h"
 #include "pipeline/global_pose/pen_geometry.h"
-#include "pipeline/net_texture.h"
 
 namespace pensight::global_pose {
 

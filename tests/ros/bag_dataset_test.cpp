@@ -15,7 +15,6 @@
 #include "pipeline/dataset/calibration_yaml.h"
 #include "pipeline/dataset/dataset_reader.h"
 #include "pipeline/dataset/estimates_csv.h"
-#include "pipeline/runner.h"
 #include "ros/bag_dataset.h"
 #include "sim/generate.h"
 #include "sim/scenario.h"
@@ -23,6 +22,7 @@
 #include "tests/support/rendered_run.h"
 #include "tests/support/test_seed.h"
 #include "tests/support/vulkan_fixture.h"
+#include "tools/runner.h"
 
 namespace pensight {
 namespace {

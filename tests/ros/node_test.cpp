@@ -21,13 +21,13 @@
 
 #include "apps/ros/node_messages.h"
 #include "pipeline/dataset/estimates_csv.h"
-#include "pipeline/runner.h"
 #include "ros/bag_dataset.h"
 #include "tests/ros/child_process.h"
 #include "tests/ros/dataset_to_bag.h"
 #include "tests/support/rendered_run.h"
 #include "tests/support/test_seed.h"
 #include "tests/support/vulkan_fixture.h"
+#include "tools/runner.h"
 
 namespace pensight {
 namespace {

@@ -10,9 +10,9 @@
 #include "pipeline/dataset/dataset_reader.h"
 #include "pipeline/dataset/estimates_csv.h"
 #include "pipeline/dataset/trajectory_tum.h"
-#include "pipeline/runner.h"
 #include "sim/generate.h"
 #include "sim/scenario.h"
+#include "tools/runner.h"
 
 namespace pensight::testing {
 

@@ -8,7 +8,7 @@
 
 #include "core/error.h"
 #include "core/units.h"
-#include "pipeline/net_geometry.h"
+#include "pipeline/fft/net_geometry.h"
 #include "runtime/cuda_device.h"
 #include "runtime/vk_buffer.h"
 #include "tests/support/net_image.h"

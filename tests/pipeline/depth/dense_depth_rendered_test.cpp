@@ -16,9 +16,9 @@
 #include "pipeline/dataset/diagnostics_csv.h"
 #include "pipeline/dataset/estimates_csv.h"
 #include "pipeline/depth/depth_accuracy.h"
-#include "pipeline/runner.h"
 #include "tests/support/rendered_run.h"
 #include "tests/support/vulkan_fixture.h"
+#include "tools/runner.h"
 
 namespace pensight {
 namespace {

@@ -18,7 +18,7 @@
 #include "pipeline/depth/depth_estimator.h"
 #include "pipeline/depth/depth_input.h"
 #include "pipeline/depth/prior_surface.h"
-#include "pipeline/net_detector.h"
+#include "pipeline/fft/net_detector.h"
 #include "tests/support/depth_models.h"
 #include "tests/support/net_image.h"
 #include "tests/support/vulkan_fixture.h"

@@ -6,7 +6,7 @@
 #include <random>
 
 #include "core/error.h"
-#include "pipeline/depth_priors.h"
+#include "pipeline/fft/depth_priors.h"
 #include "tests/support/vulkan_fixture.h"
 
 namespace pensight {

@@ -1,12 +1,12 @@
 #pragma once
 // A ROI's range error against the rendered net's truth, as the kernel's lattice measures it and as
-// the chirp correction (pipeline/lattice_chirp.h) corrects it on the true plane.
+// the chirp correction (pipeline/fft/lattice_chirp.h) corrects it on the true plane.
 #include <cmath>
 #include <numbers>
 #include <utility>
 
-#include "pipeline/lattice_chirp.h"
-#include "pipeline/net_detector.h"
+#include "pipeline/fft/lattice_chirp.h"
+#include "pipeline/fft/net_detector.h"
 #include "tests/support/net_image.h"
 
 namespace pensight::testing {

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "core/units.h"
-#include "pipeline/net_detector.h"
+#include "pipeline/fft/net_detector.h"
 #include "tests/pipeline/fft_detection/chirp_errors.h"
 #include "tests/pipeline/fft_detection/sweep.h"
 #include "tests/support/vulkan_fixture.h"

@@ -1,7 +1,7 @@
-// The chirp correction of a ROI's lattice (pipeline/lattice_chirp.h) against the rendered net's
+// The chirp correction of a ROI's lattice (pipeline/fft/lattice_chirp.h) against the rendered net's
 // truth: each ROI's range on its point's ray, from the kernel's lattice as measured and as
 // corrected on the true plane.
-#include "pipeline/lattice_chirp.h"
+#include "pipeline/fft/lattice_chirp.h"
 
 #include <gtest/gtest.h>
 
@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "core/units.h"
-#include "pipeline/net_detector.h"
+#include "pipeline/fft/net_detector.h"
 #include "tests/pipeline/fft_detection/chirp_errors.h"
 #include "tests/pipeline/fft_detection/sweep.h"
 #include "tests/support/net_image.h"

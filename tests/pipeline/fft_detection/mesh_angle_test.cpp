@@ -1,6 +1,6 @@
 // The lattice model of net_geometry.h for cells of any opening angle, the basis reduction, and
 // the frame-level opening angle of mesh_angle.h, on exact lattices of known planar nets.
-#include "pipeline/mesh_angle.h"
+#include "pipeline/fft/mesh_angle.h"
 
 #include <gtest/gtest.h>
 

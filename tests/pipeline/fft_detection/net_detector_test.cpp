@@ -1,4 +1,4 @@
-#include "pipeline/net_detector.h"
+#include "pipeline/fft/net_detector.h"
 
 #include <gtest/gtest.h>
 

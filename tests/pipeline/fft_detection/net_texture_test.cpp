@@ -1,6 +1,6 @@
 // Net texture odometry (net_texture.h) through the whole detector: two analytic frames of a
 // planar net whose lattice moved by a known amount within its plane.
-#include "pipeline/net_texture.h"
+#include "pipeline/fft/net_texture.h"
 
 #include <gtest/gtest.h>
 
@@ -13,11 +13,11 @@
 #include "core/error.h"
 #include "core/units.h"
 #include "pipeline/dataset/dataset_reader.h"
-#include "pipeline/net_detector.h"
-#include "pipeline/runner.h"
+#include "pipeline/fft/net_detector.h"
 #include "tests/support/net_image.h"
 #include "tests/support/test_seed.h"
 #include "tests/support/vulkan_fixture.h"
+#include "tools/runner.h"
 
 namespace pensight {
 namespace {

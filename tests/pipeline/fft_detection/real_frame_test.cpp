@@ -12,9 +12,9 @@
 #include "core/median.h"
 #include "core/units.h"
 #include "pipeline/dataset/dataset_reader.h"
-#include "pipeline/net_detector.h"
-#include "pipeline/runner.h"
+#include "pipeline/fft/net_detector.h"
 #include "tests/support/vulkan_fixture.h"
+#include "tools/runner.h"
 
 namespace pensight {
 namespace {

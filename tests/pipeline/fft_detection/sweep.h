@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "core/units.h"
-#include "pipeline/net_detector.h"
+#include "pipeline/fft/net_detector.h"
 #include "tests/support/net_image.h"
 
 namespace pensight::testing {

@@ -6,8 +6,8 @@
 #include <ostream>
 #include <string>
 
-#include "pipeline/evaluation/evaluation.h"
 #include "tests/support/rendered_run.h"
+#include "tools/evaluation/evaluation.h"
 
 namespace pensight {
 namespace {

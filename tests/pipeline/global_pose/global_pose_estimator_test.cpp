@@ -10,11 +10,11 @@
 
 #include "core/error.h"
 #include "core/log.h"
-#include "pipeline/evaluation/evaluation.h"
 #include "pipeline/global_pose/attitude_series.h"
 #include "pipeline/global_pose/published_global_pose.h"
 #include "tests/pipeline/global_pose/pen_sim.h"
 #include "tests/support/vulkan_fixture.h"
+#include "tools/evaluation/evaluation.h"
 
 namespace pensight::global_pose {
 namespace {

@@ -15,8 +15,8 @@
 #include <vector>
 
 #include "core/units.h"
-#include "pipeline/evaluation/evaluation.h"
 #include "tests/support/rendered_run.h"
+#include "tools/evaluation/evaluation.h"
 
 namespace pensight {
 namespace {

@@ -17,11 +17,11 @@
 #include "pipeline/dataset/diagnostics_csv.h"
 #include "pipeline/dataset/png_io.h"
 #include "pipeline/dataset/trajectory_tum.h"
-#include "pipeline/runner.h"
 #include "tests/support/depth_models.h"
 #include "tests/support/net_image.h"
 #include "tests/support/rendered_run.h"
 #include "tests/support/vulkan_fixture.h"
+#include "tools/runner.h"
 
 namespace pensight {
 namespace {

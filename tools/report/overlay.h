@@ -7,7 +7,7 @@
 
 #include "core/image.h"
 #include "kernels/fft_roi/fft_roi.h"
-#include "pipeline/net_detector.h"
+#include "pipeline/fft/net_detector.h"
 
 namespace pensight {
 

@@ -1,4 +1,4 @@
-#include "pipeline/net_texture.h"
+#include "pipeline/fft/net_texture.h"
 
 #include <cmath>
 #include <complex>

@@ -1,4 +1,4 @@
-#include "pipeline/lattice_chirp.h"
+#include "pipeline/fft/lattice_chirp.h"
 
 #include <Eigen/LU>
 #include <array>
@@ -6,7 +6,7 @@
 #include <numbers>
 #include <optional>
 
-#include "pipeline/net_geometry.h"
+#include "pipeline/fft/net_geometry.h"
 
 namespace pensight {
 

@@ -1,4 +1,4 @@
-#include "pipeline/report/svg_chart.h"
+#include "tools/report/svg_chart.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "pipeline/timing_table.h"
+#include "tools/timing_table.h"
 
 #include <cstdio>
 #include <sstream>

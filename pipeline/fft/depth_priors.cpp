@@ -1,4 +1,4 @@
-#include "pipeline/depth_priors.h"
+#include "pipeline/fft/depth_priors.h"
 
 #include <cmath>
 #include <string>

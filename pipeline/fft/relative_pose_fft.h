@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "core/units.h"
-#include "pipeline/net_geometry.h"
+#include "pipeline/fft/net_geometry.h"
 
 namespace pensight {
 

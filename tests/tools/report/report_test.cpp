@@ -17,12 +17,12 @@
 #include "pipeline/dataset/diagnostics_csv.h"
 #include "pipeline/dataset/estimates_csv.h"
 #include "pipeline/dataset/global_pose_csv.h"
-#include "pipeline/net_detector.h"
-#include "pipeline/report/overlay.h"
-#include "pipeline/report/report_html.h"
-#include "pipeline/timing_table.h"
+#include "pipeline/fft/net_detector.h"
 #include "tests/support/net_image.h"
 #include "tests/support/vulkan_fixture.h"
+#include "tools/report/overlay.h"
+#include "tools/report/report_html.h"
+#include "tools/timing_table.h"
 
 namespace pensight {
 namespace {

@@ -18,8 +18,8 @@
 
 #include "core/camera.h"
 #include "core/image.h"
-#include "pipeline/net_geometry.h"
-#include "pipeline/relative_pose_fft.h"
+#include "pipeline/fft/net_geometry.h"
+#include "pipeline/fft/relative_pose_fft.h"
 
 namespace pensight {
 

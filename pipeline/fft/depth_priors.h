@@ -13,8 +13,8 @@
 #include <vector>
 
 #include "core/camera.h"
-#include "pipeline/net_geometry.h"
-#include "pipeline/relative_pose_fft.h"
+#include "pipeline/fft/net_geometry.h"
+#include "pipeline/fft/relative_pose_fft.h"
 
 namespace pensight {
 

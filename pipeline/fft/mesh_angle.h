@@ -19,7 +19,7 @@
 
 #include "core/camera.h"
 #include "core/dataset_types.h"
-#include "pipeline/net_geometry.h"
+#include "pipeline/fft/net_geometry.h"
 
 namespace pensight {
 

@@ -1,4 +1,4 @@
-#include "pipeline/relative_pose_fft.h"
+#include "pipeline/fft/relative_pose_fft.h"
 
 #include <Eigen/Dense>
 #include <algorithm>

@@ -1,4 +1,4 @@
-#include "pipeline/report/overlay.h"
+#include "tools/report/overlay.h"
 
 #include <array>
 #include <cmath>

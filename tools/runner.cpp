@@ -1,4 +1,4 @@
-#include "pipeline/runner.h"
+#include "tools/runner.h"
 
 #include "pipeline/dataset/dataset_reader.h"
 #include "pipeline/dataset/png_io.h"
@@ -22,8 +22,8 @@
 #include "pipeline/dataset/global_pose_csv.h"
 #include "pipeline/dataset/trajectory_tum.h"
 #include "pipeline/pipeline.h"
-#include "pipeline/report/overlay.h"
-#include "pipeline/report/report_html.h"
+#include "tools/report/overlay.h"
+#include "tools/report/report_html.h"
 
 namespace pensight {
 namespace {

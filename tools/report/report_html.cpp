@@ -1,4 +1,4 @@
-#include "pipeline/report/report_html.h"
+#include "tools/report/report_html.h"
 
 #include <algorithm>
 #include <cmath>
@@ -26,9 +26,9 @@
 #include "pipeline/dataset/diagnostics_csv.h"
 #include "pipeline/dataset/estimates_csv.h"
 #include "pipeline/dataset/global_pose_csv.h"
-#include "pipeline/evaluation/evaluation.h"
-#include "pipeline/report/svg_chart.h"
-#include "pipeline/timing_table.h"
+#include "tools/evaluation/evaluation.h"
+#include "tools/report/svg_chart.h"
+#include "tools/timing_table.h"
 
 namespace pensight {
 namespace {

@@ -10,11 +10,11 @@
 #include <vector>
 
 #include "pipeline/dataset/dataset_reader.h"
+#include "pipeline/fft/net_detector.h"
 #include "pipeline/global_pose/global_pose_estimator.h"
-#include "pipeline/net_detector.h"
 #include "pipeline/pipeline.h"
-#include "pipeline/timing_table.h"
 #include "runtime/device.h"
+#include "tools/timing_table.h"
 
 namespace pensight {
 
@@ -28,7 +28,7 @@ struct RunOptions {
   // Push each sample at its timestamp (relative to the first) instead of as fast as possible, so
   // the timing is a vehicle's at the dataset's rates.
   bool realtime = false;
-  // OUT/overlays/<cam0 file>.png for every frame (pipeline/report/overlay.h); without it, for
+  // OUT/overlays/<cam0 file>.png for every frame (tools/report/overlay.h); without it, for
   // kReportOverlays evenly spaced frames, which OUT/report.html shows.
   bool overlays = false;
   // Called after each frame with (frames done, total frames), on the pipeline's delivery thread.

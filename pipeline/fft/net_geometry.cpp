@@ -1,4 +1,4 @@
-#include "pipeline/net_geometry.h"
+#include "pipeline/fft/net_geometry.h"
 
 #include <Eigen/Geometry>
 #include <Eigen/SVD>

@@ -1,4 +1,4 @@
-#include "pipeline/net_detector.h"
+#include "pipeline/fft/net_detector.h"
 
 #include <Eigen/Core>
 #include <optional>
@@ -6,7 +6,7 @@
 
 #include "core/error.h"
 #include "core/timing.h"
-#include "pipeline/lattice_chirp.h"
+#include "pipeline/fft/lattice_chirp.h"
 #include "runtime/vk_buffer.h"
 #include "runtime/vk_stream.h"
 

@@ -1,4 +1,4 @@
-#include "pipeline/evaluation/evaluation.h"
+#include "tools/evaluation/evaluation.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "pipeline/mesh_angle.h"
+#include "pipeline/fft/mesh_angle.h"
 
 #include <Eigen/Geometry>
 #include <algorithm>

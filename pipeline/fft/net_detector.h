@@ -12,11 +12,11 @@
 #include "core/backend.h"
 #include "core/camera.h"
 #include "kernels/fft_roi/fft_roi.h"
-#include "pipeline/depth_priors.h"
-#include "pipeline/mesh_angle.h"
-#include "pipeline/net_geometry.h"
-#include "pipeline/net_texture.h"
-#include "pipeline/relative_pose_fft.h"
+#include "pipeline/fft/depth_priors.h"
+#include "pipeline/fft/mesh_angle.h"
+#include "pipeline/fft/net_geometry.h"
+#include "pipeline/fft/net_texture.h"
+#include "pipeline/fft/relative_pose_fft.h"
 #include "runtime/device.h"
 
 namespace pensight {
