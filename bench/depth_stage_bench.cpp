@@ -47,7 +47,7 @@ const Frame& frame() {
     Device device;
     NetDetectorConfig config;
     config.backend = Backend::kCpu;
-    config.mesh_m = s.net.mesh_m;
+    config.bar_length_m = s.net.bar_length_m;
     out.priors = NetDetector(out.camera, config, device).detect(out.image).depths;
     return out;
   }();

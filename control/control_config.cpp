@@ -23,9 +23,12 @@ const Param<PidGains> kGainParams[] = {
 };
 
 const Param<LoopLimits> kLimitParams[] = {
-    {"surge_speed_mps", &LoopLimits::surge_speed_mps, "m/s", kPositive, "|u_ref|"},
-    {"sway_speed_mps", &LoopLimits::sway_speed_mps, "m/s", kPositive, "|v_ref| a leg may ask for"},
-    {"yaw_rate_radps", &LoopLimits::yaw_rate_radps, "rad/s", kPositive, "|r_ref|"},
+    {"surge_speed_mps", &LoopLimits::surge_speed_mps, "m/s", kPositive,
+     "largest surge speed reference"},
+    {"sway_speed_mps", &LoopLimits::sway_speed_mps, "m/s", kPositive,
+     "largest sway speed a leg may ask for"},
+    {"yaw_rate_radps", &LoopLimits::yaw_rate_radps, "rad/s", kPositive,
+     "largest yaw-rate reference"},
     {"climb_rate_mps", &LoopLimits::climb_rate_mps, "m/s", kPositive, "depth changes"},
     {"depth_gain_per_s", &LoopLimits::depth_gain_per_s, "1/s", kPositive,
      "climb-rate demand per metre of depth error"},

@@ -31,8 +31,8 @@ std::optional<MeshType> parse_mesh_type(const std::string& name);
 
 // scene.yaml.
 struct SceneConfig {
-  double net_mesh_size_m = 0.030;  // bar length: knot to knot
-  double pen_radius_m = 12.0;      // a flat net is a large radius (e.g. 100)
+  double bar_length_m = 0.030;  // bar length: knot to knot
+  double pen_radius_m = 12.0;   // a flat net is a large radius (e.g. 100)
   std::optional<double> initial_rho_rad;
   // Optional (contract 1.1): a prior for the detector, which estimates what is absent.
   std::optional<MeshType> net_mesh_type;

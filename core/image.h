@@ -12,7 +12,7 @@ namespace pensight {
 // The largest image side pensight reads from a dataset or a bag (cam0/sensor.yaml's resolution,
 // sensor_msgs Image and CameraInfo): far above any camera, small enough that width x height x 4
 // bytes stays within 1 GiB.
-inline constexpr int kMaxImageSidePx = 16384;
+inline constexpr int kMaxImageSide_px = 16384;
 
 template <class T>
 struct Image {

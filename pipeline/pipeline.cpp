@@ -20,7 +20,7 @@ namespace {
 using Clock = StageMeter::Clock;
 
 // A DVL plane older than two DVL periods (4 Hz) no longer describes the frame.
-constexpr int64_t kMaxPlaneAgeNs = 500'000'000;
+constexpr int64_t kMaxPlaneAge_ns = 500'000'000;
 // Sensor samples held per sensor for the next frame: 50 s of 200 Hz attitude.
 constexpr size_t kMaxHeld = 10'000;
 
@@ -269,7 +269,7 @@ struct Pipeline::Impl {
         r.global_pose = estimator.estimate(r.timestamp_ns);
         if (published) r.published = published->add(obs);
         if (const auto plane = estimator.last_dvl_plane();
-            plane && std::abs(r.timestamp_ns - plane->first) <= kMaxPlaneAgeNs) {
+            plane && std::abs(r.timestamp_ns - plane->first) <= kMaxPlaneAge_ns) {
           r.dvl_plane = plane->second.in_camera(config.global_pose.T_body_camera);
         }
       } catch (const std::exception& e) {

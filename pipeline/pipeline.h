@@ -78,7 +78,7 @@ struct FrameResult {
 
 struct PipelineConfig {
   PinholeCamera camera;
-  NetDetectorConfig detector;  // its mesh_m is the net's (scene.yaml net_mesh_size_m)
+  NetDetectorConfig detector;  // its bar_length_m is the net's (scene.yaml net_mesh_size_m)
   global_pose::GlobalPoseEstimatorConfig global_pose;
   // The dense-depth stage (a model file, its backend and the net wall's curvature,
   // net_curvature_per_m(scene)); off when unset.

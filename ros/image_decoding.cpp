@@ -75,7 +75,7 @@ ImageU8 grey_from_raw_image(uint32_t width, uint32_t height, uint32_t step,
                 "' is not supported; pensight reads " + kSupportedImageEncodings +
                 " (convert the images in the bag, or publish one of these)");
   }
-  constexpr auto kMaxSide = static_cast<uint32_t>(kMaxImageSidePx);
+  constexpr auto kMaxSide = static_cast<uint32_t>(kMaxImageSide_px);
   if (width == 0 || height == 0 || width > kMaxSide || height > kMaxSide) {
     throw Error("topic '" + topic + "': image of " + std::to_string(width) + "x" +
                 std::to_string(height) + " px; pensight reads 1 to " + std::to_string(kMaxSide) +

@@ -22,7 +22,7 @@ CameraCalibration camera_from_info(const msg::CameraInfo& info, const std::strin
   const auto fail = [&](const std::string& what) {
     throw Error("topic '" + topic + "': " + what + "; " + fix);
   };
-  constexpr auto kMaxSide = static_cast<uint32_t>(kMaxImageSidePx);
+  constexpr auto kMaxSide = static_cast<uint32_t>(kMaxImageSide_px);
   if (info.width == 0 || info.height == 0 || info.width > kMaxSide || info.height > kMaxSide) {
     fail("image size " + std::to_string(info.width) + "x" + std::to_string(info.height) +
          " (1 to " + std::to_string(kMaxSide) + " px per side)");

@@ -108,7 +108,7 @@ ClosedLoopSummary run_closed_loop(const Scenario& s, const std::filesystem::path
   const int frames = s.num_frames();
   // The physics ticks at 200 Hz between events; sensors fire on the first tick at or after
   // their time.
-  constexpr double kTickS = 0.005;
+  constexpr double kTick_s = 0.005;
   // The latest command and when it lands (infinity: landed).
   vehicle::ManualCommand pending;
   double pending_at_s = std::numeric_limits<double>::infinity();
@@ -145,7 +145,7 @@ ClosedLoopSummary run_closed_loop(const Scenario& s, const std::filesystem::path
         pipeline.push(a);
       }
       if (t + 1e-9 >= t_frame) break;
-      vehicle.advance(std::min(kTickS, t_frame - t));
+      vehicle.advance(std::min(kTick_s, t_frame - t));
     }
 
     // The frame: rendered, perceived, controlled.

@@ -23,7 +23,7 @@ namespace pensight::sim {
 namespace {
 
 constexpr double kDeg = std::numbers::pi / 180;
-constexpr double kCameraAheadM =
+constexpr double kCameraAhead_m =
     0.3;  // CameraConfig::position_B_m.x: the camera's lead on the body
 
 class Draw {
@@ -43,7 +43,7 @@ class Draw {
 // give the detector no lattice, hence no priors and no training sample.
 void draw_net(Draw& d, NetConfig& net, double camera_to_net_m, double fx_px) {
   const double finest_m = std::max(0.015, 5 * camera_to_net_m / fx_px);
-  net.mesh_m = d.uniform(finest_m, std::max(0.045, 1.3 * finest_m));
+  net.bar_length_m = d.uniform(finest_m, std::max(0.045, 1.3 * finest_m));
   if (d.chance(0.6)) {
     net.mesh_type = MeshType::kSquare;
     net.opening_angle_deg = 90 + d.uniform(-12, 12);
@@ -53,8 +53,8 @@ void draw_net(Draw& d, NetConfig& net, double camera_to_net_m, double fx_px) {
   }
   net.opening_angle_variation_deg = d.uniform(0, 4);
   net.stretch_variation = d.uniform(0, 0.04);
-  net.twine_width_m = net.mesh_m * d.uniform(0.07, 0.22);
-  net.knot_size_m = d.chance(0.2) ? 0 : net.mesh_m * d.uniform(0.1, 0.3);
+  net.twine_width_m = net.bar_length_m * d.uniform(0.07, 0.22);
+  net.knot_size_m = d.chance(0.2) ? 0 : net.bar_length_m * d.uniform(0.1, 0.3);
   net.knot_shape = d.chance(0.5) ? KnotShape::kSquare : KnotShape::kRound;
   net.albedo = d.uniform(0.3, 0.8);
   net.fouling = d.uniform(0, 0.7);
@@ -102,7 +102,7 @@ Scenario random_depth_scene(uint64_t seed) {
   draw_net(d, s.net, camera_to_net_m, s.camera.calibration.camera.fx_px);
   draw_water_and_light(d, s, camera_to_net_m);
   draw_optics(d, s.camera);
-  w.net_distance_m = camera_to_net_m + kCameraAheadM;
+  w.net_distance_m = camera_to_net_m + kCameraAhead_m;
   w.heading_rad = d.uniform(-35, 35) * kDeg;
   w.pitch_rad = d.uniform(-20, 20) * kDeg;
   w.roll_rad = d.uniform(-5, 5) * kDeg;

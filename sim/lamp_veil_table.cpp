@@ -8,17 +8,17 @@
 namespace pensight::sim {
 namespace {
 
-// Grid point k sits on pixel coordinate k * kStepPx - 0.5, so the grid covers the image's edges.
+// Grid point k sits on pixel coordinate k * kStep_px - 0.5, so the grid covers the image's edges.
 double grid_px(int k) {
-  return k * LampVeilTable::kStepPx - 0.5;
+  return k * LampVeilTable::kStep_px - 0.5;
 }
 
 }  // namespace
 
 LampVeilTable::LampVeilTable(const PinholeCamera& camera, const std::vector<LampPose>& lamps_camera,
                              double attenuation_per_m, double strength, double range_m)
-    : cells_x_((camera.width_px + kStepPx - 1) / kStepPx),
-      cells_y_((camera.height_px + kStepPx - 1) / kStepPx),
+    : cells_x_((camera.width_px + kStep_px - 1) / kStep_px),
+      cells_y_((camera.height_px + kStep_px - 1) / kStep_px),
       w_max_(std::log1p(range_m / kLampVeilScale_m)) {
   const int points_x = cells_x_ + 1, points_y = cells_y_ + 1;
   std::vector<float> value(static_cast<size_t>(points_x) * points_y * kNodes);
@@ -52,8 +52,8 @@ double LampVeilTable::at(double x_px, double y_px, double t_m) const {
       w_max_ * (kNodes - 1);
   const int j = std::min(static_cast<int>(u), kNodes - 2);
   const double fu = u - j;
-  const double gx = std::max((x_px + 0.5) / kStepPx, 0.0),
-               gy = std::max((y_px + 0.5) / kStepPx, 0.0);
+  const double gx = std::max((x_px + 0.5) / kStep_px, 0.0),
+               gy = std::max((y_px + 0.5) / kStep_px, 0.0);
   const int cx = std::min(static_cast<int>(gx), cells_x_ - 1);
   const int cy = std::min(static_cast<int>(gy), cells_y_ - 1);
   const double fx = gx - cx, fy = gy - cy;

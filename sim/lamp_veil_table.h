@@ -1,11 +1,11 @@
 #pragma once
 // The lamps' veil (lamp_veil.h) tabulated over a camera's image for the Vulkan renderer. The
 // lamps ride with the camera, so for each pixel the veil depends only on where the ray ends;
-// the table holds it on a grid of pixels every kStepPx and kNodes ray ends, evenly spaced in
+// the table holds it on a grid of pixels every kStep_px and kNodes ray ends, evenly spaced in
 // ln(1 + t / kLampVeilScale_m) up to the visible range, and the shader interpolates it
 // (bilinear over the pixel, linear along the ray) instead of running the quadrature per pixel.
 //
-// Cost: building it runs lamp_veil at (width / kStepPx + 1) x (height / kStepPx + 1) x kNodes
+// Cost: building it runs lamp_veil at (width / kStep_px + 1) x (height / kStep_px + 1) x kNodes
 // points (0.1 M for 720x540, about 30 ms, once per scenario); a lookup reads two vec4.
 // Accuracy: tests/sim/lamp_veil bounds the interpolation against lamp_veil itself.
 #include <array>
@@ -18,8 +18,8 @@ namespace pensight::sim {
 
 class LampVeilTable {
  public:
-  static constexpr int kStepPx = 16;  // render.comp VEIL_STEP_PX
-  static constexpr int kNodes = 64;   // render.comp VEIL_NODES
+  static constexpr int kStep_px = 16;  // render.comp VEIL_STEP_PX
+  static constexpr int kNodes = 64;    // render.comp VEIL_NODES
 
   // lamps_camera: the lamps in the camera frame C; range_m: where rays are cut (the visible
   // range, net_visible_range_m); strength: water.lamp_backscatter, folded into the values.

@@ -15,7 +15,7 @@ struct NetHit {
   double t = 0;             // distance along the unit ray
   Eigen::Vector3d point;    // in P
   Eigen::Vector3d normal;   // unit, pointing out of the pen (away from a camera inside it)
-  double u_m = 0, v_m = 0;  // net surface coordinates: twine lines at multiples of mesh_m
+  double u_m = 0, v_m = 0;  // net surface coordinates: twine lines at multiples of bar_length_m
   // Directions of increasing u, v in P; |tangent| = du/ds per metre on the surface (1, except
   // the cylinder wall's u, which is stretched by NetGeometry::lattice_scale()).
   Eigen::Vector3d tangent_u, tangent_v;

@@ -69,13 +69,13 @@ double value_noise(double u, double v, double scale_u, double scale_v, int wrap_
 }
 
 double NetLattice::closing_step(const NetConfig& net) {
-  if (net.mesh_type == MeshType::kSquare) return net.mesh_m;
-  return 2 * net.mesh_m * cos_sin_deg(net.opening_angle_deg / 2).y();
+  if (net.mesh_type == MeshType::kSquare) return net.bar_length_m;
+  return 2 * net.bar_length_m * cos_sin_deg(net.opening_angle_deg / 2).y();
 }
 
 NetLattice::NetLattice(const NetConfig& net, double u_around, uint64_t seed)
     : net_(net), u_around_(u_around) {
-  const double P = net.mesh_m;
+  const double P = net.bar_length_m;
   if (net.mesh_type == MeshType::kSquare) {
     // b2 turns from b1 towards the surface (-v): the detector's convention (mesh_angle.h).
     const Eigen::Vector2d cs = cos_sin_deg(net.opening_angle_deg);
@@ -183,7 +183,7 @@ LocalMesh NetLattice::local_mesh(double u, double v, NetPart part, double u_scal
   const Eigen::Matrix2d to_m = Eigen::Vector2d(1 / u_scale, 1).asDiagonal() * J.inverse();
   const Eigen::Vector2d B1 = to_m * b1_, B2 = to_m * b2_;
   m.opening_angle_rad = std::atan2(std::abs(B1.x() * B2.y() - B1.y() * B2.x()), B1.dot(B2));
-  m.stretch = (B1.norm() + B2.norm()) / (2 * net_.mesh_m) - 1;
+  m.stretch = (B1.norm() + B2.norm()) / (2 * net_.bar_length_m) - 1;
   return m;
 }
 

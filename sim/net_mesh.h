@@ -1,6 +1,6 @@
 #pragma once
 // The net's mesh as a lattice in the net surface coordinates (u, v) of NetHit: knots at
-// i b1 + j b2 with |b1| = |b2| = mesh_m (the bar) and angle(b1, b2) = the opening angle; the
+// i b1 + j b2 with |b1| = |b2| = bar_length_m (the bar) and angle(b1, b2) = the opening angle; the
 // twines are the lines through the knots parallel to b1 (family A) and to b2 (family B). The
 // lattice lives in deformed coordinates x' = (u, v) + D(u, v), D a slow displacement field (as
 // currents and weights deform a net), so the local opening angle and bar length vary. Shared by
@@ -18,7 +18,7 @@ namespace pensight::sim {
 struct LocalMesh {
   MeshType type = MeshType::kSquare;
   double opening_angle_rad = 0;  // between the two local bars
-  double stretch = 0;            // mean local bar length / mesh_m - 1
+  double stretch = 0;            // mean local bar length / bar_length_m - 1
 };
 
 // Whole-number closures around the pen: `period` stretched so that `count` of them fill the
@@ -33,12 +33,12 @@ class NetLattice {
   // u_around: the wall's u around the pen (0: the net does not wrap); seed: the scenario's.
   NetLattice(const NetConfig& net, double u_around, uint64_t seed);
 
-  // Step along u after which the undeformed lattice repeats exactly: mesh_m for a square mesh
-  // (b1 is horizontal), 2 mesh_m sin(theta / 2) for a diamond (b1 - b2 is horizontal).
+  // Step along u after which the undeformed lattice repeats exactly: bar_length_m for a square mesh
+  // (b1 is horizontal), 2 bar_length_m sin(theta / 2) for a diamond (b1 - b2 is horizontal).
   static double closing_step(const NetConfig& net);
 
   // Unit normals of the twine families (family A: parallel to b1) and their spacing
-  // mesh_m sin(theta): the twine lines are q = n . x' = k * period.
+  // bar_length_m sin(theta): the twine lines are q = n . x' = k * period.
   const Eigen::Vector2d& normal_a() const { return n_a_; }
   const Eigen::Vector2d& normal_b() const { return n_b_; }
   double period() const { return period_; }
@@ -91,8 +91,8 @@ class NetLattice {
 };
 
 // Patch edge softness in value-noise units, the clumps' threshold band and cell size (in
-// mesh_m), the thickening of fouled twines and the brightening of round knots: the constants of
-// the look, shared with shaders/sim/render.comp.
+// bar_length_m), the thickening of fouled twines and the brightening of round knots: the constants
+// of the look, shared with shaders/sim/render.comp.
 inline constexpr double kPatchSoftness = 0.12;
 inline constexpr double kClumpLo = 0.6, kClumpHi = 0.85, kClumpCellMeshes = 0.4;
 inline constexpr double kClumpReach = 0.2;  // of the twine spacing, from the twine's edge

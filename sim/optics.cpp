@@ -81,7 +81,7 @@ ImageF32 defocus(const ImageF32& grey, const ImageF32& depth_m, const CameraConf
   ImageF32 out(grey.width, grey.height);
   for_rows(grey.height, [&](int y) {
     for (int x = 0; x < grey.width; ++x) {
-      const double radius = std::min(blur_circle_px(c, depth_m.at(x, y)), kMaxBlurCirclePx) / 2;
+      const double radius = std::min(blur_circle_px(c, depth_m.at(x, y)), kMaxBlurCircle_px) / 2;
       // Anti-aliased disc: weight 1 inside, falling linearly to 0 across the pixel at its rim;
       // below half a pixel only the centre counts.
       const int reach = static_cast<int>(std::floor(radius + 0.5));

@@ -20,7 +20,7 @@ bool optics_enabled(const CameraConfig& c);
 // limit 1/d = 0) with the lens focused at c.focus_distance_m (0: pinhole, always 0).
 double blur_circle_px(const CameraConfig& c, double depth_m);
 // Blur circles are cut at this diameter (a frame this far out of focus shows nothing anyway).
-inline constexpr double kMaxBlurCirclePx = 41;
+inline constexpr double kMaxBlurCircle_px = 41;
 // Each pixel averaged over a disc of its own blur circle (from its depth; 0 = far away).
 ImageF32 defocus(const ImageF32& grey, const ImageF32& depth_m, const CameraConfig& c);
 

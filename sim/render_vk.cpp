@@ -27,8 +27,8 @@ struct FrameHeader {
 static_assert(sizeof(FrameHeader) == 20 * 16);
 
 // render.comp: local_size_x/y, and the rows each invocation renders (ROWS). A tile of the snow
-// lists is kTilePx x kRowsPerInvocation pixels: one invocation's column of pixels.
-constexpr uint32_t kGroupX = 8, kGroupY = 4, kRowsPerInvocation = 8, kTilePx = 8;
+// lists is kTile_px x kRowsPerInvocation pixels: one invocation's column of pixels.
+constexpr uint32_t kGroupX = 8, kGroupY = 4, kRowsPerInvocation = 8, kTile_px = 8;
 // FEATURES bits of render.comp.
 constexpr uint32_t kFeatureNoise = 1, kFeatureSnow = 2, kFeaturePlane = 4, kFeatureBottom = 8,
                    kFeatureWall = 16, kFeatureFouling = 32, kFeatureDistortion = 64,
@@ -117,7 +117,7 @@ std::vector<uint32_t> specialization(const Scenario& s, const RenderOptions& o) 
                              bits(pen.top_m),
                              bits(pen.height_m),
                              bits(pen.wall_gap_m),
-                             bits(net.mesh_m),
+                             bits(net.bar_length_m),
                              bits(net.twine_width_m),
                              bits(net.knot_size_m),
                              bits(net.albedo),
@@ -188,7 +188,7 @@ std::vector<uint32_t> specialization(const Scenario& s, const RenderOptions& o) 
                    kSeamTwines * net.twine_width_m}) {
     v.push_back(bits(x));
   }
-  v.push_back(LampVeilTable::kStepPx);
+  v.push_back(LampVeilTable::kStep_px);
   v.push_back(LampVeilTable::kNodes);
   // The last constant_id of render.comp is 162.
   if (v.size() != 163)
@@ -211,7 +211,7 @@ std::shared_ptr<const vk::Buffer> veil_buffer(const vk::Context& ctx, const Scen
 }
 
 uint32_t tile_columns(int width) {
-  return (static_cast<uint32_t>(width) + kTilePx - 1) / kTilePx;
+  return (static_cast<uint32_t>(width) + kTile_px - 1) / kTile_px;
 }
 
 // Spot indices per tile, for the shader's tile lists: offsets (tiles + 1, absolute positions in
@@ -231,8 +231,8 @@ std::vector<uint32_t> bin_spots(const std::vector<SnowSpot>& spots, int width, i
     auto tile_of = [](double px, double lo, double hi, uint32_t size) {
       return static_cast<uint32_t>(std::clamp(px, lo, hi)) / size;
     };
-    const Range r{tile_of(std::ceil(s.x_px - reach), 0, width - 1, kTilePx),
-                  tile_of(std::floor(s.x_px + reach), 0, width - 1, kTilePx),
+    const Range r{tile_of(std::ceil(s.x_px - reach), 0, width - 1, kTile_px),
+                  tile_of(std::floor(s.x_px + reach), 0, width - 1, kTile_px),
                   tile_of(std::ceil(s.y_px - reach), 0, height - 1, kRowsPerInvocation),
                   tile_of(std::floor(s.y_px + reach), 0, height - 1, kRowsPerInvocation)};
     for (uint32_t ty = r.y0; ty <= r.y1; ++ty) {

@@ -139,7 +139,7 @@ PenConfig parse_pen(const YamlMap& y) {
 
 NetConfig parse_net(const YamlMap& y) {
   NetConfig n;
-  n.mesh_m = positive(y, "mesh_m", n.mesh_m);
+  n.bar_length_m = positive(y, "mesh_m", n.bar_length_m);
   const std::string type = y.string("mesh_type", to_string(n.mesh_type));
   const std::optional<MeshType> mesh_type = parse_mesh_type(type);
   if (!mesh_type) y.fail("mesh_type", "must be 'square' or 'diamond', got '" + type + "'");
@@ -152,10 +152,11 @@ NetConfig parse_net(const YamlMap& y) {
   n.twine_width_m = positive(y, "twine_width_m", n.twine_width_m);
   n.knot_size_m = ranged(y, "knot_size_m", n.knot_size_m, 0, 1);
   // Up to 30 % of the bar (heavy twine on a small mesh); the holes stay open at 45 degrees.
-  if (n.twine_width_m >= 0.35 * n.mesh_m) {
+  if (n.twine_width_m >= 0.35 * n.bar_length_m) {
     y.fail("twine_width_m", "must be less than 0.35 * mesh_m");
   }
-  if (n.knot_size_m >= 0.6 * n.mesh_m) y.fail("knot_size_m", "must be less than 0.6 * mesh_m");
+  if (n.knot_size_m >= 0.6 * n.bar_length_m)
+    y.fail("knot_size_m", "must be less than 0.6 * mesh_m");
   const std::string knot = y.string("knot_shape", "square");
   if (knot == "square") {
     n.knot_shape = KnotShape::kSquare;
@@ -178,7 +179,7 @@ NetConfig parse_net(const YamlMap& y) {
     r->check_unknown_keys();
   }
   n.seam_spacing_m = ranged(y, "seam_spacing_m", n.seam_spacing_m, 0, 1000);
-  if (n.seam_spacing_m > 0 && n.seam_spacing_m < 2 * n.mesh_m) {
+  if (n.seam_spacing_m > 0 && n.seam_spacing_m < 2 * n.bar_length_m) {
     y.fail("seam_spacing_m", "must be 0 (no seams) or at least 2 * mesh_m");
   }
   if (const auto list = y.optional_map_list("bulges")) {
@@ -400,7 +401,7 @@ int64_t Scenario::frame_time_ns(int frame) const {
 }
 
 SceneConfig Scenario::scene_config() const {
-  SceneConfig scene{net.mesh_m, pen.radius_m, std::nullopt, net.mesh_type,
+  SceneConfig scene{net.bar_length_m, pen.radius_m, std::nullopt, net.mesh_type,
                     deg_to_rad(net.opening_angle_deg)};
   // The plane pen's net is the plane x = radius_m, facing -x (PenConfig).
   if (pen.shape == NetShape::kPlane)

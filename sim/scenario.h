@@ -47,9 +47,9 @@ enum class KnotShape { kSquare, kRound };
 
 struct NetConfig {
   // The mesh (sim/net_mesh.h): knots at i b1 + j b2 in the net surface coordinates, |b1| =
-  // |b2| = mesh_m (the bar, knot to knot), angle(b1, b2) = opening_angle_deg. Square: b1 along
-  // the wall's horizontal; diamond: bars at +-opening/2 from the vertical.
-  double mesh_m = 0.030;
+  // |b2| = bar_length_m (the bar, knot to knot), angle(b1, b2) = opening_angle_deg. Square: b1
+  // along the wall's horizontal; diamond: bars at +-opening/2 from the vertical.
+  double bar_length_m = 0.030;
   MeshType mesh_type = MeshType::kSquare;
   double opening_angle_deg = 90;
   // Slow deformation of the lattice (currents, weights) over deform_scale_m.

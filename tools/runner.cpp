@@ -265,7 +265,7 @@ class RunWriter {
 }  // namespace
 
 NetDetectorConfig detector_config(const SceneConfig& scene, NetDetectorConfig base) {
-  base.mesh_m = scene.net_mesh_size_m;
+  base.bar_length_m = scene.bar_length_m;
   base.mesh_type = scene.net_mesh_type;
   base.mesh_angle_rad = scene.net_mesh_angle_rad;
   return base;

@@ -129,7 +129,7 @@ NodeConfig read_node_config(const ros::NodeHandle& private_nh) {
     }
     c.scene = read_scene_yaml(*scene);
   } else {
-    c.scene.net_mesh_size_m = positive(p, "mesh_size_m", c.scene.net_mesh_size_m);
+    c.scene.bar_length_m = positive(p, "mesh_size_m", c.scene.bar_length_m);
     c.scene.pen_radius_m = positive(p, "pen_radius_m", c.scene.pen_radius_m);
   }
   if (const auto file = p.text("camera_yaml")) c.camera = read_camera_yaml(*file);

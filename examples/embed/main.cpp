@@ -22,7 +22,7 @@ int main(int argc, char** argv) {
     pensight::PipelineConfig config;
     config.camera = dataset.cam0.camera;
     config.detector.backend = pensight::Backend::kCpu;
-    config.detector.mesh_m = dataset.scene.net_mesh_size_m;
+    config.detector.bar_length_m = dataset.scene.bar_length_m;
     config.global_pose = pensight::global_pose_config(dataset);
     std::atomic<int> with_pose{0};
     config.on_frame = [&](const pensight::FrameResult& r) {  // on the pipeline's delivery thread

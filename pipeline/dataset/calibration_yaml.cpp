@@ -92,10 +92,10 @@ CameraCalibration read_camera_yaml(const std::filesystem::path& file) {
   CameraCalibration c;
   c.rate_hz = positive(y, "rate_hz");
   const auto res = y.numbers("resolution", 2);
-  if (!(res[0] >= 1 && res[1] >= 1 && res[0] <= kMaxImageSidePx && res[1] <= kMaxImageSidePx) ||
+  if (!(res[0] >= 1 && res[1] >= 1 && res[0] <= kMaxImageSide_px && res[1] <= kMaxImageSide_px) ||
       res[0] != std::round(res[0]) || res[1] != std::round(res[1])) {
     y.fail("resolution", "expected [width, height] in whole pixels, each 1 to " +
-                             std::to_string(kMaxImageSidePx));
+                             std::to_string(kMaxImageSide_px));
   }
   c.camera.width_px = static_cast<int>(res[0]);
   c.camera.height_px = static_cast<int>(res[1]);
@@ -167,7 +167,7 @@ std::string dvl_yaml(const DvlCalibration& c) {
 SceneConfig read_scene_yaml(const std::filesystem::path& file) {
   const YamlMap y = YamlMap::load_file(file, UnknownKeys::kNote);
   SceneConfig s;
-  s.net_mesh_size_m = positive(y, "net_mesh_size_m");
+  s.bar_length_m = positive(y, "net_mesh_size_m");
   s.pen_radius_m = positive(y, "pen_radius_m");
   s.initial_rho_rad = y.optional_number("initial_rho_rad");
   if (y.has("net_mesh_type")) {
@@ -216,7 +216,7 @@ SceneConfig read_scene_yaml(const std::filesystem::path& file) {
 }
 
 std::string scene_yaml(const SceneConfig& s) {
-  std::string out = "net_mesh_size_m: " + format_number(s.net_mesh_size_m) + "\n" +
+  std::string out = "net_mesh_size_m: " + format_number(s.bar_length_m) + "\n" +
                     "pen_radius_m: " + format_number(s.pen_radius_m) + "\n";
   if (s.net_mesh_type) out += std::string("net_mesh_type: ") + to_string(*s.net_mesh_type) + "\n";
   if (s.net_mesh_angle_rad) {

@@ -67,7 +67,7 @@ struct NetDetector::Impl {
                                         const Eigen::Vector3d* normal) const {
     std::vector<RoiNetPoint> points;
     points.reserve(rois.size());
-    const MeshModel mesh{config.mesh_m, opening_angle_rad};
+    const MeshModel mesh{config.bar_length_m, opening_angle_rad};
     for (size_t i = 0; i < rois.size(); ++i) {
       points.push_back(
           roi_net_point(lattices[i], rois[i], shape.roi_size, camera, mesh, config.points, normal));
@@ -153,9 +153,9 @@ NetDetector::NetDetector(const PinholeCamera& camera, const NetDetectorConfig& c
                          Device& device)
     : impl_(std::make_unique<Impl>()) {
   Impl& m = *impl_;
-  if (!(config.mesh_m > 0)) {
-    throw Error("NetDetector: net mesh size must be > 0 m, got " + std::to_string(config.mesh_m) +
-                "; set net_mesh_size_m in scene.yaml");
+  if (!(config.bar_length_m > 0)) {
+    throw Error("NetDetector: net mesh size must be > 0 m, got " +
+                std::to_string(config.bar_length_m) + "; set net_mesh_size_m in scene.yaml");
   }
   m.camera = camera;
   m.config = config;
@@ -239,8 +239,8 @@ NetDetection NetDetector::detect(const ImageU8& image, int64_t timestamp_ns) {
   d.depths = roi_surface_priors(d.points, d.pose, m.config.grid.size_px, m.camera, m.config.priors);
   if (m.config.texture.enabled) {
     TexturePatch patch = texture_patch(image, m.camera, timestamp_ns, m.config.texture);
-    d.texture = texture_step(m.previous_patch, patch, d.points, d.pose, m.camera, m.config.mesh_m,
-                             m.config.texture);
+    d.texture = texture_step(m.previous_patch, patch, d.points, d.pose, m.camera,
+                             m.config.bar_length_m, m.config.texture);
     m.previous_patch = std::move(patch);
   }
   d.pose_ms = sw.elapsed_ms();

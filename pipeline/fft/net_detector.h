@@ -31,9 +31,9 @@ struct NetDetectorConfig {
   // (lattice_chirp.h); off: the spectral peak is taken as the lattice at the ROI's point.
   bool chirp_correction = true;
   RelativePoseFftParams pose;
-  DepthPriorParams priors;   // NetDetection::depths
-  NetTextureParams texture;  // NetDetection::texture
-  double mesh_m = 0.030;     // bar length, from scene.yaml net_mesh_size_m
+  DepthPriorParams priors;      // NetDetection::depths
+  NetTextureParams texture;     // NetDetection::texture
+  double bar_length_m = 0.030;  // bar length, from scene.yaml net_mesh_size_m
   // scene.yaml's optional net_mesh_type and net_mesh_angle_deg: a prior; estimated when absent.
   std::optional<MeshType> mesh_type;
   std::optional<double> mesh_angle_rad;
@@ -69,8 +69,8 @@ struct NetDetection {
 class NetDetector {
  public:
   // The Vulkan backend runs on `device`'s context, which must outlive the detector. Throws
-  // pensight::Error when the grid does not fit the camera image, mesh_m <= 0, or an explicitly
-  // requested backend is unavailable.
+  // pensight::Error when the grid does not fit the camera image, bar_length_m <= 0, or an
+  // explicitly requested backend is unavailable.
   NetDetector(const PinholeCamera& camera, const NetDetectorConfig& config, Device& device);
   ~NetDetector();
   NetDetector(NetDetector&&) noexcept;

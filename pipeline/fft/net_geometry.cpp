@@ -76,9 +76,9 @@ std::array<Eigen::Vector3d, 2> bars_on_plane(const RoiNetPoint& roi, const Pinho
 RoiNetPoint roi_net_point(const kernels::RoiLattice& lattice, kernels::RoiOrigin origin,
                           int roi_size, const PinholeCamera& camera, const MeshModel& mesh,
                           const NetPointParams& params, const Eigen::Vector3d* normal_hint_C) {
-  if (!(mesh.bar_m > 0)) {
-    throw Error("roi_net_point: net mesh size must be > 0 m, got " + std::to_string(mesh.bar_m) +
-                "; set net_mesh_size_m in scene.yaml");
+  if (!(mesh.bar_length_m > 0)) {
+    throw Error("roi_net_point: net mesh size must be > 0 m, got " +
+                std::to_string(mesh.bar_length_m) + "; set net_mesh_size_m in scene.yaml");
   }
   if (!(mesh.opening_angle_rad > 0 && mesh.opening_angle_rad < std::numbers::pi)) {
     throw Error("roi_net_point: mesh opening angle must be within (0, 180) deg, got " +
@@ -146,7 +146,7 @@ RoiNetPoint roi_net_point(const kernels::RoiLattice& lattice, kernels::RoiOrigin
   Eigen::Matrix2d cell;
   cell << 1, std::cos(acute), 0, std::sin(acute);
   const Eigen::Matrix2d bv =
-      rot.topLeftCorner<2, 2>() * normalised(a) * cell.inverse() / (r.norm() * mesh.bar_m);
+      rot.topLeftCorner<2, 2>() * normalised(a) * cell.inverse() / (r.norm() * mesh.bar_length_m);
   const Eigen::JacobiSVD<Eigen::Matrix2d> svd(bv, Eigen::ComputeFullU);
   const double s_max = svd.singularValues()(0), s_min = svd.singularValues()(1);
   if (!(s_max > 0) || !(1 / s_max <= params.max_range_m)) {

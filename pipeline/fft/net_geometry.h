@@ -33,7 +33,7 @@ namespace pensight {
 
 // The net cell as the closed form models it.
 struct MeshModel {
-  double bar_m = 0.030;  // knot to knot (scene.yaml net_mesh_size_m)
+  double bar_length_m = 0.030;  // knot to knot (scene.yaml net_mesh_size_m)
   // Either angle of the rhombus: a and pi - a describe the same cell.
   double opening_angle_rad = std::numbers::pi / 2;
 };
@@ -75,7 +75,7 @@ struct SparseDepth {
   float quality = 0;
 };
 
-// Precondition: mesh.bar_m > 0 and an opening angle within (0, pi) (throws pensight::Error
+// Precondition: mesh.bar_length_m > 0 and an opening angle within (0, pi) (throws pensight::Error
 // otherwise). A ROI without a usable lattice comes back with its status set and p_C zero, never
 // an exception. `normal_hint_C` (a net normal in C, e.g. the frame's fitted plane) decides which
 // pair of bars makes the acute angle; without it the image's angle does, which can pick the

@@ -83,10 +83,10 @@ TexturePatch texture_patch(const ImageU8& image, const PinholeCamera& camera, in
 
 TextureStep texture_step(const TexturePatch& from, const TexturePatch& to,
                          const std::vector<RoiNetPoint>& points, const FftRelativePose& pose,
-                         const PinholeCamera& camera, double bar_m,
+                         const PinholeCamera& camera, double bar_length_m,
                          const NetTextureParams& params) {
-  if (!(bar_m > 0)) {
-    throw Error("texture_step: net mesh size must be > 0 m, got " + std::to_string(bar_m) +
+  if (!(bar_length_m > 0)) {
+    throw Error("texture_step: net mesh size must be > 0 m, got " + std::to_string(bar_length_m) +
                 "; set net_mesh_size_m in scene.yaml");
   }
   TextureStep s;
@@ -121,7 +121,7 @@ TextureStep texture_step(const TexturePatch& from, const TexturePatch& to,
       return s;
     s.moved_bars[i] = std::arg(b * std::conj(a)) / (2 * std::numbers::pi);
     if (s.moved_bars[i] >= 0.5) s.moved_bars[i] -= 1.0;
-    s.bars_C[i] = bars[i].normalized() * bar_m;
+    s.bars_C[i] = bars[i].normalized() * bar_length_m;
   }
   s.ray_C = camera.ray(to.centre_px);
   s.valid = true;

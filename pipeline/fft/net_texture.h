@@ -61,11 +61,12 @@ struct TextureStep {
   Eigen::Vector3d ray_C = Eigen::Vector3d::UnitZ();  // the centre pixel's ray (z = 1)
 };
 
-// Precondition: bar_m > 0. Returns valid = false when either patch is empty, the frame's pose is
-// not valid, no valid ROI lies near the patch centre, or the lattice is not coherent in both
-// patches (params.min_coherence).
+// Precondition: bar_length_m > 0. Returns valid = false when either patch is empty, the frame's
+// pose is not valid, no valid ROI lies near the patch centre, or the lattice is not coherent in
+// both patches (params.min_coherence).
 TextureStep texture_step(const TexturePatch& from, const TexturePatch& to,
                          const std::vector<RoiNetPoint>& points, const FftRelativePose& pose,
-                         const PinholeCamera& camera, double bar_m, const NetTextureParams& params);
+                         const PinholeCamera& camera, double bar_length_m,
+                         const NetTextureParams& params);
 
 }  // namespace pensight

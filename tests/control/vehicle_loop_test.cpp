@@ -18,8 +18,8 @@ namespace {
 
 // Bounds: the acceptance's (issue 14) where the measured tail sits well inside them
 // (docs/validation-log.md, 2026-12-02 sweep).
-constexpr double kHoldRmseM = 0.03, kCurrentRmseM = 0.05, kHeadingRmsDeg = 2.0;
-constexpr double kSettleS = 10, kOvershootM = 0.10;
+constexpr double kHoldRmse_m = 0.03, kCurrentRmse_m = 0.05, kHeadingRms_deg = 2.0;
+constexpr double kSettle_s = 10, kOvershoot_m = 0.10;
 
 // The net is the plane x = 0 of P, the vehicle in front of it (x < 0) facing +x; the camera sits
 // 0.3 m ahead of the body origin looking along body x.
@@ -114,8 +114,8 @@ TEST(VehicleLoop, HoldsTheDistanceWithEitherStrategy) {
   for (const auto s : {VelocityStrategy::kDvlFeedback, VelocityStrategy::kOpenLoop}) {
     const Flight f = fly(hold(0.5, s), {.seed = seed});
     SCOPED_TRACE(to_string(s));
-    EXPECT_LT(rmse(f, 15, 0.5), kHoldRmseM);
-    EXPECT_LT(heading_rms_deg(f, 15), kHeadingRmsDeg);
+    EXPECT_LT(rmse(f, 15, 0.5), kHoldRmse_m);
+    EXPECT_LT(heading_rms_deg(f, 15), kHeadingRms_deg);
   }
 }
 
@@ -124,7 +124,7 @@ TEST(VehicleLoop, HoldsAgainstACurrentIntoTheNet) {
   const Flight f =
       fly(hold(0.5, VelocityStrategy::kDvlFeedback),
           {.current_pen_mps = {0.2, 0, 0}, .seconds = 60, .seed = testing::fresh_seed()});
-  EXPECT_LT(rmse(f, 20, 0.5), kCurrentRmseM);
+  EXPECT_LT(rmse(f, 20, 0.5), kCurrentRmse_m);
 }
 
 // Perception gone for 3 s while the current pushes the vehicle at the net: hold, back off, and
@@ -143,7 +143,7 @@ TEST(VehicleLoop, LostPerceptionNeverCloserThan20cmAndRecovers) {
     EXPECT_GT(nearest, 0.2);
     EXPECT_GT(f.counters.hold_steps, 20);
     EXPECT_EQ(f.counters.recoveries, 1);
-    EXPECT_LT(rmse(f, 35, 0.5), s == VelocityStrategy::kDvlFeedback ? kCurrentRmseM : 0.1);
+    EXPECT_LT(rmse(f, 35, 0.5), s == VelocityStrategy::kDvlFeedback ? kCurrentRmse_m : 0.1);
   }
 }
 
@@ -152,7 +152,7 @@ TEST(VehicleLoop, DvlDropoutFallsBackToTheOpenLoop) {
       hold(0.5, VelocityStrategy::kDvlFeedback, 0.1),
       {.seconds = 40, .dvl_lost_from_s = 15, .dvl_lost_to_s = 25, .seed = testing::fresh_seed()});
   EXPECT_NEAR(f.counters.open_loop_fallback_steps, 90, 3);  // 10 s less the 1 s timeout
-  EXPECT_LT(rmse(f, 15, 0.5), kHoldRmseM);
+  EXPECT_LT(rmse(f, 15, 0.5), kHoldRmse_m);
 }
 
 // The lawnmower's steps out from the net: 0.5 -> 1.0 -> 1.5 m, each within 10 s and 10 cm.
@@ -179,8 +179,8 @@ TEST(VehicleLoop, StepsSettleWithin10sAndOvershootAtMost10cm) {
     }
     SCOPED_TRACE(leg);
     EXPECT_GE(settled, 0);
-    EXPECT_LT(settled, kSettleS);
-    EXPECT_LT(overshoot, kOvershootM);
+    EXPECT_LT(settled, kSettle_s);
+    EXPECT_LT(overshoot, kOvershoot_m);
   }
 }
 

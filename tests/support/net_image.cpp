@@ -26,7 +26,7 @@ ImageU8 render_net(const PinholeCamera& camera, const NetScene& s) {
   // Lattice coordinates: p = (p . e1) bar1 + (p . e2) bar2 for p in the plane (dual vectors);
   // twines lie along integer values of each.
   Eigen::Matrix<double, 3, 2> bars;
-  bars << bar1 * s.mesh_m, bar2 * s.mesh_m;
+  bars << bar1 * s.bar_length_m, bar2 * s.bar_length_m;
   const Eigen::Matrix<double, 3, 2> dual = bars * (bars.transpose() * bars).inverse();
   const Eigen::Vector3d e1 = dual.col(0), e2 = dual.col(1);
   const Eigen::Vector3d lattice_shift = s.shift_right_m * u1 - s.shift_up_m * u2;

@@ -18,9 +18,9 @@ struct NetScene {
   double distance_m = 1.0;  // along the optical axis to the net plane (= d_net)
   double psi_rad = 0;       // net plane z = tan(psi) x + tan(pitch) y + d in C (dataset signs)
   double pitch_rad = 0;
-  double mesh_m = 0.030;   // bar length, knot to knot
-  double twine_m = 0.003;  // twine width, across the twine
-  double knot_m = 0;       // side of the knots at the crossings (0: knotless)
+  double bar_length_m = 0.030;  // bar length, knot to knot
+  double twine_m = 0.003;       // twine width, across the twine
+  double knot_m = 0;            // side of the knots at the crossings (0: knotless)
   // Square: one bar along the net's right, the other at the opening angle from it towards the
   // net's up (-y_C projected onto the net). Diamond: bars at +-angle/2 from the net's up.
   MeshType mesh_type = MeshType::kSquare;

@@ -320,7 +320,7 @@ TEST_F(VulkanTest, NetCoarserThanTheBandIsNoLattice) {
   std::uniform_real_distribution<double> dist(0.18, 0.25), psi(-0.15, 0.15);
   const testing::NetScene scene{.distance_m = dist(rng),
                                 .psi_rad = psi(rng),
-                                .mesh_m = 0.045,
+                                .bar_length_m = 0.045,
                                 .twine_m = 0.006,
                                 .seed = rng()};
   const ImageU8 img = testing::render_net(PinholeCamera{}, scene);
@@ -332,7 +332,7 @@ TEST_F(VulkanTest, NetCoarserThanTheBandIsNoLattice) {
   expect_same_lattices(run_vulkan(ctx(), vk, img, rois), want, 300);
   // Without the rule a harmonic is reported: the rule, not the image, gives the zeros.
   FftRoiCpu no_rule({}, {.below_band_ratio = 1e9f}, 1, FftPlanning::kQuick);
-  const double net_cycles = 300 * scene.distance_m / (scene.mesh_m * PinholeCamera{}.fx_px);
+  const double net_cycles = 300 * scene.distance_m / (scene.bar_length_m * PinholeCamera{}.fx_px);
   int harmonics = 0;
   for (const RoiLattice& l : no_rule.run(img, rois)) {
     harmonics += l.quality > 0.03f && 300 * std::hypot(l.f1x, l.f1y) > 1.5 * net_cycles;

@@ -140,7 +140,7 @@ TEST_F(DatasetTest, RoundTripKeepsEverySensorAndImage) {
     w.finish();
   }
   const Dataset d = read_dataset(root);
-  EXPECT_DOUBLE_EQ(d.scene.net_mesh_size_m, 0.025);
+  EXPECT_DOUBLE_EQ(d.scene.bar_length_m, 0.025);
   EXPECT_DOUBLE_EQ(d.scene.pen_radius_m, 6.5);
   ASSERT_TRUE(d.scene.initial_rho_rad);
   EXPECT_DOUBLE_EQ(*d.scene.initial_rho_rad, 0.3);
@@ -322,7 +322,7 @@ TEST_F(DatasetFilesTest, KeysOfOtherToolsAreReadWithOneNotePerFile) {
              camera_yaml(contents().cam0) + "rostopic: /cam0/image_raw\n");
   LogCapture log;
   const Dataset d = read_dataset(root_);
-  EXPECT_DOUBLE_EQ(d.scene.net_mesh_size_m, 0.031);
+  EXPECT_DOUBLE_EQ(d.scene.bar_length_m, 0.031);
   EXPECT_DOUBLE_EQ(d.scene.pen_radius_m, 25);
   ASSERT_TRUE(d.scene.initial_rho_rad);
   EXPECT_DOUBLE_EQ(*d.scene.initial_rho_rad, 0.25);

@@ -110,7 +110,7 @@ ScaledRun run_with_scale(const Dataset& d, bool dvl_depth_scale) {
 TEST(DenseDepthRenderedDvl, TheDvlScalesANetLongerThanSceneYamlSays) {
   const testing::RenderedDataset rendered(testing::shipped_scenario("follow.yaml", 3.5));
   Dataset d = rendered.dataset();
-  d.scene.net_mesh_size_m /= 1.04;
+  d.scene.bar_length_m /= 1.04;
   const ScaledRun with = run_with_scale(d, true);
   std::vector<double> fft, depth;
   for (size_t i = 0; i < with.scales.size(); ++i) {

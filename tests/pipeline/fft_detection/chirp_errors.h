@@ -20,7 +20,7 @@ inline std::pair<double, double> roi_range_errors(const NetDetection& d, size_t 
   const Eigen::Vector2d px = d.points[i].centre_px;
   const double truth = ray_on_plane(cam.ray(px), {0, 0, s.distance_m}, normal).norm();
   const kernels::RoiOrigin o = detector.rois()[i];
-  const MeshModel mesh{s.mesh_m, std::numbers::pi / 2};
+  const MeshModel mesh{s.bar_length_m, std::numbers::pi / 2};
   const RoiNetPoint corrected = roi_net_point(
       chirp_corrected(d.lattices[i], o, 300, px, cam, normal), o, 300, cam, mesh, {}, &normal);
   return {d.points[i].range_m / truth - 1, corrected.valid() ? corrected.range_m / truth - 1 : 1.0};

@@ -112,7 +112,7 @@ void chirp_row() {
                    .psi_rad = deg_to_rad(psi_deg),
                    .blur_sigma_px = blur,
                    .noise_sigma = 0};
-        s.twine_m = 0.2 * s.mesh_m;
+        s.twine_m = 0.2 * s.bar_length_m;
         const NetDetection d = detector.detect(testing::render_net(cam, s));
         std::printf("blur %.1f px, psi %2.0f deg, %.1f m, range error %% as measured / corrected:",
                     blur, psi_deg, distance);
@@ -141,7 +141,7 @@ void psi_bias() {
                   .opening_angle_rad = deg_to_rad(c.angle_deg),
                   .blur_sigma_px = 0.6,
                   .noise_sigma = 3};
-    base.twine_m = 0.2 * base.mesh_m;
+    base.twine_m = 0.2 * base.bar_length_m;
     base.knot_m = 1.5 * base.twine_m;
     const auto scenes = testing::sweep_scenes(24, 8, base);
     NetDetector detector(cam, {.backend = Backend::kCpu}, testing::test_device());

@@ -21,8 +21,9 @@ TEST(NetDetector, BackendNames) {
 
 TEST(NetDetector, RejectsBadConfigurationAndImages) {
   const PinholeCamera cam;
-  EXPECT_THROW(NetDetector(cam, {.mesh_m = 0, .backend = Backend::kCpu}, testing::test_device()),
-               Error);
+  EXPECT_THROW(
+      NetDetector(cam, {.bar_length_m = 0, .backend = Backend::kCpu}, testing::test_device()),
+      Error);
   EXPECT_THROW(NetDetector(cam, {.grid = {.size_px = 600}, .backend = Backend::kCpu},
                            testing::test_device()),
                Error);

@@ -57,8 +57,8 @@ TEST(NetTexture, MovedBarsAreTheLatticesMove) {
     const NetDetection first = detector.detect(testing::render_net(cam, scene), 0);
     EXPECT_FALSE(first.texture.valid) << "the first frame has nothing to compare with";
     // Up to 0.45 bar along each of the net's right and up.
-    scene.shift_right_m = (u01(rng) - 0.5) * 0.9 * scene.mesh_m;
-    scene.shift_up_m = (u01(rng) - 0.5) * 0.9 * scene.mesh_m;
+    scene.shift_right_m = (u01(rng) - 0.5) * 0.9 * scene.bar_length_m;
+    scene.shift_up_m = (u01(rng) - 0.5) * 0.9 * scene.bar_length_m;
     // The seed sets the lattice's phase too, so it stays; the second frame gets its own noise.
     ImageU8 moved = testing::render_net(cam, scene);
     std::normal_distribution<double> noise(0, 2);
@@ -79,8 +79,8 @@ TEST(NetTexture, MovedBarsAreTheLatticesMove) {
                 scene.mesh_type == MeshType::kDiamond ? "diamond" : "square", off(0), off(1));
     EXPECT_LE(off.cwiseAbs().maxCoeff(), 0.03) << "trial " << trial;
     for (const Eigen::Vector3d& bar : second.texture.bars_C) {
-      EXPECT_NEAR(bar.norm(), scene.mesh_m, 1e-12);
-      EXPECT_NEAR(bar.dot(m), 0.0, 0.05 * scene.mesh_m) << "a bar leaves the net plane";
+      EXPECT_NEAR(bar.norm(), scene.bar_length_m, 1e-12);
+      EXPECT_NEAR(bar.dot(m), 0.0, 0.05 * scene.bar_length_m) << "a bar leaves the net plane";
     }
   }
 }

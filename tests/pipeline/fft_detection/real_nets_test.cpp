@@ -28,7 +28,7 @@ testing::SweepErrors run_mesh_sweep(const MeshCase& c, int frames, uint64_t seed
                 .opening_angle_rad = deg_to_rad(c.angle_deg),
                 .blur_sigma_px = blur_sigma_px,
                 .noise_sigma = 3};
-  base.twine_m = twine(rng) * base.mesh_m;
+  base.twine_m = twine(rng) * base.bar_length_m;
   base.knot_m = knot(rng) * base.twine_m;
   const auto scenes = testing::sweep_scenes(frames, rng(), base);
   NetDetector detector(cam, {.backend = Backend::kCpu}, testing::test_device());
@@ -97,7 +97,7 @@ TEST(RealNets, OutsideTheEnvelopeNoWrongDistances) {
                .opening_angle_rad = deg_to_rad(is_diamond ? diamond(rng) : square(rng)),
                .noise_sigma = 3,
                .seed = rng()};
-    s.twine_m = 0.2 * s.mesh_m;
+    s.twine_m = 0.2 * s.bar_length_m;
     if (i % 2) {
       s.distance_m = far(rng);
     } else {

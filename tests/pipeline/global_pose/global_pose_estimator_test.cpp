@@ -202,7 +202,7 @@ TEST(GlobalPoseEstimator, DvlSpikeIsRejectedAndRecoversWithin2s) {
   const double t_spike = 60.0;
   int n_spiked = 0;
   for (auto& s : spiked.dvl) {
-    const double t = seconds_between(sim::kStartNs, s.timestamp_ns);
+    const double t = seconds_between(sim::kStart_ns, s.timestamp_ns);
     if (t >= t_spike && t < t_spike + 0.5) {
       s.velocity_B_mps += Eigen::Vector3d(0.8, 1.8, 0.3);
       ++n_spiked;
@@ -265,7 +265,7 @@ TEST(GlobalPoseEstimator, AlongNetOver15sAndEverySpikeRejected) {
         {4.0, 0.25, {0, 0.5, 0}}, {8.0, 0.5, {-0.8, 0, 0}}, {12.0, 0.25, {0, 0, 0.3}}};
     int n_spiked = 0;
     for (auto& s : seq.dvl) {
-      const double t = seconds_between(sim::kStartNs, s.timestamp_ns);
+      const double t = seconds_between(sim::kStart_ns, s.timestamp_ns);
       for (const Spike& k : spikes) {
         if (t >= k.t_s && t < k.t_s + k.duration_s) {
           s.velocity_B_mps += k.v;
@@ -299,7 +299,7 @@ TEST(GlobalPoseEstimator, AlongNetWithNetTextureOver60s) {
     sim::add_texture_steps(seq, radius, sim::forward_camera(), 0.03, 0.01, rng);
     int n_spiked = 0;
     for (auto& s : seq.dvl) {
-      const double t = seconds_between(sim::kStartNs, s.timestamp_ns);
+      const double t = seconds_between(sim::kStart_ns, s.timestamp_ns);
       if ((t >= 14.0 && t < 14.25) || (t >= 38.0 && t < 38.5)) {
         s.velocity_B_mps += Eigen::Vector3d(0, t < 20 ? 0.5 : 0.0, t < 20 ? 0.0 : 0.3);
         ++n_spiked;
@@ -630,7 +630,7 @@ TEST(GlobalPoseEstimator, OutOfOrderAndDuplicateSamples) {
   };
   std::vector<Arrival> arrivals;
   std::uniform_real_distribution<double> latency(0.0, 0.3);
-  auto t_of = [](int64_t t_ns) { return seconds_between(sim::kStartNs, t_ns); };
+  auto t_of = [](int64_t t_ns) { return seconds_between(sim::kStart_ns, t_ns); };
   for (size_t i = 0; i < seq.dvl.size(); ++i)
     arrivals.push_back({t_of(seq.dvl[i].timestamp_ns) + latency(rng), 0, i});
   for (size_t i = 0; i < seq.depth.size(); ++i)

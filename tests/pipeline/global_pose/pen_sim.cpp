@@ -37,7 +37,7 @@ DvlCalibration forward_dvl() {
 }
 
 void add_texture_steps(Sequence& seq, double radius_m, const Eigen::Isometry3d& T_body_camera,
-                       double bar_m, double sigma_bars, std::mt19937_64& rng) {
+                       double bar_length_m, double sigma_bars, std::mt19937_64& rng) {
   std::normal_distribution<double> unit(0.0, 1.0);
   const auto axis_point = [&](const Pose& pose) {
     const Eigen::Isometry3d T = pose.T_pen_body() * T_body_camera;
@@ -50,14 +50,15 @@ void add_texture_steps(Sequence& seq, double radius_m, const Eigen::Isometry3d& 
     const double azimuth = std::atan2(b.y(), b.x());
     // The mesh's bars at b: along the wall (increasing azimuth) and down.
     const Eigen::Vector3d along(-std::sin(azimuth), std::cos(azimuth), 0);
-    const double moved[2] = {radius_m * wrap_angle(azimuth - std::atan2(a.y(), a.x())) / bar_m,
-                             (b.z() - a.z()) / bar_m};
+    const double moved[2] = {
+        radius_m * wrap_angle(azimuth - std::atan2(a.y(), a.x())) / bar_length_m,
+        (b.z() - a.z()) / bar_length_m};
     const Eigen::Matrix3d R_C_P = (seq.truth[k].T_pen_body() * T_body_camera).linear().transpose();
     TextureStep& s = seq.camera[k].texture;
     s.valid = true;
     s.from_ns = seq.camera[k - 1].t_ns;
     s.ray_C = Eigen::Vector3d::UnitZ();
-    s.bars_C = {bar_m * R_C_P * along, bar_m * R_C_P * Eigen::Vector3d::UnitZ()};
+    s.bars_C = {bar_length_m * R_C_P * along, bar_length_m * R_C_P * Eigen::Vector3d::UnitZ()};
     for (size_t i = 0; i < 2; ++i) {
       const double m = moved[i] + sigma_bars * unit(rng);
       s.moved_bars[i] = m - std::floor(m + 0.5);
@@ -69,7 +70,7 @@ NetObservation net_observation(const Pose& pose, double radius_m,
                                const Eigen::Isometry3d& T_body_camera, const PointNoise& noise,
                                std::mt19937_64& rng, const PinholeCamera& camera) {
   NetObservation obs;
-  obs.t_ns = kStartNs + seconds_to_ns(pose.t_s);
+  obs.t_ns = kStart_ns + seconds_to_ns(pose.t_s);
   const Eigen::Isometry3d T_pen_camera = pose.T_pen_body() * T_body_camera;
   std::normal_distribution<double> unit(0.0, 1.0);
   std::uniform_real_distribution<double> u01(0.0, 1.0);
@@ -121,7 +122,7 @@ Eigen::Vector3d Trajectory::body_velocity(double t_s) const {
 
 namespace {
 int64_t to_ns(double t_s) {
-  return kStartNs + seconds_to_ns(t_s);
+  return kStart_ns + seconds_to_ns(t_s);
 }
 }  // namespace
 

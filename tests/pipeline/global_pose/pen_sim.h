@@ -81,7 +81,7 @@ struct Sequence {
   std::vector<Pose> truth;  // one per camera frame
 };
 
-inline constexpr int64_t kStartNs = 1'700'000'000'000'000'000;
+inline constexpr int64_t kStart_ns = 1'700'000'000'000'000'000;
 
 // Camera 10 Hz, DVL 4 Hz, pressure 8 Hz, attitude 20 Hz, on staggered clocks.
 Sequence make_sequence(const Trajectory& traj, const SensorNoise& noise, uint64_t seed,
@@ -89,10 +89,10 @@ Sequence make_sequence(const Trajectory& traj, const SensorNoise& noise, uint64_
                        const DvlCalibration& dvl = forward_dvl());
 
 // Fills every camera frame's texture step but the first (net_texture.h): the optical axis' net
-// point's true move over a square mesh of bar_m (horizontal and vertical bars) since the previous
-// frame, in bars with white noise of sigma_bars, wrapped to [-0.5, 0.5).
+// point's true move over a square mesh of bar_length_m (horizontal and vertical bars) since the
+// previous frame, in bars with white noise of sigma_bars, wrapped to [-0.5, 0.5).
 void add_texture_steps(Sequence& seq, double radius_m, const Eigen::Isometry3d& T_body_camera,
-                       double bar_m, double sigma_bars, std::mt19937_64& rng);
+                       double bar_length_m, double sigma_bars, std::mt19937_64& rng);
 
 // Calls the visitor with every sample of the sequence in timestamp order.
 struct Visitor {

@@ -21,10 +21,10 @@
 namespace pensight {
 namespace {
 
-constexpr double kDurationS = 3.5;
+constexpr double kDuration_s = 3.5;
 
 sim::Scenario scenario(const std::string& file, double pen_radius_m = 0) {
-  sim::Scenario s = testing::shipped_scenario(file, kDurationS);
+  sim::Scenario s = testing::shipped_scenario(file, kDuration_s);
   if (pen_radius_m > 0) s.pen.radius_m = pen_radius_m;
   sim::validate(s);
   return s;

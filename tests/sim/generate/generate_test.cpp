@@ -62,7 +62,7 @@ TEST_F(GenerateTest, DatasetReadsBackAndDnetEqualsDepthAtPrincipalPoint) {
   EXPECT_EQ(d.dvl0->samples.size(), 25u);
   EXPECT_EQ(d.pressure0->size(), 61u);
   EXPECT_EQ(d.imu0->size(), 121u);
-  EXPECT_DOUBLE_EQ(d.scene.net_mesh_size_m, 0.03);
+  EXPECT_DOUBLE_EQ(d.scene.bar_length_m, 0.03);
   const PinholeCamera& cam = d.cam0.camera;
   int with_net = 0, without = 0;
   for (size_t i = 0; i < d.frames.size(); ++i) {

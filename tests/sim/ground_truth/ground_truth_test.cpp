@@ -66,7 +66,7 @@ TEST(GroundTruth, NetPeriodInImageMatchesFocalTimesMeshOverDistance) {
     const RenderedFrame r = render_cpu(s, net, f);  // with noise and marine snow
     const double d_net = net_relative(s, net, f.T_pen_camera).d_net_m;
     ASSERT_NEAR(d_net, camera_distance, 1e-9);
-    const double expected = 462.0 * s.net.mesh_m / d_net;
+    const double expected = 462.0 * s.net.bar_length_m / d_net;
     const Eigen::Vector2d got = measured_periods_px(r.image);
     std::printf("  d_net %.2f m: period expected %.3f px, measured %.3f / %.3f px\n", d_net,
                 expected, got.x(), got.y());

@@ -87,7 +87,7 @@ TEST(NetLattice, MeshIsEvenAcrossAzimuthPiInTheImage) {
   const NetGeometry net(s.pen, s.net);
   const RenderedFrame r =
       render_cpu(s, net, frame_state(s, 0), {.noise = false, .marine_snow = false});
-  const double period = s.camera.calibration.camera.fx_px * s.net.mesh_m / camera_distance;
+  const double period = s.camera.calibration.camera.fx_px * s.net.bar_length_m / camera_distance;
   const std::vector<double> peaks = twine_columns(r.image, period);
   ASSERT_GE(peaks.size(), 15u);
   double worst = 0;

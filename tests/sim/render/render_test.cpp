@@ -124,7 +124,7 @@ TEST_F(VulkanTest, RenderMatchesCpuShearedSquareMeshWithRoundKnots) {
   // are sharp discs, and far, where they fade to their mean.
   for (const double distance : {0.9, 2.8}) {
     Scenario s = testing::one_pose({.net_distance_m = distance, .heading_rad = 0.2});
-    s.net.mesh_m = 0.0275;
+    s.net.bar_length_m = 0.0275;
     s.net.opening_angle_deg = 100;
     s.net.twine_width_m = 0.007;
     s.net.knot_size_m = 0.0095;

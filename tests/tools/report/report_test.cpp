@@ -28,8 +28,8 @@ namespace pensight {
 namespace {
 namespace fs = std::filesystem;
 
-constexpr int64_t kFrameNs = 100'000'000;  // 10 Hz
-constexpr int64_t kStartNs = 1'700'000'000'000'000'000;
+constexpr int64_t kFrame_ns = 100'000'000;  // 10 Hz
+constexpr int64_t kStart_ns = 1'700'000'000'000'000'000;
 
 std::string read_text(const fs::path& file) {
   std::ifstream in(file, std::ios::binary);
@@ -70,7 +70,7 @@ class ReportTest : public ::testing::Test {
       const ImageU8 frame = i == frames - 1
                                 ? testing::render_noise(cam.width_px, cam.height_px, 40, 90, 7)
                                 : testing::render_net(cam, scene);
-      const NetDetection d = detector.detect(frame, kStartNs + i * kFrameNs);
+      const NetDetection d = detector.detect(frame, kStart_ns + i * kFrame_ns);
       char name[32];
       std::snprintf(name, sizeof name, "%06d.png", i);
       write_overlay_png(dir / name, frame, d, detector.rois(), NetDetectorConfig{}.grid.size_px);
@@ -89,7 +89,7 @@ class ReportTest : public ::testing::Test {
     DiagnosticsCsvWriter diagnostics(out / kDiagnosticsFile);
     const double rho0 = 0.4;
     for (int i = 0; i < 80; ++i) {
-      const int64_t t = kStartNs + i * kFrameNs;
+      const int64_t t = kStart_ns + i * kFrame_ns;
       const double s = 0.1 * i;
       GroundTruthRow g;
       g.timestamp_ns = t;
@@ -276,7 +276,7 @@ TEST_F(ReportTest, EmptyAndAllNanRuns) {
   EXPECT_NE(read_text(dir_ / "report.html").find("0 frames over 0.0 s"), std::string::npos);
 
   EstimatesCsvWriter estimates(dir_ / "estimates.csv");
-  for (int i = 0; i < 3; ++i) estimates.write({.timestamp_ns = kStartNs + i * kFrameNs});
+  for (int i = 0; i < 3; ++i) estimates.write({.timestamp_ns = kStart_ns + i * kFrame_ns});
   estimates.finish();
   write_report_html(dir_, nullptr);
   const std::string html = read_text(dir_ / "report.html");
