@@ -14,16 +14,16 @@
 namespace pensight::app {
 namespace {
 
-nn::Graph load(const std::string& model) {
-  if (model == "builtin:compact") return nn::compact_depth_net({320, 240}, 1);
-  if (model == "builtin:trudepth") return nn::trudepth_net({320, 240}, 0.5f, 1);
+kernels::Graph load(const std::string& model) {
+  if (model == "builtin:compact") return kernels::compact_depth_net({320, 240}, 1);
+  if (model == "builtin:trudepth") return kernels::trudepth_net({320, 240}, 0.5f, 1);
   // Every op of the engine in a few kilobytes: for checking another runtime, and a fuzz seed.
-  if (model == "builtin:all-ops") return nn::all_ops_net(1);
+  if (model == "builtin:all-ops") return kernels::all_ops_net(1);
   if (model.starts_with("builtin:")) {
     throw Error("export-onnx: unknown built-in model '" + model +
                 "'; use builtin:compact, builtin:trudepth or builtin:all-ops");
   }
-  return nn::import_onnx(model);
+  return kernels::import_onnx(model);
 }
 
 }  // namespace
@@ -32,7 +32,7 @@ int cmd_export_onnx(const Args& args) {
   CLI::App cli("Write a model as TensorRT-compatible ONNX (opset 17, static shapes, BN folded)",
                "pensight export-onnx");
   std::string model, out;
-  nn::OnnxExportOptions options;
+  kernels::OnnxExportOptions options;
   cli.add_option("MODEL", model,
                  "a .onnx file, builtin:compact, builtin:trudepth or builtin:all-ops")
       ->required();
@@ -43,10 +43,10 @@ int cmd_export_onnx(const Args& args) {
   } catch (const CLI::ParseError& e) {
     return cli.exit(e);
   }
-  const nn::Graph graph = load(model);
-  const std::string bytes = nn::export_onnx_bytes(graph, options);
-  nn::check_onnx_bytes(bytes);
-  nn::export_onnx(graph, out, options);
+  const kernels::Graph graph = load(model);
+  const std::string bytes = kernels::export_onnx_bytes(graph, options);
+  kernels::check_onnx_bytes(bytes);
+  kernels::export_onnx(graph, out, options);
   std::printf("wrote %s: %zu nodes, %.3f GFLOP per inference, %s weights, %zu bytes\n", out.c_str(),
               graph.nodes().size(), graph.flops() * 1e-9, options.fp16_weights ? "fp16" : "fp32",
               bytes.size());

@@ -13,6 +13,13 @@
 #include "core/atomic_file.h"
 #include "core/file_bytes.h"
 #include "core/params.h"
+#include "pipeline/dataset/calibration_yaml.h"
+#include "pipeline/depth/depth_estimator.h"
+#include "pipeline/fft/net_detector_params.h"
+#include "pipeline/global_pose/global_pose_estimator.h"
+#include "pipeline/global_pose/published_global_pose.h"
+#include "sim/scenario.h"
+#include "vehicle/bluerov2_params.h"
 #if PENSIGHT_HAS_MAPPING
 #include "mapping/map_config.h"
 #endif
@@ -27,6 +34,27 @@ std::string parameters_markdown() {
       "generated from the definitions the readers use (`pensight params --write "
       "docs/parameters.md`; `core/params.h`). An absent key keeps its default; an unknown key, a "
       "value of the wrong type or out of range is an error naming the file and the key.\n";
+  doc += "\n## scene.yaml (`pipeline/dataset/calibration_yaml.h`; ../shared/dataset-format.md)\n\n";
+  doc += std::string(kParamTableHeader) + scene_param_rows();
+  doc += "\n## cam0/sensor.yaml\n\n" + std::string(kParamTableHeader) + camera_param_rows();
+  doc += "\n## dvl0/sensor.yaml\n\n" + std::string(kParamTableHeader) + dvl_param_rows();
+  doc +=
+      "\nThe matrices, lists and names of these files (intrinsics, T_BS, beam_directions, "
+      "net_mesh_type, net_type) are described in ../shared/dataset-format.md.\n";
+  doc += "\n## Scenario (`pensight render SCENARIO`, `sim/scenario.h`)\n\n";
+  doc += std::string(kParamTableHeader) + sim::scenario_param_rows();
+  doc +=
+      "\n## FFT net detector (`NetDetectorConfig`, `pipeline/fft/net_detector_params.h`; built "
+      "in code, checked when the detector is made)\n\n";
+  doc += std::string(kParamTableHeader) + net_detector_param_rows();
+  doc += "\n## Dense depth (`DepthEstimatorConfig` and the DVL corrections)\n\n";
+  doc += std::string(kParamTableHeader) + depth_param_rows();
+  doc += "\n## Global pose (`GlobalPoseEstimatorConfig`)\n\n";
+  doc += std::string(kParamTableHeader) + global_pose::global_pose_param_rows();
+  doc += "\n## Published global-pose node (`PublishedGlobalPoseConfig`)\n\n";
+  doc += std::string(kParamTableHeader) + global_pose::published_global_pose_param_rows();
+  doc += "\n## Vehicle model (`vehicle/bluerov2_params.h`)\n\n";
+  doc += std::string(kParamTableHeader) + vehicle::bluerov2_param_rows();
   doc +=
       "\n## Net-relative control (a scenario's `control:` section, `control/control_config.h`)\n\n";
   doc += std::string(kParamTableHeader) + control::control_param_rows();

@@ -27,9 +27,9 @@ std::filesystem::path find_default_depth_model(const PinholeCamera& camera) {
     std::sort(files.begin(), files.end());
     for (const fs::path& f : files) {
       try {
-        const nn::Graph g = nn::import_onnx(f);
+        const kernels::Graph g = kernels::import_onnx(f);
         if (g.inputs().empty() || g.value(g.inputs()[0]).shape.size() != 4) continue;
-        const nn::Dims& d = g.value(g.inputs()[0]).shape;
+        const kernels::Dims& d = g.value(g.inputs()[0]).shape;
         if (d[3] * camera.height_px == d[2] * camera.width_px) return fs::weakly_canonical(f, ec);
       } catch (const std::exception&) {
         // Not a model this build reads: the next one may be; --model names one explicitly.

@@ -19,29 +19,31 @@ using namespace pensight;
 
 // 0: compact net, 1: TRUDepth-0.5, 2: TRUDepth-0.5 encoder-decoder without the AdaBins head (the
 // part OpenCV DNN can run).
-nn::Graph model(int which) {
-  if (which == 0) return nn::compact_depth_net({320, 240}, 1);
-  return nn::trudepth_net({320, 240}, 0.5f, 1,
-                          which == 1 ? nn::DepthHead::kAdaBins : nn::DepthHead::kConvSoftplus);
+kernels::Graph model(int which) {
+  if (which == 0) return kernels::compact_depth_net({320, 240}, 1);
+  return kernels::trudepth_net(
+      {320, 240}, 0.5f, 1,
+      which == 1 ? kernels::DepthHead::kAdaBins : kernels::DepthHead::kConvSoftplus);
 }
 const char* model_name(int64_t which) {
   return which == 0 ? "compact" : which == 1 ? "trudepth-0.5" : "trudepth-0.5-no-head";
 }
 
-std::vector<nn::Tensor> inputs(const nn::Graph& g) {
+std::vector<kernels::Tensor> inputs(const kernels::Graph& g) {
   std::mt19937 rng(3);
   std::uniform_real_distribution<float> u(0, 1);
-  std::vector<nn::Tensor> in;
+  std::vector<kernels::Tensor> in;
   for (int v : g.inputs()) {
-    nn::Tensor t{g.value(v).shape,
-                 std::vector<float>(static_cast<size_t>(nn::num_elements(g.value(v).shape)))};
+    kernels::Tensor t{
+        g.value(v).shape,
+        std::vector<float>(static_cast<size_t>(kernels::num_elements(g.value(v).shape)))};
     for (float& x : t.data) x = u(rng);
     in.push_back(std::move(t));
   }
   return in;
 }
 
-void counters(benchmark::State& state, const nn::Graph& g) {
+void counters(benchmark::State& state, const kernels::Graph& g) {
   state.counters["GFLOP"] = g.flops() * 1e-9;
   state.counters["GFLOP/s"] = benchmark::Counter(
       g.flops() * 1e-9 * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
@@ -50,7 +52,7 @@ void counters(benchmark::State& state, const nn::Graph& g) {
 
 // range(1) = 1: fp16 storage (skipped where the device lacks it).
 void BM_Nn_Vulkan(benchmark::State& state) {
-  const nn::Graph g = model(static_cast<int>(state.range(0)));
+  const kernels::Graph g = model(static_cast<int>(state.range(0)));
   const auto in = inputs(g);
   const vk::Context ctx;
   const bool fp16 = state.range(1) == 1;
@@ -58,7 +60,7 @@ void BM_Nn_Vulkan(benchmark::State& state) {
     state.SkipWithError("no 16-bit storage on this device");
     return;
   }
-  nn::VkModel m(ctx, g, {.fp16_storage = fp16});
+  kernels::VkModel m(ctx, g, {.fp16_storage = fp16});
   for (size_t i = 0; i < in.size(); ++i)
     m.input_buffer(i).upload(in[i].data.data(), in[i].data.size() * 4);
   for (auto _ : state) m.submit();
@@ -74,17 +76,17 @@ BENCHMARK(BM_Nn_Vulkan)
     ->UseRealTime();
 
 void BM_Nn_CpuReference(benchmark::State& state) {
-  const nn::Graph g = model(static_cast<int>(state.range(0)));
+  const kernels::Graph g = model(static_cast<int>(state.range(0)));
   const auto in = inputs(g);
-  for (auto _ : state) benchmark::DoNotOptimize(nn::run_cpu(g, in));
+  for (auto _ : state) benchmark::DoNotOptimize(kernels::run_cpu(g, in));
   counters(state, g);
 }
 BENCHMARK(BM_Nn_CpuReference)->DenseRange(0, 2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_Nn_OpenCvDnn(benchmark::State& state) {
-  const nn::Graph g = model(static_cast<int>(state.range(0)));
+  const kernels::Graph g = model(static_cast<int>(state.range(0)));
   const auto in = inputs(g);
-  const std::string bytes = nn::opencv_dnn_compatible(nn::export_onnx_bytes(g));
+  const std::string bytes = kernels::opencv_dnn_compatible(kernels::export_onnx_bytes(g));
   cv::dnn::Net net = cv::dnn::readNetFromONNX(bytes.data(), bytes.size());
   for (size_t i = 0; i < in.size(); ++i) {
     std::vector<int> dims(in[i].shape.begin(), in[i].shape.end());

@@ -6,12 +6,16 @@ include(CMakePackageConfigHelpers)
 set(PENSIGHT_INSTALL_INCLUDEDIR ${CMAKE_INSTALL_INCLUDEDIR}/pensight)
 set(PENSIGHT_INSTALL_CMAKEDIR ${CMAKE_INSTALL_LIBDIR}/cmake/pensight)
 
-# pensight_add_layer(NAME [DEPENDS LAYER...]): the static library of the layer whose folder calls
-# it, linking the layers below it (DEPENDS). Its folder's headers are installed, *_detail.h
+# pensight_add_layer(NAME NAMESPACE NS... [DEPENDS LAYER...]): the static library of the layer
+# whose folder calls it, linking the layers below it (DEPENDS). NAMESPACE lists the namespaces its
+# code opens (scripts/check-layers.py checks them). Its folder's headers are installed, *_detail.h
 # (implementation-only) and internal/ folders excepted; the library is exported as pensight::NAME and linked by
 # `pensight`.
 function(pensight_add_layer name)
-  cmake_parse_arguments(PARSE_ARGV 1 arg "" "" "DEPENDS")
+  cmake_parse_arguments(PARSE_ARGV 1 arg "" "" "NAMESPACE;DEPENDS")
+  if(NOT arg_NAMESPACE)
+    message(FATAL_ERROR "pensight_add_layer(${name}): NAMESPACE is missing (the namespaces of its code)")
+  endif()
   add_library(${name} STATIC)
   add_library(pensight::${name} ALIAS ${name})
   target_include_directories(${name} PUBLIC $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}>

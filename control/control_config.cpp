@@ -3,14 +3,24 @@
 #include <cmath>
 #include <string_view>
 
+#include "core/enum_names.h"
 #include "core/error.h"
 #include "core/params.h"
 #include "core/strict_yaml.h"
 
 namespace pensight::control {
 
+namespace {
+
+constexpr EnumName<VelocityStrategy> kStrategyNames[] = {
+    {VelocityStrategy::kDvlFeedback, "dvl"},
+    {VelocityStrategy::kOpenLoop, "open_loop"},
+};
+
+}  // namespace
+
 const char* to_string(VelocityStrategy s) {
-  return s == VelocityStrategy::kDvlFeedback ? "dvl" : "open_loop";
+  return enum_name<VelocityStrategy>(kStrategyNames, s);
 }
 
 namespace {
@@ -92,7 +102,12 @@ const Param<SafetyConfig> kSafetyParams[] = {
 
 // The net must stay in view: a heading of 1 rad from the net's normal is at the edge of it.
 const Param<Leg> kLegParams[] = {
-    {"d_ref_m", &Leg::d_ref_m, "m", kPositive, "distance to hold from the net (required)"},
+    {.key = "d_ref_m",
+     .member = &Leg::d_ref_m,
+     .unit = "m",
+     .range = kPositive,
+     .help = "distance to hold from the net",
+     .required = true},
     {"heading_ref_rad",
      &Leg::heading_ref_rad,
      "rad",
@@ -108,15 +123,17 @@ const Param<Leg> kLegParams[] = {
      "the leg ends once this is travelled along the net (absent: never)"},
 };
 
-constexpr const char* kGainLoops[] = {"surge_position", "surge_velocity", "sway_position", "yaw"};
-
-template <class Gains>  // LoopGains or const LoopGains
-auto& gains_of(Gains& g, std::string_view loop) {
-  if (loop == "surge_position") return g.surge_position;
-  if (loop == "surge_velocity") return g.surge_velocity;
-  if (loop == "sway_position") return g.sway_position;
-  return g.yaw;
-}
+// The PID loops, each a YAML section under gains: with kGainParams.
+struct GainLoop {
+  const char* key;
+  PidGains LoopGains::*gains;
+};
+constexpr GainLoop kGainLoops[] = {
+    {"surge_position", &LoopGains::surge_position},
+    {"surge_velocity", &LoopGains::surge_velocity},
+    {"sway_position", &LoopGains::sway_position},
+    {"yaw", &LoopGains::yaw},
+};
 
 template <class Config>
 void read_section(const YamlMap& parent, const std::string& key,
@@ -137,9 +154,9 @@ void require(bool ok, const std::string& where, const std::string& key, const st
 std::string control_param_rows() {
   const ControlConfig d;
   std::string rows;
-  for (const char* loop : kGainLoops) {
-    rows += param_table_rows<PidGains>(kGainParams, gains_of(d.gains, loop),
-                                       "gains." + std::string(loop) + ".");
+  for (const GainLoop& loop : kGainLoops) {
+    rows += param_table_rows<PidGains>(kGainParams, d.gains.*loop.gains,
+                                       "gains." + std::string(loop.key) + ".");
   }
   rows += param_table_rows<LoopLimits>(kLimitParams, d.limits, "limits.");
   rows += param_table_rows<VehicleModel>(kVehicleParams, d.vehicle, "vehicle.");
@@ -150,9 +167,9 @@ std::string control_param_rows() {
 
 void validate(const ControlConfig& c, const std::string& file, const std::string& key_prefix) {
   const std::string where = file + ": key '" + key_prefix;
-  for (const char* loop : kGainLoops) {
-    check_params<PidGains>(gains_of(c.gains, loop), kGainParams, file,
-                           key_prefix + "gains." + loop + ".");
+  for (const GainLoop& loop : kGainLoops) {
+    check_params<PidGains>(c.gains.*loop.gains, kGainParams, file,
+                           key_prefix + "gains." + loop.key + ".");
   }
   require(c.gains.surge_position.kp > 0, where, "gains.surge_position.kp",
           "0 leaves the distance to the net uncontrolled; the published value is 3.0");
@@ -183,26 +200,24 @@ void validate(const ControlConfig& c, const std::string& file, const std::string
 ControlConfig parse_control_config(const YamlMap& map) {
   ControlConfig c;
   const std::string strategy = map.string("strategy", to_string(c.strategy));
-  if (strategy == "dvl") {
-    c.strategy = VelocityStrategy::kDvlFeedback;
-  } else if (strategy == "open_loop") {
-    c.strategy = VelocityStrategy::kOpenLoop;
+  if (const auto s = parse_enum_name<VelocityStrategy>(kStrategyNames, strategy)) {
+    c.strategy = *s;
   } else {
-    map.fail("strategy", "'" + strategy + "' is not a strategy; use dvl or open_loop");
+    map.fail("strategy", "'" + strategy + "' is not a strategy; use " +
+                             enum_choices<VelocityStrategy>(kStrategyNames));
   }
   if (map.has("legs")) {
     c.legs.clear();
     for (const YamlMap& m : map.map_list("legs")) {
       Leg leg;
-      m.number("d_ref_m");  // required: a leg without it has no meaning
       read_params<Leg>(m, kLegParams, leg);
       m.check_unknown_keys();
       c.legs.push_back(leg);
     }
   }
   if (const auto g = map.optional_map("gains")) {
-    for (const char* loop : kGainLoops) {
-      read_section<PidGains>(*g, loop, kGainParams, gains_of(c.gains, loop));
+    for (const GainLoop& loop : kGainLoops) {
+      read_section<PidGains>(*g, loop.key, kGainParams, c.gains.*loop.gains);
     }
     g->check_unknown_keys();
   }

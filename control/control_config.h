@@ -8,12 +8,9 @@
 #include <vector>
 
 #include "control/pid.h"
+#include "core/strict_yaml.h"
 #include "core/units.h"
 #include "vehicle/bluerov2_params.h"
-
-namespace pensight {
-class YamlMap;
-}
 
 namespace pensight::control {
 

@@ -1,28 +1,27 @@
 #include "core/backend.h"
 
+#include "core/enum_names.h"
 #include "core/error.h"
 
 namespace pensight {
+namespace {
+
+constexpr EnumName<Backend> kBackendNames[] = {
+    {Backend::kAuto, "auto"},
+    {Backend::kCpu, "cpu"},
+    {Backend::kVulkan, "vulkan"},
+    {Backend::kCuda, "cuda"},
+};
+
+}  // namespace
 
 const char* to_string(Backend backend) {
-  switch (backend) {
-    case Backend::kAuto:
-      return "auto";
-    case Backend::kCpu:
-      return "cpu";
-    case Backend::kVulkan:
-      return "vulkan";
-    case Backend::kCuda:
-      return "cuda";
-  }
-  return "unknown";
+  return enum_name<Backend>(kBackendNames, backend);
 }
 
 Backend parse_backend(const std::string& name) {
-  for (Backend b : {Backend::kAuto, Backend::kCpu, Backend::kVulkan, Backend::kCuda}) {
-    if (name == to_string(b)) return b;
-  }
-  throw Error("unknown backend '" + name + "'; use auto, cpu, vulkan or cuda");
+  if (const auto b = parse_enum_name<Backend>(kBackendNames, name)) return *b;
+  throw Error("unknown backend '" + name + "'; use " + enum_choices<Backend>(kBackendNames));
 }
 
 }  // namespace pensight

@@ -1,9 +1,20 @@
 #include "core/dataset_types.h"
 
+#include "core/enum_names.h"
+
 namespace pensight {
 
+namespace {
+
+constexpr EnumName<MeshType> kMeshTypeNames[] = {
+    {MeshType::kSquare, "square"},
+    {MeshType::kDiamond, "diamond"},
+};
+
+}  // namespace
+
 const char* to_string(MeshType type) {
-  return type == MeshType::kDiamond ? "diamond" : "square";
+  return enum_name<MeshType>(kMeshTypeNames, type);
 }
 
 double net_curvature_per_m(const SceneConfig& scene) {
@@ -11,10 +22,7 @@ double net_curvature_per_m(const SceneConfig& scene) {
 }
 
 std::optional<MeshType> parse_mesh_type(const std::string& name) {
-  for (MeshType t : {MeshType::kSquare, MeshType::kDiamond}) {
-    if (name == to_string(t)) return t;
-  }
-  return std::nullopt;
+  return parse_enum_name<MeshType>(kMeshTypeNames, name);
 }
 
 }  // namespace pensight

@@ -12,6 +12,14 @@ std::string format_param_value(double v) {
   return text;
 }
 
+std::string param_range_error(double value, const ParamRange& range, std::string_view unit,
+                              std::string_view help) {
+  std::string message = format_param_value(value);
+  message.append(" is outside ").append(range.text());
+  if (!unit.empty()) message.append(" ").append(unit);
+  return message.append(" (").append(help).append(")");
+}
+
 std::string ParamRange::text() const {
   // Built by appending: GCC 12 warns falsely (-Wrestrict, PR 105329) on "literal" + std::string.
   const bool has_min = std::isfinite(min), has_max = std::isfinite(max);

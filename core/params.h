@@ -9,6 +9,7 @@
 // own in the config's validate(), after check_params.
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -45,19 +46,27 @@ constexpr ParamRange closed_range(double min, double max) {
   return {min, max};
 }
 
-// One parameter of Config: a member of type double, int or bool.
+// One parameter of Config: a member of type double, float, int, bool or optional double (absent:
+// none).
 template <class Config>
 struct Param {
   std::string_view key;  // in the YAML map that holds Config's keys
-  std::variant<double Config::*, int Config::*, bool Config::*> member;
+  std::variant<double Config::*, float Config::*, int Config::*, bool Config::*,
+               std::optional<double> Config::*>
+      member;
   std::string_view unit;  // of the value as written ("m", "deg", "us"); empty for none
   ParamRange range;       // checked on the value as written; unused for bool
   std::string_view help;  // one line
   // The member holds the written value times this (a scene.yaml angle in degrees held in rad).
   double scale = 1;
+  bool required = false;  // a file without the key is refused ("missing")
 };
 
 std::string format_param_value(double v);
+
+// "VALUE is outside RANGE UNIT (HELP)": the one message of a value out of its range.
+std::string param_range_error(double value, const ParamRange& range, std::string_view unit,
+                              std::string_view help);
 
 // Reads every parameter of `params` that `map` has into `config` (absent ones keep their value),
 // checking its range; throws pensight::Error "FILE: key 'PATH': VALUE is outside RANGE UNIT
@@ -66,7 +75,10 @@ template <class Config>
 void read_params(const YamlMap& map, std::span<const Param<Config>> params, Config& config) {
   for (const Param<Config>& p : params) {
     const std::string key(p.key);
-    if (!map.has(key)) continue;
+    if (!map.has(key)) {
+      if (p.required) map.fail(key, "missing; add it (" + std::string(p.help) + ")");
+      continue;
+    }
     if (const auto* flag = std::get_if<bool Config::*>(&p.member)) {
       config.*(*flag) = map.boolean(key);
       continue;
@@ -74,24 +86,32 @@ void read_params(const YamlMap& map, std::span<const Param<Config>> params, Conf
     const double v = std::holds_alternative<int Config::*>(p.member)
                          ? static_cast<double>(map.integer(key))
                          : map.number(key);
-    if (!p.range.contains(v)) {
-      map.fail(key, format_param_value(v) + " is outside " + p.range.text() +
-                        (p.unit.empty() ? "" : " " + std::string(p.unit)) + " (" +
-                        std::string(p.help) + ")");
-    }
+    if (!p.range.contains(v)) map.fail(key, param_range_error(v, p.range, p.unit, p.help));
     if (const auto* number = std::get_if<double Config::*>(&p.member)) {
       config.*(*number) = v * p.scale;
+    } else if (const auto* single = std::get_if<float Config::*>(&p.member)) {
+      config.*(*single) = static_cast<float>(v * p.scale);
+    } else if (const auto* maybe = std::get_if<std::optional<double> Config::*>(&p.member)) {
+      config.*(*maybe) = v * p.scale;
     } else {
       config.*std::get<int Config::*>(p.member) = static_cast<int>(v);
     }
   }
 }
 
-// The value of p in `config`, as written (divided by p.scale); bools as 0 / 1.
+// The value of p in `config`, as written (divided by p.scale); bools as 0 / 1, an absent optional
+// as NaN.
 template <class Config>
 double param_value(const Config& config, const Param<Config>& p) {
   if (const auto* flag = std::get_if<bool Config::*>(&p.member)) return config.*(*flag) ? 1 : 0;
   if (const auto* integer = std::get_if<int Config::*>(&p.member)) return config.*(*integer);
+  if (const auto* single = std::get_if<float Config::*>(&p.member)) {
+    return config.*(*single) / p.scale;
+  }
+  if (const auto* maybe = std::get_if<std::optional<double> Config::*>(&p.member)) {
+    const std::optional<double>& v = config.*(*maybe);
+    return v ? *v / p.scale : std::numeric_limits<double>::quiet_NaN();
+  }
   return config.*std::get<double Config::*>(p.member) / p.scale;
 }
 
@@ -103,11 +123,11 @@ void check_params(const Config& config, std::span<const Param<Config>> params,
   for (const Param<Config>& p : params) {
     if (std::holds_alternative<bool Config::*>(p.member)) continue;
     const double v = param_value(config, p);
+    const auto* maybe = std::get_if<std::optional<double> Config::*>(&p.member);
+    if (maybe && !(config.*(*maybe))) continue;
     if (!p.range.contains(v)) {
       throw Error(std::string(where) + ": key '" + std::string(key_prefix) + std::string(p.key) +
-                  "': " + format_param_value(v) + " is outside " + p.range.text() +
-                  (p.unit.empty() ? "" : " " + std::string(p.unit)) + " (" + std::string(p.help) +
-                  ")");
+                  "': " + param_range_error(v, p.range, p.unit, p.help));
     }
   }
 }
@@ -122,8 +142,10 @@ std::string param_table_rows(std::span<const Param<Config>> params, const Config
     const bool flag = std::holds_alternative<bool Config::*>(p.member);
     const double v = param_value(defaults, p);
     rows += "| `" + std::string(key_prefix) + std::string(p.key) + "` | " +
-            (flag ? (v != 0 ? "true" : "false") : format_param_value(v)) + " | " +
-            std::string(p.unit) + " | " + (flag ? "true, false" : p.range.text()) + " | " +
+            (p.required ? "required"
+             : flag     ? (v != 0 ? "true" : "false")
+                        : format_param_value(v)) +
+            " | " + std::string(p.unit) + " | " + (flag ? "true, false" : p.range.text()) + " | " +
             std::string(p.help) + " |\n";
   }
   return rows;

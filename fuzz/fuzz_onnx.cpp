@@ -7,6 +7,7 @@
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   pensight::fuzz::quiet_log();
   const std::string bytes(reinterpret_cast<const char*>(data), size);
-  pensight::fuzz::expect_clean_error([&] { pensight::nn::import_onnx_bytes(bytes, "fuzz.onnx"); });
+  pensight::fuzz::expect_clean_error(
+      [&] { pensight::kernels::import_onnx_bytes(bytes, "fuzz.onnx"); });
   return 0;
 }

@@ -2,8 +2,10 @@
 """Checks the layering: a layer's files include only its own layer and the layers it declares.
 
 A layer is the static library that a folder's CMakeLists.txt creates with
-`pensight_add_layer(NAME [DEPENDS LAYER...])`; it owns every file under that folder but those under
-a deeper folder with a layer of its own. Each `#include "..."` of a layer's .h/.hpp/.cpp/.cu/.cuh
+`pensight_add_layer(NAME NAMESPACE NS... [DEPENDS LAYER...])`; it owns every file under that folder
+but those under a deeper folder with a layer of its own. Its code is in the namespaces NAMESPACE
+lists: every `namespace pensight... {` that opens at the start of a line names one of them or its
+`::detail`. Each `#include "..."` of a layer's .h/.hpp/.cpp/.cu/.cuh
 file that names a file of the tree (from the root, else from the includer's folder; generated
 headers name none and are skipped) must name a file of the includer's layer or of one in the
 closure of its DEPENDS: never apps/, tests/ or another folder outside the layers, and a private
@@ -27,7 +29,9 @@ END = "<!-- layers:end -->"
 HEADING = "## Layers and CMake targets"
 LAYER_CALL = re.compile(r"\bpensight_add_layer\s*\(([^)]*)\)")
 INCLUDE = re.compile(r'^\s*#\s*include\s*"([^"]+)"')
-Layer = namedtuple("Layer", "name folder depends cmake line")
+NAMESPACE_OPEN = re.compile(r"^namespace (pensight[\w:]*) \{")
+KEYWORDS = ("NAMESPACE", "DEPENDS")
+Layer = namedtuple("Layer", "name folder depends namespaces cmake line")
 
 
 def walk(root):
@@ -52,10 +56,20 @@ def find_layers(root, files):
         text = strip_comments((root / rel).read_text(errors="replace"))
         for m in LAYER_CALL.finditer(text):
             args = [a.strip('"') for a in m.group(1).split()]
-            deps = args[args.index("DEPENDS") + 1:] if "DEPENDS" in args else []
             line = text.count("\n", 0, m.start()) + 1
-            layers[args[0]] = Layer(args[0], Path(rel).parent.as_posix(), deps, rel, line)
+            layers[args[0]] = Layer(args[0], Path(rel).parent.as_posix(),
+                                    keyword_values(args, "DEPENDS"),
+                                    keyword_values(args, "NAMESPACE"), rel, line)
     return layers
+
+
+def keyword_values(args, keyword):
+    """The arguments after `keyword` up to the next keyword."""
+    if keyword not in args:
+        return []
+    values = args[args.index(keyword) + 1:]
+    ends = [i for i, a in enumerate(values) if a in KEYWORDS]
+    return values[:ends[0]] if ends else values
 
 
 def owner(rel, by_folder):
@@ -122,9 +136,19 @@ def include_error(rel, line, name, target, layer, layers, by_folder):
     return None
 
 
-def check_includes(root, files, layers):
+def namespace_error(rel, line, name, layer):
+    allowed = layer.namespaces + [ns + "::detail" for ns in layer.namespaces]
+    if name in allowed:
+        return None
+    return (f"{rel}:{line}: namespace {name} is not one of layer {layer.name}'s "
+            f"(NAMESPACE {' '.join(layer.namespaces)} in {layer.cmake}); namespaces follow folders")
+
+
+def check_sources(root, files, layers):
     by_folder = {layer.folder: layer for layer in layers.values()}
     in_tree, errors, scanned, checked = set(files), [], 0, 0
+    errors += [f"{l.cmake}:{l.line}: layer {l.name} declares no NAMESPACE"
+               for l in layers.values() if not l.namespaces]
     for rel in files:
         layer = owner(rel, by_folder)
         if layer is None or Path(rel).suffix not in SOURCES:
@@ -137,6 +161,10 @@ def check_includes(root, files, layers):
             if target:
                 checked += 1
                 error = include_error(rel, number, m.group(1), target, layer, layers, by_folder)
+                errors += [error] if error else []
+            ns = NAMESPACE_OPEN.match(text)
+            if ns and layer.namespaces:
+                error = namespace_error(rel, number, ns.group(1), layer)
                 errors += [error] if error else []
     return errors, scanned, checked
 
@@ -194,8 +222,8 @@ def main():
     if args.graph or args.write_doc:
         return 0
     errors = graph_errors(layers)
-    include_errors, scanned, checked = check_includes(root, files, layers)
-    errors += include_errors + (check_doc(args.check_doc, graph(layers)) if args.check_doc else [])
+    source_errors, scanned, checked = check_sources(root, files, layers)
+    errors += source_errors + (check_doc(args.check_doc, graph(layers)) if args.check_doc else [])
     print("\n".join(errors + [""]), end="")
     print(f"layers: {len(layers)} layers, {scanned} files, {checked} includes checked, "
           f"{len(errors)} errors")

@@ -10,6 +10,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/threads.h"
 #include "pipeline/dataset/dataset_reader.h"
 #include "pipeline/depth/depth_input.h"
 #include "pipeline/fft/net_detector.h"
@@ -242,9 +243,7 @@ void write_depth_data(const std::filesystem::path& out, const DepthDataOptions& 
       }
     }
   };
-  const int threads = o.threads > 0
-                          ? o.threads
-                          : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const int threads = worker_threads(o.threads);
   std::vector<std::jthread> pool;
   for (int t = 0; t < threads; ++t) pool.emplace_back(work);
   pool.clear();

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/threads.h"
 #include "sim/sim_hash.h"
 
 namespace pensight::sim {
@@ -20,7 +21,7 @@ namespace {
 // Rows split over the cores, as the CPU renderer does.
 template <class F>
 void for_rows(int height, F&& row) {
-  const int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const int threads = worker_threads(0);
   std::vector<std::jthread> pool;
   for (int t = 0; t < threads; ++t) {
     pool.emplace_back([&, t] {

@@ -5,6 +5,7 @@
 #include <limits>
 #include <thread>
 
+#include "core/threads.h"
 #include "sim/lamp_veil.h"
 #include "sim/marine_snow.h"
 #include "sim/net_mesh.h"
@@ -351,7 +352,7 @@ RenderedFrame render_cpu(const Scenario& s, const NetGeometry& net, const FrameS
       }
     }
   };
-  const int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const int threads = worker_threads(0);
   {
     std::vector<std::jthread> pool;
     for (int t = 0; t < threads; ++t) {

@@ -5,10 +5,12 @@
 #include <fstream>
 #include <numbers>
 #include <optional>
+#include <span>
 #include <sstream>
 
 #include "control/control_config.h"
 #include "core/error.h"
+#include "core/params.h"
 #include "core/strict_yaml.h"
 #include "core/units.h"
 #include "pipeline/dataset/sensor_mounts.h"
@@ -16,20 +18,292 @@
 namespace pensight::sim {
 namespace {
 
-// Reads `key` (default `fallback`) and checks lo <= value <= hi.
-double ranged(const YamlMap& y, const std::string& key, double fallback, double lo, double hi) {
-  const double v = y.number(key, fallback);
-  if (!(v >= lo && v <= hi)) {
-    y.fail(key, "must be between " + std::to_string(lo) + " and " + std::to_string(hi) + ", got " +
-                    std::to_string(v));
-  }
-  return v;
-}
+constexpr double kPi = std::numbers::pi;
 
-double positive(const YamlMap& y, const std::string& key, double fallback) {
-  const double v = y.number(key, fallback);
-  if (!(v > 0)) y.fail(key, "must be positive, got " + std::to_string(v));
-  return v;
+// The numbers of each section, in a table beside the struct that holds them (core/params.h). A
+// rule that ties two keys together stays an explicit check in the section's parser (the list is
+// at scenario_param_rows in scenario.h).
+
+// The top level's numbers as written. The seed, a whole number up to 9e15, is beyond a Param's
+// int (Scenario holds it as uint64); an absent duration_s (NaN) is the trajectory's span.
+struct TopLevelKeys {
+  double seed = 1;
+  double duration_s = kNaN;
+};
+
+// Six hours: 216 000 frames at 10 Hz, and a bound on what the trajectory checks walk through.
+const Param<TopLevelKeys> kTopLevelParams[] = {
+    {"seed", &TopLevelKeys::seed, "", closed_range(0, 9e15),
+     "random seed of the noise, net deformation and current; a whole number"},
+    {"duration_s", &TopLevelKeys::duration_s, "s", closed_range(0, 21600),
+     "length of the run; absent: the trajectory's span"},
+};
+
+const Param<CameraCalibration> kCalibrationParams[] = {
+    {"rate_hz", &CameraCalibration::rate_hz, "Hz", closed_range(0.1, 1000), "frame rate"},
+};
+
+const Param<CameraConfig> kCameraParams[] = {
+    {"pan_rad", &CameraConfig::pan_rad, "rad", closed_range(-kPi, kPi),
+     "from looking straight ahead; right > 0"},
+    {"tilt_rad", &CameraConfig::tilt_rad, "rad", closed_range(-1.5, 1.5),
+     "from looking straight ahead; down > 0"},
+    {"samples_per_axis", &CameraConfig::samples_per_axis, "", closed_range(1, 8),
+     "supersampling: N x N rays per pixel"},
+    {"exposure", &CameraConfig::exposure, "", kPositive,
+     "sensor gain: grey level 255 x this per unit radiance"},
+    {"vignetting", &CameraConfig::vignetting, "", closed_range(0, 1),
+     "vignetting; 0: none, 1: cos^4 fall-off"},
+    {"read_noise", &CameraConfig::read_noise, "", closed_range(0, 100),
+     "read noise in grey levels"},
+    {"shot_noise", &CameraConfig::shot_noise, "", closed_range(0, 10),
+     "shot noise in grey levels per sqrt(grey level)"},
+    {"f_number", &CameraConfig::f_number, "", closed_range(0.5, 64), "aperture diameter f / N"},
+    {"pixel_pitch_m", &CameraConfig::pixel_pitch_m, "m", closed_range(0.5e-6, 50e-6),
+     "focal length f = fx * pixel_pitch_m"},
+    {"focus_distance_m", &CameraConfig::focus_distance_m, "m", closed_range(0, 1000),
+     "thin-lens focus (z-depth), > 2 f; 0: pinhole, no defocus"},
+    {"exposure_time_s", &CameraConfig::exposure_time_s, "s", closed_range(0, 1),
+     "motion blur over the exposure, <= 1 / rate_hz; 0: none"},
+    {"colour", &CameraConfig::colour, "", {}, "RGB frames with per-channel water attenuation"},
+    {"jpeg_quality", &CameraConfig::jpeg_quality, "", closed_range(0, 100),
+     "1-100: JPEG round trip before the PNG; 0: none"},
+};
+
+const Param<PenConfig> kPenParams[] = {
+    {"radius_m", &PenConfig::radius_m, "m", kPositive,
+     "cylinder radius; plane: the net is the plane x = radius_m"},
+    {"depth_m", &PenConfig::depth_m, "m", kPositive,
+     "cylinder: depth of the wall's lower edge and of the bottom"},
+    {"bottom", &PenConfig::bottom, "", {}, "cylinder: flat bottom net at depth_m"},
+    {"width_m", &PenConfig::width_m, "m", kPositive, "plane: net width, centred at along = 0"},
+    {"top_m", &PenConfig::top_m, "m", closed_range(0, 1000), "plane: depth of the net's top"},
+    {"height_m", &PenConfig::height_m, "m", kPositive, "plane: net height below top_m"},
+    {"wall_gap_m", &PenConfig::wall_gap_m, "m", closed_range(0, 1000),
+     "plane: basin wall this far behind the net; 0: open water"},
+    {"wall_albedo", &PenConfig::wall_albedo, "", closed_range(0, 1), "plane: basin wall albedo"},
+};
+
+const Param<NetConfig> kNetParams[] = {
+    {"mesh_m", &NetConfig::bar_length_m, "m", kPositive, "bar length, knot to knot"},
+    {"opening_angle_deg", &NetConfig::opening_angle_deg, "deg", closed_range(45, 135),
+     "angle between the bars"},
+    {"opening_angle_variation_deg", &NetConfig::opening_angle_variation_deg, "deg",
+     closed_range(0, 10), "slow deformation: the angle varies by about +-this"},
+    {"stretch_variation", &NetConfig::stretch_variation, "", closed_range(0, 0.05),
+     "slow deformation: the bar length varies by about +-this share"},
+    {"deform_scale_m", &NetConfig::deform_scale_m, "m", closed_range(0.2, 100),
+     "wavelength of the deformation"},
+    {"twine_width_m", &NetConfig::twine_width_m, "m", kPositive,
+     "perpendicular to the twine, < 0.35 mesh_m"},
+    {"knot_size_m", &NetConfig::knot_size_m, "m", closed_range(0, 1),
+     "knots at the crossings, < 0.6 mesh_m; 0: knotless"},
+    {"albedo", &NetConfig::albedo, "", closed_range(0, 1), "twine albedo"},
+    {"fouling", &NetConfig::fouling, "", closed_range(0, 1),
+     "depth of the slowly varying albedo loss"},
+    {"fouling_scale_m", &NetConfig::fouling_scale_m, "m", kPositive,
+     "size of the fouling's variation and patches"},
+    {"fouling_coverage", &NetConfig::fouling_coverage, "", closed_range(0, 0.7),
+     "share of the net in fouled patches"},
+    {"seam_spacing_m", &NetConfig::seam_spacing_m, "m", closed_range(0, 1000),
+     "vertical lacing lines every this, >= 2 mesh_m; 0: none"},
+};
+
+const Param<RopeConfig> kRopeParams[] = {
+    {"spacing_m", &RopeConfig::spacing_m, "m", closed_range(0, 1000),
+     "rope grid over the net, >= 4 width_m; 0: no ropes"},
+    {"width_m", &RopeConfig::width_m, "m", closed_range(0.001, 0.2), "rope width"},
+    {"albedo", &RopeConfig::albedo, "", closed_range(0, 1), "rope albedo"},
+};
+
+const Param<Bulge> kBulgeParams[] = {
+    {.key = "along_m",
+     .member = &Bulge::along_m,
+     .unit = "m",
+     .range = kAnyNumber,
+     .help = "centre's arc length along the net",
+     .required = true},
+    {.key = "depth_m",
+     .member = &Bulge::depth_m,
+     .unit = "m",
+     .range = kAnyNumber,
+     .help = "centre's depth",
+     .required = true},
+    {"amplitude_m", &Bulge::amplitude_m, "m", closed_range(-5, 5),
+     "Gaussian dent, > 0 pushes the net into the pen"},
+    {"radius_m", &Bulge::radius_m, "m", kPositive, "the dent's standard deviation"},
+};
+
+const Param<WaterConfig> kWaterParams[] = {
+    {"attenuation_per_m", &WaterConfig::attenuation_per_m, "1/m", closed_range(0.01, 20),
+     "beam attenuation c, Beer-Lambert"},
+    {"diffuse_attenuation_per_m", &WaterConfig::diffuse_attenuation_per_m, "1/m",
+     closed_range(0, 20), "Kd: ambient light falls off as exp(-Kd z)"},
+    {"backscatter", &WaterConfig::backscatter, "", closed_range(0, 10),
+     "veiling light, as a share of the ambient light"},
+    {"lamp_backscatter", &WaterConfig::lamp_backscatter, "", closed_range(0, 10),
+     "veiling light from the lamps, per unit intensity"},
+    {"marine_snow", &WaterConfig::marine_snow, "", closed_range(0, 1),
+     "particles in view per 24x24 px of a 720x540, fx = 462 image"},
+    {"snow_brightness", &WaterConfig::snow_brightness, "", closed_range(0, 10),
+     "marine snow particle brightness"},
+};
+
+const Param<LightConfig> kLightParams[] = {
+    {"ambient", &LightConfig::ambient, "", closed_range(0, 100),
+     "irradiance just below the surface; 0: night"},
+    {"surface_brightness", &LightConfig::surface_brightness, "", closed_range(0, 100),
+     "the surface seen from below, relative to ambient"},
+    {"lamp_level", &LightConfig::lamp_level, "", closed_range(0, 1), "dimmer for all lamps"},
+};
+
+const Param<Lamp> kLampParams[] = {
+    {"intensity", &Lamp::intensity, "", closed_range(0, 1000),
+     "irradiance at 1 m on the axis, in clear water"},
+    {"half_angle_rad", &Lamp::half_angle_rad, "rad", closed_range(0.01, 1.5),
+     "half intensity at this angle off the axis"},
+};
+
+const Param<Fish> kFishParams[] = {
+    {"net_distance_m", &Fish::net_distance_m, "m", kPositive, "swims this far from the net"},
+    {"depth_m", &Fish::depth_m, "m", kPositive, "swimming depth"},
+    {"speed_mps", &Fish::speed_mps, "m/s", closed_range(-10, 10), "along the net"},
+    {"along_m", &Fish::along_m, "m", kAnyNumber, "arc length along the net at the start"},
+    {"length_m", &Fish::length_m, "m", kPositive, "ellipsoid length"},
+    {"thickness_m", &Fish::thickness_m, "m", kPositive, "ellipsoid thickness"},
+    {"albedo", &Fish::albedo, "", closed_range(0, 1), "fish albedo"},
+};
+
+const Param<DvlConfig> kDvlParams[] = {
+    {"enabled", &DvlConfig::enabled, "", {}, "DVL samples in the dataset"},
+    {"rate_hz", &DvlConfig::rate_hz, "Hz", closed_range(0.1, 100), "sample rate"},
+    {"pan_rad", &DvlConfig::pan_rad, "rad", closed_range(-kPi, kPi),
+     "mount, from looking forward: DVL z along body x"},
+    {"tilt_rad", &DvlConfig::tilt_rad, "rad", closed_range(-kPi, kPi),
+     "mount, from looking forward"},
+    {"beam_angle_rad", &DvlConfig::beam_angle_rad, "rad", closed_range(0, 1.2),
+     "beams' angle from the DVL axis"},
+    {"velocity_noise_mps", &DvlConfig::velocity_noise_mps, "m/s", closed_range(0, 10),
+     "white noise per velocity component"},
+    {"range_noise_m", &DvlConfig::range_noise_m, "m", closed_range(0, 10),
+     "white noise per beam range"},
+    {"max_range_m", &DvlConfig::max_range_m, "m", kPositive,
+     "a beam hitting the net farther returns nothing"},
+    {"dropout_probability", &DvlConfig::dropout_probability, "", closed_range(0, 1),
+     "share of samples lost"},
+    {"spike_probability", &DvlConfig::spike_probability, "", closed_range(0, 1),
+     "share of samples with a random spike"},
+    {"spike_mps", &DvlConfig::spike_mps, "m/s", closed_range(0, 100), "size of the random spikes"},
+    {"scale_error", &DvlConfig::scale_error, "", closed_range(-0.5, 0.5),
+     "v_measured = (1 + scale_error) v + bias"},
+};
+
+const Param<DvlSpike> kDvlSpikeParams[] = {
+    {"t_s", &DvlSpike::t_s, "s", closed_range(0, 1e6), "start of an injected velocity error"},
+    {"duration_s", &DvlSpike::duration_s, "s", kPositive, "how long the injected error lasts"},
+};
+
+const Param<PressureConfig> kPressureParams[] = {
+    {"enabled", &PressureConfig::enabled, "", {}, "depth samples in the dataset"},
+    {"rate_hz", &PressureConfig::rate_hz, "Hz", closed_range(0.1, 1000), "sample rate"},
+    {"noise_m", &PressureConfig::noise_m, "m", closed_range(0, 10), "white depth noise"},
+    {"bias_m", &PressureConfig::bias_m, "m", closed_range(-10, 10), "constant depth offset"},
+};
+
+const Param<AttitudeConfig> kAttitudeParams[] = {
+    {"enabled", &AttitudeConfig::enabled, "", {}, "attitude samples in the dataset"},
+    {"rate_hz", &AttitudeConfig::rate_hz, "Hz", closed_range(0.1, 1000), "sample rate"},
+    {"noise_rad", &AttitudeConfig::noise_rad, "rad", closed_range(0, 1), "white noise per angle"},
+};
+
+const Param<Waypoint> kWaypointParams[] = {
+    {.key = "t_s",
+     .member = &Waypoint::t_s,
+     .unit = "s",
+     .range = kAnyNumber,
+     .help = "time, increasing along the list",
+     .required = true},
+    {"along_m", &Waypoint::along_m, "m", kAnyNumber, "arc length along the net"},
+    {.key = "net_distance_m",
+     .member = &Waypoint::net_distance_m,
+     .unit = "m",
+     .range = kAnyNumber,
+     .help = "body origin's distance from the undeformed net",
+     .required = true},
+    {.key = "depth_m",
+     .member = &Waypoint::depth_m,
+     .unit = "m",
+     .range = kAnyNumber,
+     .help = "body origin's depth",
+     .required = true},
+    {"heading_rad", &Waypoint::heading_rad, "rad", kAnyNumber,
+     "0: facing the net squarely, > 0: turned right"},
+    {"pitch_rad", &Waypoint::pitch_rad, "rad", closed_range(-1.5, 1.5), "nose up > 0"},
+    {"roll_rad", &Waypoint::roll_rad, "rad", closed_range(-1.5, 1.5), "right side down > 0"},
+};
+
+// The numbers of trajectory.lawnmower (its net_distances_m is a list).
+struct Lawnmower {
+  double depth_from_m = 0, depth_to_m = 0;
+  double row_spacing_m = 0.5, row_length_m = 3.0, speed_mps = 0.3, along_m = 0;
+};
+
+const Param<Lawnmower> kLawnmowerParams[] = {
+    {.key = "depth_from_m",
+     .member = &Lawnmower::depth_from_m,
+     .unit = "m",
+     .range = kAnyNumber,
+     .help = "depth of the first row",
+     .required = true},
+    {.key = "depth_to_m",
+     .member = &Lawnmower::depth_to_m,
+     .unit = "m",
+     .range = kAnyNumber,
+     .help = "rows down to this depth, not above depth_from_m",
+     .required = true},
+    {"row_spacing_m", &Lawnmower::row_spacing_m, "m", kPositive,
+     "rows step down by this; at most 1000 rows"},
+    {"row_length_m", &Lawnmower::row_length_m, "m", kPositive, "length of a row along the net"},
+    {"speed_mps", &Lawnmower::speed_mps, "m/s", kPositive, "speed along rows and between them"},
+    {"along_m", &Lawnmower::along_m, "m", kAnyNumber, "where the rows start along the net"},
+};
+
+// What a scenario may change of the BlueROV2 Heavy's defaults, in the ranges of
+// vehicle::check_params.
+const Param<vehicle::CurrentParams> kVehicleCurrentParams[] = {
+    {"current_variation_mps", &vehicle::CurrentParams::variation_mps, "m/s", kNonNegative,
+     "Gauss-Markov current variation per horizontal axis"},
+    {"current_time_constant_s", &vehicle::CurrentParams::time_constant_s, "s", kPositive,
+     "time constant of the current's variation"},
+};
+
+const Param<vehicle::AutopilotParams> kVehicleAutopilotParams[] = {
+    {"pilot_gain",
+     &vehicle::AutopilotParams::pilot_gain,
+     "",
+     {0, 1, true, false},
+     "ArduSub's joystick gain"},
+};
+
+const Param<vehicle::HullParams> kVehicleHullParams[] = {
+    {"water_density_kgpm3", &vehicle::HullParams::water_density_kgpm3, "kg/m^3", kPositive,
+     "sea water density; 1007.5: neutrally buoyant"},
+};
+
+// The defaults of the rows of this file's own structs, as constants: GCC 12 warns falsely
+// (-Wmaybe-uninitialized) on a temporary of them read through param_table_rows.
+constexpr TopLevelKeys kTopLevelDefaults;
+constexpr Lawnmower kLawnmowerDefaults;
+
+// read_params, and every key of the table counts as known even when absent, as with YamlMap's
+// accessors: a typo's message lists them all, and a key given no value keeps its default.
+template <class Config, size_t N>
+void read_keys(const YamlMap& y, const Param<Config> (&params)[N], Config& config) {
+  read_params(y, std::span<const Param<Config>>(params), config);
+  for (const Param<Config>& p : params) {
+    const std::string key(p.key);
+    if (!y.has(key)) y.optional_number(key);
+  }
 }
 
 Eigen::Vector3d vec3(const YamlMap& y, const std::string& key, const Eigen::Vector3d& fallback) {
@@ -44,7 +318,7 @@ Eigen::Vector3d vec3(const YamlMap& y, const std::string& key, const Eigen::Vect
 CameraConfig parse_camera(const YamlMap& y) {
   CameraConfig c;
   PinholeCamera& k = c.calibration.camera;
-  c.calibration.rate_hz = ranged(y, "rate_hz", 10, 0.1, 1000);
+  read_keys(y, kCalibrationParams, c.calibration);
   if (y.has("resolution")) {
     const auto r = y.numbers("resolution", 2);
     if (r[0] < 8 || r[1] < 8 || r[0] > 8192 || r[1] > 8192 || r[0] != std::round(r[0]) ||
@@ -80,19 +354,7 @@ CameraConfig parse_camera(const YamlMap& y) {
     y.optional_number("distortion");
   }
   c.position_B_m = vec3(y, "position_m", c.position_B_m);
-  c.pan_rad = ranged(y, "pan_rad", 0, -std::numbers::pi, std::numbers::pi);
-  c.tilt_rad = ranged(y, "tilt_rad", 0, -1.5, 1.5);
-  c.samples_per_axis = y.integer("samples_per_axis", 3);
-  if (c.samples_per_axis < 1 || c.samples_per_axis > 8) {
-    y.fail("samples_per_axis", "must be 1 to 8");
-  }
-  c.exposure = positive(y, "exposure", c.exposure);
-  c.vignetting = ranged(y, "vignetting", c.vignetting, 0, 1);
-  c.read_noise = ranged(y, "read_noise", c.read_noise, 0, 100);
-  c.shot_noise = ranged(y, "shot_noise", c.shot_noise, 0, 10);
-  c.f_number = ranged(y, "f_number", c.f_number, 0.5, 64);
-  c.pixel_pitch_m = ranged(y, "pixel_pitch_m", c.pixel_pitch_m, 0.5e-6, 50e-6);
-  c.focus_distance_m = ranged(y, "focus_distance_m", c.focus_distance_m, 0, 1000);
+  read_keys(y, kCameraParams, c);
   // The thin-lens blur circle needs the focus beyond the focal length (and a real lens focuses
   // no closer than a few focal lengths).
   const double focal_m = k.fx_px * c.pixel_pitch_m;
@@ -102,14 +364,8 @@ CameraConfig parse_camera(const YamlMap& y) {
            "pixel_pitch_m = " +
                std::to_string(focal_m) + " m");
   }
-  c.exposure_time_s = ranged(y, "exposure_time_s", c.exposure_time_s, 0, 1);
   if (!(c.exposure_time_s * c.calibration.rate_hz <= 1)) {
     y.fail("exposure_time_s", "must not be longer than the frame interval 1 / rate_hz");
-  }
-  c.colour = y.boolean("colour", c.colour);
-  c.jpeg_quality = y.integer("jpeg_quality", c.jpeg_quality);
-  if (c.jpeg_quality < 0 || c.jpeg_quality > 100) {
-    y.fail("jpeg_quality", "must be 0 (off) or 1 to 100");
   }
   y.check_unknown_keys();
   return c;
@@ -125,32 +381,18 @@ PenConfig parse_pen(const YamlMap& y) {
   } else {
     y.fail("shape", "must be 'cylinder' or 'plane', got '" + shape + "'");
   }
-  p.radius_m = positive(y, "radius_m", p.radius_m);
-  p.depth_m = positive(y, "depth_m", p.depth_m);
-  p.bottom = y.boolean("bottom", p.bottom);
-  p.width_m = positive(y, "width_m", p.width_m);
-  p.top_m = ranged(y, "top_m", p.top_m, 0, 1000);
-  p.height_m = positive(y, "height_m", p.height_m);
-  p.wall_gap_m = ranged(y, "wall_gap_m", p.wall_gap_m, 0, 1000);
-  p.wall_albedo = ranged(y, "wall_albedo", p.wall_albedo, 0, 1);
+  read_keys(y, kPenParams, p);
   y.check_unknown_keys();
   return p;
 }
 
 NetConfig parse_net(const YamlMap& y) {
   NetConfig n;
-  n.bar_length_m = positive(y, "mesh_m", n.bar_length_m);
+  read_keys(y, kNetParams, n);
   const std::string type = y.string("mesh_type", to_string(n.mesh_type));
   const std::optional<MeshType> mesh_type = parse_mesh_type(type);
   if (!mesh_type) y.fail("mesh_type", "must be 'square' or 'diamond', got '" + type + "'");
   n.mesh_type = *mesh_type;
-  n.opening_angle_deg = ranged(y, "opening_angle_deg", n.opening_angle_deg, 45, 135);
-  n.opening_angle_variation_deg =
-      ranged(y, "opening_angle_variation_deg", n.opening_angle_variation_deg, 0, 10);
-  n.stretch_variation = ranged(y, "stretch_variation", n.stretch_variation, 0, 0.05);
-  n.deform_scale_m = ranged(y, "deform_scale_m", n.deform_scale_m, 0.2, 100);
-  n.twine_width_m = positive(y, "twine_width_m", n.twine_width_m);
-  n.knot_size_m = ranged(y, "knot_size_m", n.knot_size_m, 0, 1);
   // Up to 30 % of the bar (heavy twine on a small mesh); the holes stay open at 45 degrees.
   if (n.twine_width_m >= 0.35 * n.bar_length_m) {
     y.fail("twine_width_m", "must be less than 0.35 * mesh_m");
@@ -165,20 +407,13 @@ NetConfig parse_net(const YamlMap& y) {
   } else {
     y.fail("knot_shape", "must be 'square' or 'round', got '" + knot + "'");
   }
-  n.albedo = ranged(y, "albedo", n.albedo, 0, 1);
-  n.fouling = ranged(y, "fouling", n.fouling, 0, 1);
-  n.fouling_scale_m = positive(y, "fouling_scale_m", n.fouling_scale_m);
-  n.fouling_coverage = ranged(y, "fouling_coverage", n.fouling_coverage, 0, 0.7);
   if (const auto r = y.optional_map("ropes")) {
-    n.ropes.spacing_m = ranged(*r, "spacing_m", n.ropes.spacing_m, 0, 1000);
-    n.ropes.width_m = ranged(*r, "width_m", n.ropes.width_m, 0.001, 0.2);
-    n.ropes.albedo = ranged(*r, "albedo", n.ropes.albedo, 0, 1);
+    read_keys(*r, kRopeParams, n.ropes);
     if (n.ropes.spacing_m > 0 && n.ropes.spacing_m < 4 * n.ropes.width_m) {
       r->fail("spacing_m", "must be 0 (no ropes) or at least 4 * width_m");
     }
     r->check_unknown_keys();
   }
-  n.seam_spacing_m = ranged(y, "seam_spacing_m", n.seam_spacing_m, 0, 1000);
   if (n.seam_spacing_m > 0 && n.seam_spacing_m < 2 * n.bar_length_m) {
     y.fail("seam_spacing_m", "must be 0 (no seams) or at least 2 * mesh_m");
   }
@@ -186,10 +421,7 @@ NetConfig parse_net(const YamlMap& y) {
     if (list->size() > kMaxBulges) y.fail("bulges", "at most 8 bulges");
     for (const YamlMap& b : *list) {
       Bulge g;
-      g.along_m = b.number("along_m");
-      g.depth_m = b.number("depth_m");
-      g.amplitude_m = ranged(b, "amplitude_m", 0, -5, 5);
-      g.radius_m = positive(b, "radius_m", 1.0);
+      read_keys(b, kBulgeParams, g);
       b.check_unknown_keys();
       n.bulges.push_back(g);
     }
@@ -200,13 +432,7 @@ NetConfig parse_net(const YamlMap& y) {
 
 WaterConfig parse_water(const YamlMap& y) {
   WaterConfig w;
-  w.attenuation_per_m = ranged(y, "attenuation_per_m", w.attenuation_per_m, 0.01, 20);
-  w.diffuse_attenuation_per_m =
-      ranged(y, "diffuse_attenuation_per_m", w.diffuse_attenuation_per_m, 0, 20);
-  w.backscatter = ranged(y, "backscatter", w.backscatter, 0, 10);
-  w.lamp_backscatter = ranged(y, "lamp_backscatter", w.lamp_backscatter, 0, 10);
-  w.marine_snow = ranged(y, "marine_snow", w.marine_snow, 0, 1);
-  w.snow_brightness = ranged(y, "snow_brightness", w.snow_brightness, 0, 10);
+  read_keys(y, kWaterParams, w);
   w.current_mps = vec3(y, "current_mps", w.current_mps);
   if (!(w.current_mps.norm() <= 3)) y.fail("current_mps", "a water current of at most 3 m/s");
   y.check_unknown_keys();
@@ -222,9 +448,7 @@ std::vector<Lamp> default_lamps() {
 
 LightConfig parse_light(const YamlMap& y) {
   LightConfig l;
-  l.ambient = ranged(y, "ambient", l.ambient, 0, 100);
-  l.surface_brightness = ranged(y, "surface_brightness", l.surface_brightness, 0, 100);
-  l.lamp_level = ranged(y, "lamp_level", l.lamp_level, 0, 1);
+  read_keys(y, kLightParams, l);
   if (const auto list = y.optional_map_list("lamps")) {
     if (list->size() > kMaxLamps) y.fail("lamps", "at most 4 lamps");
     for (const YamlMap& m : *list) {
@@ -233,8 +457,7 @@ LightConfig parse_light(const YamlMap& y) {
       lamp.direction_B = vec3(m, "direction", lamp.direction_B);
       if (!(lamp.direction_B.norm() > 1e-6)) m.fail("direction", "must not be zero");
       lamp.direction_B.normalize();
-      lamp.intensity = ranged(m, "intensity", lamp.intensity, 0, 1000);
-      lamp.half_angle_rad = ranged(m, "half_angle_rad", lamp.half_angle_rad, 0.01, 1.5);
+      read_keys(m, kLampParams, lamp);
       m.check_unknown_keys();
       l.lamps.push_back(lamp);
     }
@@ -252,13 +475,7 @@ std::vector<Fish> parse_fish(const YamlMap& y) {
   if (list->size() > kMaxFish) y.fail("fish", "at most 8 fish");
   for (const YamlMap& m : *list) {
     Fish f;
-    f.net_distance_m = positive(m, "net_distance_m", f.net_distance_m);
-    f.depth_m = positive(m, "depth_m", f.depth_m);
-    f.speed_mps = ranged(m, "speed_mps", f.speed_mps, -10, 10);
-    f.along_m = m.number("along_m", f.along_m);
-    f.length_m = positive(m, "length_m", f.length_m);
-    f.thickness_m = positive(m, "thickness_m", f.thickness_m);
-    f.albedo = ranged(m, "albedo", f.albedo, 0, 1);
+    read_keys(m, kFishParams, f);
     m.check_unknown_keys();
     out.push_back(f);
   }
@@ -267,25 +484,13 @@ std::vector<Fish> parse_fish(const YamlMap& y) {
 
 DvlConfig parse_dvl(const YamlMap& y) {
   DvlConfig d;
-  d.enabled = y.boolean("enabled", true);
-  d.rate_hz = ranged(y, "rate_hz", d.rate_hz, 0.1, 100);
+  read_keys(y, kDvlParams, d);
   d.position_B_m = vec3(y, "position_m", d.position_B_m);
-  d.pan_rad = ranged(y, "pan_rad", 0, -std::numbers::pi, std::numbers::pi);
-  d.tilt_rad = ranged(y, "tilt_rad", 0, -std::numbers::pi, std::numbers::pi);
-  d.beam_angle_rad = ranged(y, "beam_angle_rad", d.beam_angle_rad, 0, 1.2);
-  d.velocity_noise_mps = ranged(y, "velocity_noise_mps", d.velocity_noise_mps, 0, 10);
-  d.range_noise_m = ranged(y, "range_noise_m", d.range_noise_m, 0, 10);
-  d.max_range_m = positive(y, "max_range_m", d.max_range_m);
-  d.dropout_probability = ranged(y, "dropout_probability", d.dropout_probability, 0, 1);
-  d.spike_probability = ranged(y, "spike_probability", d.spike_probability, 0, 1);
-  d.spike_mps = ranged(y, "spike_mps", d.spike_mps, 0, 100);
-  d.scale_error = ranged(y, "scale_error", d.scale_error, -0.5, 0.5);
   d.bias_B_mps = vec3(y, "bias_mps", d.bias_B_mps);
   if (const auto list = y.optional_map_list("spikes")) {
     for (const YamlMap& m : *list) {
       DvlSpike spike;
-      spike.t_s = ranged(m, "t_s", 0, 0, 1e6);
-      spike.duration_s = positive(m, "duration_s", spike.duration_s);
+      read_keys(m, kDvlSpikeParams, spike);
       spike.velocity_B_mps = vec3(m, "velocity_mps", spike.velocity_B_mps);
       m.check_unknown_keys();
       d.spikes.push_back(spike);
@@ -297,32 +502,21 @@ DvlConfig parse_dvl(const YamlMap& y) {
 
 PressureConfig parse_pressure(const YamlMap& y) {
   PressureConfig p;
-  p.enabled = y.boolean("enabled", true);
-  p.rate_hz = ranged(y, "rate_hz", p.rate_hz, 0.1, 1000);
-  p.noise_m = ranged(y, "noise_m", p.noise_m, 0, 10);
-  p.bias_m = ranged(y, "bias_m", p.bias_m, -10, 10);
+  read_keys(y, kPressureParams, p);
   y.check_unknown_keys();
   return p;
 }
 
 AttitudeConfig parse_attitude(const YamlMap& y) {
   AttitudeConfig a;
-  a.enabled = y.boolean("enabled", true);
-  a.rate_hz = ranged(y, "rate_hz", a.rate_hz, 0.1, 1000);
-  a.noise_rad = ranged(y, "noise_rad", a.noise_rad, 0, 1);
+  read_keys(y, kAttitudeParams, a);
   y.check_unknown_keys();
   return a;
 }
 
 Waypoint parse_waypoint(const YamlMap& m) {
   Waypoint w;
-  w.t_s = m.number("t_s");
-  w.along_m = m.number("along_m", 0);
-  w.net_distance_m = m.number("net_distance_m");
-  w.depth_m = m.number("depth_m");
-  w.heading_rad = m.number("heading_rad", 0);
-  w.pitch_rad = ranged(m, "pitch_rad", 0, -1.5, 1.5);
-  w.roll_rad = ranged(m, "roll_rad", 0, -1.5, 1.5);
+  read_keys(m, kWaypointParams, w);
   m.check_unknown_keys();
   return w;
 }
@@ -332,11 +526,9 @@ Waypoint parse_waypoint(const YamlMap& m) {
 std::vector<Waypoint> lawnmower(const YamlMap& y) {
   const std::vector<double> distances = y.numbers("net_distances_m");
   if (distances.empty()) y.fail("net_distances_m", "needs at least one distance");
-  const double top = y.number("depth_from_m"), bottom = y.number("depth_to_m");
-  const double spacing = positive(y, "row_spacing_m", 0.5);
-  const double length = positive(y, "row_length_m", 3.0);
-  const double speed = positive(y, "speed_mps", 0.3);
-  const double along0 = y.number("along_m", 0);
+  Lawnmower mower;
+  read_keys(y, kLawnmowerParams, mower);
+  const double top = mower.depth_from_m, bottom = mower.depth_to_m, spacing = mower.row_spacing_m;
   if (!(bottom >= top)) y.fail("depth_to_m", "must not be above depth_from_m");
   if (!((bottom - top) / spacing <= 1000)) y.fail("row_spacing_m", "more than 1000 rows");
   y.check_unknown_keys();
@@ -346,7 +538,8 @@ std::vector<Waypoint> lawnmower(const YamlMap& y) {
   auto go = [&](double along, double dist, double depth) {
     if (!out.empty()) {
       const Waypoint& p = out.back();
-      t += std::hypot(along - p.along_m, dist - p.net_distance_m, depth - p.depth_m) / speed;
+      t += std::hypot(along - p.along_m, dist - p.net_distance_m, depth - p.depth_m) /
+           mower.speed_mps;
     }
     Waypoint w;
     w.t_s = t;
@@ -359,8 +552,8 @@ std::vector<Waypoint> lawnmower(const YamlMap& y) {
   for (const double dist : distances) {
     for (int r = 0; r < rows; ++r) {
       const double depth = top + r * spacing;
-      go(forward ? along0 : along0 + length, dist, depth);
-      go(forward ? along0 + length : along0, dist, depth);
+      go(forward ? mower.along_m : mower.along_m + mower.row_length_m, dist, depth);
+      go(forward ? mower.along_m + mower.row_length_m : mower.along_m, dist, depth);
       forward = !forward;
     }
   }
@@ -414,16 +607,10 @@ namespace {
 
 // The closed loop's vehicle: what a scenario may change of the BlueROV2 Heavy's defaults.
 void parse_vehicle(const YamlMap& y, vehicle::VehicleParams& v) {
-  v.current.variation_mps = y.number("current_variation_mps", v.current.variation_mps);
-  v.current.time_constant_s = y.number("current_time_constant_s", v.current.time_constant_s);
-  v.autopilot.pilot_gain = y.number("pilot_gain", v.autopilot.pilot_gain);
-  v.hull.water_density_kgpm3 = y.number("water_density_kgpm3", v.hull.water_density_kgpm3);
+  read_keys(y, kVehicleCurrentParams, v.current);
+  read_keys(y, kVehicleAutopilotParams, v.autopilot);
+  read_keys(y, kVehicleHullParams, v.hull);
   y.check_unknown_keys();
-  try {
-    vehicle::check_params(v);
-  } catch (const Error& e) {
-    throw Error(y.file() + ": section 'vehicle': " + e.what());
-  }
 }
 
 }  // namespace
@@ -433,11 +620,10 @@ Scenario parse_scenario(const std::string& text, const std::string& file_name) {
   Scenario s;
   s.file = file_name;
   s.name = std::filesystem::path(file_name).stem().string();
-  const double seed = y.number("seed", 1);
-  if (seed < 0 || seed != std::floor(seed) || seed > 9e15) {
-    y.fail("seed", "must be a non-negative integer");
-  }
-  s.seed = static_cast<uint64_t>(seed);
+  TopLevelKeys top;
+  read_keys(y, kTopLevelParams, top);
+  if (top.seed != std::floor(top.seed)) y.fail("seed", "must be a whole number");
+  s.seed = static_cast<uint64_t>(top.seed);
   s.start_time_ns = y.integer64("start_time_ns", s.start_time_ns);
   if (const auto m = y.optional_map("camera")) s.camera = parse_camera(*m);
   s.camera.calibration.T_body_camera =
@@ -460,15 +646,43 @@ Scenario parse_scenario(const std::string& text, const std::string& file_name) {
   s.vehicle.current.seed = s.seed;
   s.waypoints = parse_trajectory(y.map("trajectory"));
   if (s.waypoints.empty()) y.fail("trajectory", "needs at least one waypoint");
-  const double last = s.waypoints.back().t_s;
-  s.duration_s = y.number("duration_s", last - s.waypoints.front().t_s);
-  // Six hours: 216 000 frames at 10 Hz, and a bound on what the trajectory checks walk through.
-  if (!(s.duration_s >= 0 && s.duration_s <= 21600)) {
-    y.fail("duration_s", "must be between 0 and 21600 s (6 h; from the waypoints when absent)");
+  if (std::isnan(top.duration_s)) {
+    top.duration_s = s.waypoints.back().t_s - s.waypoints.front().t_s;
+    // The trajectory's span is held to the range of duration_s.
+    check_params<TopLevelKeys>(top, kTopLevelParams, y.file());
   }
+  s.duration_s = top.duration_s;
   y.check_unknown_keys();
   validate(s);
   return s;
+}
+
+std::string scenario_param_rows() {
+  const Scenario d;
+  std::string rows = param_table_rows<TopLevelKeys>(kTopLevelParams, kTopLevelDefaults);
+  rows += param_table_rows<CameraCalibration>(kCalibrationParams, d.camera.calibration, "camera.");
+  rows += param_table_rows<CameraConfig>(kCameraParams, d.camera, "camera.");
+  rows += param_table_rows<PenConfig>(kPenParams, d.pen, "pen.");
+  rows += param_table_rows<NetConfig>(kNetParams, d.net, "net.");
+  rows += param_table_rows<RopeConfig>(kRopeParams, d.net.ropes, "net.ropes.");
+  rows += param_table_rows<Bulge>(kBulgeParams, Bulge{}, "net.bulges[].");
+  rows += param_table_rows<WaterConfig>(kWaterParams, d.water, "water.");
+  rows += param_table_rows<LightConfig>(kLightParams, d.light, "light.");
+  rows += param_table_rows<Lamp>(kLampParams, Lamp{}, "light.lamps[].");
+  rows += param_table_rows<Fish>(kFishParams, Fish{}, "fish[].");
+  rows += param_table_rows<DvlConfig>(kDvlParams, d.dvl, "dvl.");
+  rows += param_table_rows<DvlSpike>(kDvlSpikeParams, DvlSpike{}, "dvl.spikes[].");
+  rows += param_table_rows<PressureConfig>(kPressureParams, d.pressure, "pressure.");
+  rows += param_table_rows<AttitudeConfig>(kAttitudeParams, d.attitude, "attitude.");
+  rows += param_table_rows<Waypoint>(kWaypointParams, Waypoint{}, "trajectory.waypoints[].");
+  rows +=
+      param_table_rows<Lawnmower>(kLawnmowerParams, kLawnmowerDefaults, "trajectory.lawnmower.");
+  rows += param_table_rows<vehicle::CurrentParams>(kVehicleCurrentParams, d.vehicle.current,
+                                                   "vehicle.");
+  rows += param_table_rows<vehicle::AutopilotParams>(kVehicleAutopilotParams, d.vehicle.autopilot,
+                                                     "vehicle.");
+  rows += param_table_rows<vehicle::HullParams>(kVehicleHullParams, d.vehicle.hull, "vehicle.");
+  return rows;
 }
 
 Scenario load_scenario(const std::filesystem::path& file) {

@@ -199,6 +199,22 @@ struct Scenario {
 Scenario load_scenario(const std::filesystem::path& file);
 Scenario parse_scenario(const std::string& yaml_text, const std::string& file_name);
 
+// Markdown rows (core/params.h's param_table_rows) of every number and flag of a scenario, each
+// key with its section path as in the YAML (net.ropes.width_m, light.lamps[].intensity). What the
+// rows cannot say stays an explicit check of the parser or of validate():
+//  - seed: a whole number; start_time_ns: a whole number of 64 bits (read as such, not a row);
+//  - duration_s, when absent the waypoints' span, is held to the same range;
+//  - camera.focus_distance_m: 0 or more than 2 fx * pixel_pitch_m; camera.exposure_time_s: at
+//    most 1 / rate_hz;
+//  - net.twine_width_m below 0.35 mesh_m, net.knot_size_m below 0.6 mesh_m, net.seam_spacing_m 0
+//    or at least 2 mesh_m, net.ropes.spacing_m 0 or at least 4 width_m;
+//  - trajectory.lawnmower: depth_to_m not above depth_from_m, at most 1000 rows; waypoint times
+//    increase; the trajectory keeps the camera inside the pen (validate).
+// The lists and vectors (resolution, position_m, current_mps, ...) and the names (shape,
+// mesh_type, knot_shape) are checked where they are read; the control section has its own rows
+// (control::control_param_rows).
+std::string scenario_param_rows();
+
 // Checks what cannot be checked key by key (the trajectory stays inside the pen, ...). Called
 // by the loaders; call it again after changing a Scenario in code.
 void validate(const Scenario& s);

@@ -95,7 +95,8 @@ class SensorReplay {
 };
 
 // The per-frame outputs, written in frame order as results arrive; frames the replay could not
-// load get NaN rows in their place (and no trajectory line).
+// load get NaN rows in their place (and no trajectory line). The rows are also kept (a few hundred
+// bytes a frame) for OUT/report.html, which is built from them rather than from the files.
 class RunWriter {
  public:
   RunWriter(const Dataset& d, const std::filesystem::path& out, bool published, RunSummary& s)
@@ -206,6 +207,14 @@ class RunWriter {
     return next_;
   }
 
+  // After finish(): the rows written, moved into the report's input.
+  void move_rows_into(ReportInput& report) {
+    std::lock_guard lock(mutex_);
+    report.estimates = std::move(estimate_rows_);
+    if (published_) report.published = std::move(published_rows_);
+    report.diagnostics = std::move(diagnostics_rows_);
+  }
+
  private:
   void write_skipped() {
     while (next_ < skipped_.size() && !skipped_[next_].empty()) {
@@ -222,7 +231,12 @@ class RunWriter {
                   const DiagnosticsRow& diag) {
     estimates_.write(row);
     diagnostics_.write(diag);
-    if (published_) published_->write(published_row);
+    estimate_rows_.push_back(row);
+    diagnostics_rows_.push_back(diag);
+    if (published_) {
+      published_->write(published_row);
+      published_rows_.push_back(published_row);
+    }
     ++next_;
     ++summary_.frames;
   }
@@ -252,6 +266,8 @@ class RunWriter {
   DiagnosticsCsvWriter diagnostics_;
   TrajectoryTumWriter trajectory_;  // frames with a body pose only
   std::optional<GlobalPoseCsvWriter> published_;
+  std::vector<EstimateRow> estimate_rows_, published_rows_;
+  std::vector<DiagnosticsRow> diagnostics_rows_;
   std::vector<std::string> skipped_;   // per frame: why it could not be loaded, or empty
   std::filesystem::path overlay_dir_;  // empty: no overlays
   std::vector<kernels::RoiOrigin> rois_;
@@ -376,7 +392,10 @@ RunSummary run_dataset(const Dataset& dataset, const std::filesystem::path& out_
   summary.timing = timing_table(stages);
   summary.global_pose_counters = global_pose::describe(pipeline.global_pose_counters());
   write_timing_csv(out_dir / kTimingFile, summary.timing);
-  write_report_html(out_dir, &dataset, options.input);
+  ReportInput report{.out_dir = out_dir, .dataset = &dataset, .input = options.input};
+  writer.move_rows_into(report);
+  report.timing = summary.timing;
+  write_report_html(report);
   return summary;
 }
 

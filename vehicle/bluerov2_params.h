@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 #include <array>
 #include <cstdint>
+#include <string>
 
 #include "core/units.h"
 
@@ -109,7 +110,13 @@ struct VehicleParams {
   double physics_rate_hz = 400.0;  // RK4 step; autopilot.rate_hz divides it
 };
 
-// Throws pensight::Error naming the first parameter that is not finite or out of its range.
+// Throws pensight::Error "vehicle: key 'PATH': ..." for the first parameter out of its range
+// ("hull.mass_kg: -1 is outside > 0 kg (...)") or breaking a rule that ties it to another (the
+// dead band inside the PWM range, the physics rate a whole multiple of the autopilot's).
 void check_params(const VehicleParams& params);
+
+// Markdown rows (core/params.h's param_table_rows) of every parameter check_params checks, keys
+// as in its messages ("hull.mass_kg", "hull.added_mass[]"), defaults those of VehicleParams{}.
+std::string bluerov2_param_rows();
 
 }  // namespace pensight::vehicle

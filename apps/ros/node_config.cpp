@@ -3,44 +3,90 @@
 #include <xmlrpcpp/XmlRpcValue.h>
 
 #include <cmath>
+#include <limits>
 #include <set>
+#include <span>
 #include <vector>
 
 #include "core/error.h"
+#include "core/params.h"
 #include "pipeline/dataset/calibration_yaml.h"
 #include "ros/message_conversions_detail.h"
 
 namespace pensight::node {
 namespace {
 
-const std::vector<std::string> kParameters = {"scene",
-                                              "mesh_size_m",
-                                              "pen_radius_m",
-                                              "camera_yaml",
-                                              "dvl_yaml",
-                                              "has_dvl",
-                                              "has_pressure",
-                                              "has_imu",
-                                              "roi_rows",
-                                              "roi_cols",
-                                              "roi_size_px",
-                                              "backend",
-                                              "cpu_threads",
-                                              "model",
-                                              "depth_backend",
-                                              "depth_cpu_inference",
-                                              "water_density",
-                                              "surface_pressure_pa",
-                                              "pen_frame",
-                                              "base_frame",
-                                              "camera_frame",
-                                              "map_rate_hz",
-                                              "camera_info_timeout_s",
-                                              "sensor_wait_s"};
+constexpr ParamRange at_least(double min) {
+  return {min, std::numeric_limits<double>::infinity()};
+}
+
+// The numbers and flags, one table per part of NodeConfig they fill (keys without the "~"); the
+// strings and enums are read one by one in read_node_config.
+//
+// Read only without ~scene, whose scene.yaml says both.
+const Param<SceneConfig> kSceneParams[] = {
+    {"mesh_size_m", &SceneConfig::bar_length_m, "m", kPositive,
+     "net bar length, knot to knot (without ~scene)"},
+    {"pen_radius_m", &SceneConfig::pen_radius_m, "m", kPositive,
+     "pen radius (without ~scene); a flat net is a large radius (e.g. 100)"},
+};
+
+const Param<NodeConfig> kNodeParams[] = {
+    {"has_dvl", &NodeConfig::has_dvl, "", {}, "the vehicle has a DVL"},
+    {"has_pressure", &NodeConfig::has_pressure, "", {}, "the vehicle has a pressure sensor"},
+    {"has_imu", &NodeConfig::has_imu, "", {}, "the vehicle has an IMU"},
+    {"map_rate_hz", &NodeConfig::map_rate_hz, "Hz", kNonNegative,
+     "~map publications per second (0: no map)"},
+    {"camera_info_timeout_s", &NodeConfig::camera_info_timeout_s, "s", kPositive,
+     "error log period while no camera_info arrives"},
+    {"sensor_wait_s", &NodeConfig::sensor_wait_s, "s", closed_range(0, 1),
+     "how long a frame's global pose waits for a sensor sample due by the frame's time"},
+};
+
+const Param<kernels::RoiGrid> kGridParams[] = {
+    {"roi_rows", &kernels::RoiGrid::rows, "", at_least(1), "rows of the FFT's ROI grid"},
+    {"roi_cols", &kernels::RoiGrid::cols, "", at_least(1), "columns of the FFT's ROI grid"},
+    {"roi_size_px", &kernels::RoiGrid::size_px, "px", at_least(16), "ROI side in image pixels"},
+};
+
+const Param<NetDetectorConfig> kDetectorParams[] = {
+    {"cpu_threads", &NetDetectorConfig::cpu_threads, "", kNonNegative,
+     "net detection's CPU threads (0: all hardware threads)"},
+};
+
+const Param<WaterColumn> kWaterParams[] = {
+    {"water_density", &WaterColumn::density_kg_m3, "kg/m^3", kPositive,
+     "pressure to depth; sea water 1025, fresh water ~1000"},
+    {"surface_pressure_pa", &WaterColumn::surface_pressure_pa, "Pa", kNonNegative,
+     "the atmosphere at the surface: 101325"},
+};
+
+const std::vector<std::string> kTextParameters = {
+    "scene",         "camera_yaml",         "dvl_yaml",  "backend",    "model",
+    "depth_backend", "depth_cpu_inference", "pen_frame", "base_frame", "camera_frame"};
+
+template <class Config>
+void add_keys(std::span<const Param<Config>> params, std::vector<std::string>& names) {
+  for (const Param<Config>& p : params) names.emplace_back(p.key);
+}
+
+// Every private parameter the node takes.
+const std::vector<std::string>& known_parameters() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> all = kTextParameters;
+    add_keys<SceneConfig>(kSceneParams, all);
+    add_keys<NodeConfig>(kNodeParams, all);
+    add_keys<kernels::RoiGrid>(kGridParams, all);
+    add_keys<NetDetectorConfig>(kDetectorParams, all);
+    add_keys<WaterColumn>(kWaterParams, all);
+    return all;
+  }();
+  return names;
+}
 
 std::string known_list() {
   std::string out;
-  for (const std::string& p : kParameters) out += (out.empty() ? "~" : ", ~") + p;
+  for (const std::string& p : known_parameters()) out.append(out.empty() ? "~" : ", ~").append(p);
   return out;
 }
 
@@ -51,7 +97,7 @@ class Params {
     const std::string prefix = nh.getNamespace() + "/";
     std::vector<std::string> names;
     ros::NodeHandle(nh).getParamNames(names);
-    const std::set<std::string> known(kParameters.begin(), kParameters.end());
+    const std::set<std::string> known(known_parameters().begin(), known_parameters().end());
     for (const std::string& full : names) {
       if (!full.starts_with(prefix)) continue;
       const std::string name = full.substr(prefix.size());
@@ -91,23 +137,43 @@ class Params {
   }
 
   [[noreturn]] static void fail(const std::string& name, const std::string& takes) {
-    throw Error("~" + name + ": takes " + takes);
+    error(name, "takes " + takes);
+  }
+  [[noreturn]] static void error(const std::string& name, const std::string& message) {
+    throw Error("~" + name + ": " + message);
   }
 
  private:
   const ros::NodeHandle& nh_;
 };
 
-double positive(const Params& p, const std::string& name, double fallback) {
-  const double v = p.number(name).value_or(fallback);
-  if (!(v > 0)) Params::fail(name, "a number > 0 (got " + std::to_string(v) + ")");
-  return v;
-}
-
-int at_least(const Params& p, const std::string& name, int fallback, int min) {
-  const int v = p.integer(name).value_or(fallback);
-  if (v < min) Params::fail(name, "an integer >= " + std::to_string(min));
-  return v;
+// Reads the parameters of `params` that the server has into `config`, each as its member's type,
+// checking its range: "~KEY: VALUE is outside RANGE UNIT (HELP)".
+template <class Config>
+void read_ros_params(const Params& server, std::span<const Param<Config>> params, Config& config) {
+  for (const Param<Config>& p : params) {
+    const std::string key(p.key);
+    if (const auto* flag = std::get_if<bool Config::*>(&p.member)) {
+      if (const auto v = server.flag(key)) config.*(*flag) = *v;
+      continue;
+    }
+    const auto* integer = std::get_if<int Config::*>(&p.member);
+    std::optional<double> v;
+    if (integer) {
+      v = server.integer(key);
+    } else {
+      v = server.number(key);
+    }
+    if (!v) continue;
+    if (!p.range.contains(*v)) Params::error(key, param_range_error(*v, p.range, p.unit, p.help));
+    if (integer) {
+      config.*(*integer) = static_cast<int>(*v);
+    } else if (const auto* number = std::get_if<double Config::*>(&p.member)) {
+      config.*(*number) = *v * p.scale;
+    } else {
+      config.*std::get<std::optional<double> Config::*>(p.member) = *v * p.scale;
+    }
+  }
 }
 
 std::string frame_name(const Params& p, const std::string& name, const std::string& fallback) {
@@ -117,6 +183,16 @@ std::string frame_name(const Params& p, const std::string& name, const std::stri
 }
 
 }  // namespace
+
+std::string node_param_rows() {
+  const NodeConfig d;
+  std::string rows = param_table_rows<SceneConfig>(kSceneParams, d.scene, "~");
+  rows += param_table_rows<NodeConfig>(kNodeParams, d, "~");
+  rows += param_table_rows<kernels::RoiGrid>(kGridParams, d.detector.grid, "~");
+  rows += param_table_rows<NetDetectorConfig>(kDetectorParams, d.detector, "~");
+  rows += param_table_rows<WaterColumn>(kWaterParams, d.water, "~");
+  return rows;
+}
 
 NodeConfig read_node_config(const ros::NodeHandle& private_nh) {
   const Params p(private_nh);
@@ -129,21 +205,15 @@ NodeConfig read_node_config(const ros::NodeHandle& private_nh) {
     }
     c.scene = read_scene_yaml(*scene);
   } else {
-    c.scene.bar_length_m = positive(p, "mesh_size_m", c.scene.bar_length_m);
-    c.scene.pen_radius_m = positive(p, "pen_radius_m", c.scene.pen_radius_m);
+    read_ros_params<SceneConfig>(p, kSceneParams, c.scene);
   }
   if (const auto file = p.text("camera_yaml")) c.camera = read_camera_yaml(*file);
   const auto dvl_file = p.text("dvl_yaml");
   c.dvl = dvl_file ? read_dvl_yaml(*dvl_file) : default_dvl_calibration(c.dvl.rate_hz);
-  c.has_dvl = p.flag("has_dvl").value_or(c.has_dvl);
-  c.has_pressure = p.flag("has_pressure").value_or(c.has_pressure);
-  c.has_imu = p.flag("has_imu").value_or(c.has_imu);
-
-  kernels::RoiGrid& grid = c.detector.grid;
-  grid.rows = at_least(p, "roi_rows", grid.rows, 1);
-  grid.cols = at_least(p, "roi_cols", grid.cols, 1);
-  grid.size_px = at_least(p, "roi_size_px", grid.size_px, 16);
-  c.detector.cpu_threads = at_least(p, "cpu_threads", c.detector.cpu_threads, 0);
+  read_ros_params<NodeConfig>(p, kNodeParams, c);
+  read_ros_params<kernels::RoiGrid>(p, kGridParams, c.detector.grid);
+  read_ros_params<NetDetectorConfig>(p, kDetectorParams, c.detector);
+  read_ros_params<WaterColumn>(p, kWaterParams, c.water);
   try {
     c.detector.backend = parse_backend(p.text("backend").value_or("auto"));
     c.depth_backend = parse_backend(p.text("depth_backend").value_or("auto"));
@@ -153,23 +223,9 @@ NodeConfig read_node_config(const ros::NodeHandle& private_nh) {
   }
   c.model = p.text("model").value_or(c.model);
   if (c.model.empty()) Params::fail("model", "auto, none or an ONNX file");
-
-  c.water.density_kg_m3 = positive(p, "water_density", c.water.density_kg_m3);
-  c.water.surface_pressure_pa =
-      p.number("surface_pressure_pa").value_or(c.water.surface_pressure_pa);
-  if (!(c.water.surface_pressure_pa >= 0)) {
-    Params::fail("surface_pressure_pa", "a pressure >= 0 Pa (the atmosphere: 101325)");
-  }
   c.pen_frame = frame_name(p, "pen_frame", c.pen_frame);
   c.base_frame = frame_name(p, "base_frame", c.base_frame);
   c.camera_frame = frame_name(p, "camera_frame", c.camera_frame);
-  c.map_rate_hz = p.number("map_rate_hz").value_or(c.map_rate_hz);
-  if (!(c.map_rate_hz >= 0)) Params::fail("map_rate_hz", "a rate >= 0 Hz (0: no map)");
-  c.camera_info_timeout_s = positive(p, "camera_info_timeout_s", c.camera_info_timeout_s);
-  c.sensor_wait_s = p.number("sensor_wait_s").value_or(c.sensor_wait_s);
-  if (!(c.sensor_wait_s >= 0 && c.sensor_wait_s <= 1)) {
-    Params::fail("sensor_wait_s", "a time in [0, 1] s");
-  }
   return c;
 }
 

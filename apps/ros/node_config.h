@@ -45,8 +45,13 @@ struct NodeConfig {
   double sensor_wait_s = 0.05;
 };
 
-// Throws pensight::Error naming the parameter for the problems above, and as read_scene_yaml,
+// Throws pensight::Error naming the parameter for the problems above ("~roi_rows: 0 is outside
+// >= 1 (...)" for a number out of its range, as core/params.h words it), and as read_scene_yaml,
 // read_camera_yaml and read_dvl_yaml for the files they name.
 NodeConfig read_node_config(const ros::NodeHandle& private_nh);
+
+// Markdown rows (core/params.h's param_table_rows) of the numbers and flags, keys written `~name`,
+// defaults those of NodeConfig{}.
+std::string node_param_rows();
 
 }  // namespace pensight::node

@@ -13,7 +13,7 @@
 #include "runtime/vk_context.h"
 #include "runtime/vk_stream.h"
 
-namespace pensight::nn {
+namespace pensight::kernels {
 
 using Dims = std::vector<int64_t>;
 int64_t num_elements(const Dims& shape);
@@ -167,4 +167,4 @@ class VkModel {
   std::unique_ptr<Impl> impl_;
 };
 
-}  // namespace pensight::nn
+}  // namespace pensight::kernels

@@ -8,7 +8,7 @@
 #include "kernels/nn/nn.h"
 #include "kernels/nn/nn_detail.h"
 
-namespace pensight::nn {
+namespace pensight::kernels {
 namespace {
 
 using RowMat = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
@@ -277,8 +277,8 @@ void layer_norm(const Node& n, const Tensor& x, const Tensor& scale, const Tenso
 
 std::vector<Tensor> run_cpu(const Graph& g, std::span<const Tensor> inputs) {
   if (inputs.size() != g.inputs().size()) {
-    throw Error("nn::run_cpu: " + std::to_string(inputs.size()) + " inputs given, the graph has " +
-                std::to_string(g.inputs().size()));
+    throw Error("kernels::run_cpu: " + std::to_string(inputs.size()) +
+                " inputs given, the graph has " + std::to_string(g.inputs().size()));
   }
   std::vector<Tensor> vals(g.values().size());
   for (size_t i = 0; i < g.values().size(); ++i) {
@@ -288,7 +288,7 @@ std::vector<Tensor> run_cpu(const Graph& g, std::span<const Tensor> inputs) {
     const Value& v = g.value(g.inputs()[i]);
     if (inputs[i].shape != v.shape ||
         inputs[i].data.size() != static_cast<size_t>(num_elements(v.shape))) {
-      throw Error("nn::run_cpu: input '" + v.name + "' must have shape " + to_string(v.shape) +
+      throw Error("kernels::run_cpu: input '" + v.name + "' must have shape " + to_string(v.shape) +
                   ", got " + to_string(inputs[i].shape));
     }
     vals[static_cast<size_t>(g.inputs()[i])] = inputs[i];
@@ -376,4 +376,4 @@ std::vector<Tensor> run_cpu(const Graph& g, std::span<const Tensor> inputs) {
   return out;
 }
 
-}  // namespace pensight::nn
+}  // namespace pensight::kernels

@@ -9,7 +9,7 @@
 
 #include "kernels/nn/nn.h"
 
-namespace pensight::nn {
+namespace pensight::kernels {
 
 using Shape4 = std::array<int64_t, 4>;
 
@@ -118,4 +118,4 @@ inline LinearTap linear_src(ResizeMode mode, int64_t o, int64_t in, int64_t out)
   return {i0, std::min(i0 + 1, in - 1), x - static_cast<float>(i0)};
 }
 
-}  // namespace pensight::nn
+}  // namespace pensight::kernels

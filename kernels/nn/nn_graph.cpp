@@ -4,7 +4,7 @@
 #include "core/error.h"
 #include "kernels/nn/nn.h"
 
-namespace pensight::nn {
+namespace pensight::kernels {
 
 int64_t num_elements(const Dims& shape) {
   return std::accumulate(shape.begin(), shape.end(), int64_t{1}, std::multiplies<>());
@@ -406,4 +406,4 @@ double Graph::flops() const {
   return f;
 }
 
-}  // namespace pensight::nn
+}  // namespace pensight::kernels

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
-namespace pensight::nn {
+namespace pensight::kernels {
 namespace {
 
 // Unique constant names (prefix + value count); built in steps to dodge a GCC 12 -Wrestrict
@@ -302,4 +302,4 @@ Graph all_ops_net(uint64_t seed) {
   return std::move(b.g);
 }
 
-}  // namespace pensight::nn
+}  // namespace pensight::kernels

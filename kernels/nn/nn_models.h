@@ -7,7 +7,7 @@
 
 #include "kernels/nn/nn.h"
 
-namespace pensight::nn {
+namespace pensight::kernels {
 
 struct ModelSize {
   int width = 320;  // network input resolution
@@ -35,4 +35,4 @@ Graph trudepth_net(ModelSize size, float width_mult, uint64_t seed,
 // Small random graph that uses every op of the engine at least once (export/import coverage).
 Graph all_ops_net(uint64_t seed);
 
-}  // namespace pensight::nn
+}  // namespace pensight::kernels

@@ -1,11 +1,11 @@
 #pragma once
-// ONNX import and TensorRT-compatible export of nn::Graph (ONNX protobuf from Debian libonnx).
+// ONNX import and TensorRT-compatible export of kernels::Graph (ONNX protobuf from Debian libonnx).
 #include <filesystem>
 #include <string>
 
 #include "kernels/nn/nn.h"
 
-namespace pensight::nn {
+namespace pensight::kernels {
 
 // Loads an ONNX model with static input shapes. BatchNormalization after a Conv is folded into
 // the Conv's weights; Identity, Dropout and Cast-to-float are dropped; Constant nodes and
@@ -34,4 +34,4 @@ std::string opencv_dnn_compatible(const std::string& onnx_bytes);
 // checker's message when the model is invalid.
 void check_onnx_bytes(const std::string& bytes);
 
-}  // namespace pensight::nn
+}  // namespace pensight::kernels

@@ -9,7 +9,7 @@
 #include "core/error.h"
 #include "kernels/nn/nn_onnx.h"
 
-namespace pensight::nn {
+namespace pensight::kernels {
 namespace {
 
 constexpr int kOpset = 17;
@@ -281,4 +281,4 @@ void check_onnx_bytes(const std::string& bytes) {
   }
 }
 
-}  // namespace pensight::nn
+}  // namespace pensight::kernels

@@ -10,7 +10,7 @@
 #include "core/file_bytes.h"
 #include "kernels/nn/nn_onnx.h"
 
-namespace pensight::nn {
+namespace pensight::kernels {
 namespace {
 
 const char* kSupported =
@@ -528,4 +528,4 @@ Graph import_onnx(const std::filesystem::path& file) {
   return import_onnx_bytes(*bytes, "'" + file.string() + "'");
 }
 
-}  // namespace pensight::nn
+}  // namespace pensight::kernels

@@ -14,7 +14,7 @@
 #include "kernels/nn/nn.h"
 #include "kernels/nn/nn_detail.h"
 
-namespace pensight::nn {
+namespace pensight::kernels {
 namespace {
 
 uint32_t u32(int64_t v) {
@@ -499,7 +499,7 @@ VkModel::VkModel(const vk::Context& ctx, const Graph& graph, VkModelOptions opti
   m.graph = graph;
   if (options.fp16_storage) {
     if (!ctx.info().fp16_storage) {
-      throw Error("nn::VkModel: fp16 storage requested but '" + ctx.info().name +
+      throw Error("kernels::VkModel: fp16 storage requested but '" + ctx.info().name +
                   "' lacks storageBuffer16BitAccess; build the model with fp16_storage = false");
     }
     m.fp16 = true;
@@ -507,7 +507,7 @@ VkModel::VkModel(const vk::Context& ctx, const Graph& graph, VkModelOptions opti
   }
   for (const Value& v : graph.values()) {
     if (num_elements(v.shape) >= (int64_t{1} << 31)) {
-      throw Error("nn::VkModel: tensor '" + v.name + "' " + to_string(v.shape) +
+      throw Error("kernels::VkModel: tensor '" + v.name + "' " + to_string(v.shape) +
                   " has 2^31 or more elements; split the input");
     }
   }
@@ -559,15 +559,15 @@ void VkModel::submit() {
 std::vector<Tensor> VkModel::run(std::span<const Tensor> inputs) {
   const Graph& g = impl_->graph;
   if (inputs.size() != g.inputs().size()) {
-    throw Error("nn::VkModel::run: " + std::to_string(inputs.size()) +
+    throw Error("kernels::VkModel::run: " + std::to_string(inputs.size()) +
                 " inputs given, the graph has " + std::to_string(g.inputs().size()));
   }
   for (size_t i = 0; i < inputs.size(); ++i) {
     const Value& v = g.value(g.inputs()[i]);
     if (inputs[i].shape != v.shape ||
         inputs[i].data.size() != static_cast<size_t>(num_elements(v.shape))) {
-      throw Error("nn::VkModel::run: input '" + v.name + "' must have shape " + to_string(v.shape) +
-                  ", got " + to_string(inputs[i].shape));
+      throw Error("kernels::VkModel::run: input '" + v.name + "' must have shape " +
+                  to_string(v.shape) + ", got " + to_string(inputs[i].shape));
     }
     const_cast<vk::Buffer&>(input_buffer(i))
         .upload(inputs[i].data.data(), inputs[i].data.size() * sizeof(float));
@@ -599,4 +599,4 @@ std::vector<vk::DispatchTime> VkModel::timings() const {
   return impl_->stream->timings();
 }
 
-}  // namespace pensight::nn
+}  // namespace pensight::kernels

@@ -5,6 +5,7 @@
 
 #include "core/csv.h"
 #include "core/image.h"
+#include "core/params.h"
 #include "core/strict_yaml.h"
 #include "core/units.h"
 
@@ -59,11 +60,50 @@ void expect_sensor_type(const YamlMap& y, const std::string& type) {
   if (y.string("sensor_type") != type) y.fail("sensor_type", "expected '" + type + "'");
 }
 
-double positive(const YamlMap& y, const std::string& key) {
-  const double v = y.number(key);
-  if (!(v > 0)) y.fail(key, "must be positive");
-  return v;
-}
+const Param<CameraCalibration> kCameraParams[] = {
+    {.key = "rate_hz",
+     .member = &CameraCalibration::rate_hz,
+     .unit = "Hz",
+     .range = kPositive,
+     .help = "frame rate",
+     .required = true},
+};
+
+const Param<DvlCalibration> kDvlParams[] = {
+    {.key = "rate_hz",
+     .member = &DvlCalibration::rate_hz,
+     .unit = "Hz",
+     .range = kPositive,
+     .help = "velocity sample rate",
+     .required = true},
+};
+
+// Beyond 30-150 deg the twines of a hung net would lie almost on top of each other.
+const Param<SceneConfig> kSceneParams[] = {
+    {.key = "net_mesh_size_m",
+     .member = &SceneConfig::bar_length_m,
+     .unit = "m",
+     .range = kPositive,
+     .help = "bar length: knot to knot",
+     .required = true},
+    {.key = "pen_radius_m",
+     .member = &SceneConfig::pen_radius_m,
+     .unit = "m",
+     .range = kPositive,
+     .help = "cylinder radius; a flat net is a large radius (e.g. 100)",
+     .required = true},
+    {.key = "net_mesh_angle_deg",
+     .member = &SceneConfig::net_mesh_angle_rad,
+     .unit = "deg",
+     .range = closed_range(30, 150),
+     .help = "nominal opening angle of the mesh (90: undeformed square); absent: estimated",
+     .scale = deg_to_rad(1)},
+    {.key = "initial_rho_rad",
+     .member = &SceneConfig::initial_rho_rad,
+     .unit = "rad",
+     .range = kAnyNumber,
+     .help = "rho_g at the global pose's lock (absent: 0)"},
+};
 
 // The contract allows both forms because DVL files come from other tools: a Kalibr-style matrix
 // (one beam per row) or a list of 3-vectors.
@@ -85,12 +125,24 @@ Eigen::MatrixXd read_beams(const YamlMap& y) {
 
 }  // namespace
 
+std::string camera_param_rows() {
+  return param_table_rows<CameraCalibration>(kCameraParams);
+}
+
+std::string dvl_param_rows() {
+  return param_table_rows<DvlCalibration>(kDvlParams);
+}
+
+std::string scene_param_rows() {
+  return param_table_rows<SceneConfig>(kSceneParams);
+}
+
 CameraCalibration read_camera_yaml(const std::filesystem::path& file) {
   const YamlMap y = YamlMap::load_file(file, UnknownKeys::kNote);
   y.string("comment", "");
   expect_sensor_type(y, "camera");
   CameraCalibration c;
-  c.rate_hz = positive(y, "rate_hz");
+  read_params<CameraCalibration>(y, kCameraParams, c);
   const auto res = y.numbers("resolution", 2);
   if (!(res[0] >= 1 && res[1] >= 1 && res[0] <= kMaxImageSide_px && res[1] <= kMaxImageSide_px) ||
       res[0] != std::round(res[0]) || res[1] != std::round(res[1])) {
@@ -141,7 +193,7 @@ DvlCalibration read_dvl_yaml(const std::filesystem::path& file) {
   y.string("comment", "");
   expect_sensor_type(y, "dvl");
   DvlCalibration c;
-  c.rate_hz = positive(y, "rate_hz");
+  read_params<DvlCalibration>(y, kDvlParams, c);
   c.T_body_dvl = read_transform(y, "T_BS");
   const Eigen::MatrixXd beams = read_beams(y);
   for (int i = 0; i < 4; ++i) {
@@ -167,22 +219,13 @@ std::string dvl_yaml(const DvlCalibration& c) {
 SceneConfig read_scene_yaml(const std::filesystem::path& file) {
   const YamlMap y = YamlMap::load_file(file, UnknownKeys::kNote);
   SceneConfig s;
-  s.bar_length_m = positive(y, "net_mesh_size_m");
-  s.pen_radius_m = positive(y, "pen_radius_m");
-  s.initial_rho_rad = y.optional_number("initial_rho_rad");
+  read_params<SceneConfig>(y, kSceneParams, s);
   if (y.has("net_mesh_type")) {
     const std::string type = y.string("net_mesh_type");
     s.net_mesh_type = parse_mesh_type(type);
     if (!s.net_mesh_type) {
       y.fail("net_mesh_type", "'" + type + "' is not a mesh type: use square or diamond");
     }
-  }
-  if (const auto deg = y.optional_number("net_mesh_angle_deg")) {
-    // Beyond 30-150 deg the twines of a hung net would lie almost on top of each other.
-    if (!(*deg >= 30 && *deg <= 150)) {
-      y.fail("net_mesh_angle_deg", "must be within 30-150 deg (90: an undeformed square mesh)");
-    }
-    s.net_mesh_angle_rad = deg_to_rad(*deg);
   }
   const std::string net_type = y.string("net_type", "cylinder");
   if (net_type == "flat_panel") {

@@ -22,4 +22,10 @@ std::string dvl_yaml(const DvlCalibration& calib);
 SceneConfig read_scene_yaml(const std::filesystem::path& file);
 std::string scene_yaml(const SceneConfig& scene);
 
+// Markdown rows (core/params.h) of the numeric keys each file takes; the others (matrices, lists,
+// names) are described in ../shared/dataset-format.md.
+std::string camera_param_rows();
+std::string dvl_param_rows();
+std::string scene_param_rows();
+
 }  // namespace pensight

@@ -6,11 +6,12 @@
 #include <opencv2/dnn.hpp>
 #include <opencv2/imgproc.hpp>
 #include <optional>
-#include <thread>
 #include <vector>
 
+#include "core/enum_names.h"
 #include "core/error.h"
 #include "core/file_bytes.h"
+#include "core/threads.h"
 #include "core/timing.h"
 #include "kernels/nn/nn.h"
 #include "kernels/nn/nn_onnx.h"
@@ -23,23 +24,24 @@
 
 namespace pensight {
 
+namespace {
+
+constexpr EnumName<CpuInference> kCpuInferenceNames[] = {
+    {CpuInference::kAuto, "auto"},
+    {CpuInference::kOpenCv, "opencv"},
+    {CpuInference::kEngine, "engine"},
+};
+
+}  // namespace
+
 const char* to_string(CpuInference inference) {
-  switch (inference) {
-    case CpuInference::kAuto:
-      return "auto";
-    case CpuInference::kOpenCv:
-      return "opencv";
-    case CpuInference::kEngine:
-      return "engine";
-  }
-  return "unknown";
+  return enum_name<CpuInference>(kCpuInferenceNames, inference);
 }
 
 CpuInference parse_cpu_inference(const std::string& name) {
-  for (CpuInference i : {CpuInference::kAuto, CpuInference::kOpenCv, CpuInference::kEngine}) {
-    if (name == to_string(i)) return i;
-  }
-  throw Error("unknown CPU inference '" + name + "'; use auto, opencv or engine");
+  if (const auto i = parse_enum_name<CpuInference>(kCpuInferenceNames, name)) return *i;
+  throw Error("unknown CPU inference '" + name + "'; use " +
+              enum_choices<CpuInference>(kCpuInferenceNames));
 }
 
 namespace {
@@ -50,7 +52,7 @@ struct ContractShape {
 };
 
 // Checks the model against the contract and returns its input shape.
-ContractShape contract_shape(const nn::Graph& g, const std::string& file) {
+ContractShape contract_shape(const kernels::Graph& g, const std::string& file) {
   auto fail = [&](const std::string& what) {
     throw Error(file + " is not a depth network: " + what +
                 " (expected inputs image [1,1,H,W] and prior [1,2,H,W] or [1,3,H,W], output "
@@ -60,13 +62,13 @@ ContractShape contract_shape(const nn::Graph& g, const std::string& file) {
     fail(std::to_string(g.inputs().size()) + " inputs and " + std::to_string(g.outputs().size()) +
          " outputs");
   }
-  const nn::Value& image = g.value(g.inputs()[0]);
-  const nn::Value& prior = g.value(g.inputs()[1]);
-  const nn::Value& depth = g.value(g.outputs()[0]);
+  const kernels::Value& image = g.value(g.inputs()[0]);
+  const kernels::Value& prior = g.value(g.inputs()[1]);
+  const kernels::Value& depth = g.value(g.outputs()[0]);
   if (image.name != "image" || prior.name != "prior") {
     fail("inputs named '" + image.name + "' and '" + prior.name + "'");
   }
-  auto is = [](const nn::Dims& d, int64_t c, int64_t h, int64_t w) {
+  auto is = [](const kernels::Dims& d, int64_t c, int64_t h, int64_t w) {
     return d.size() == 4 && d[0] == 1 && d[1] == c && d[2] == h && d[3] == w;
   };
   if (image.shape.size() != 4) fail("image has rank " + std::to_string(image.shape.size()));
@@ -86,13 +88,13 @@ cv::Mat as_mat(std::vector<float>& data, std::initializer_list<int> dims) {
 
 // The Vulkan path: S1/S2 recorded straight into the network's prior input, then the graph.
 struct VulkanNet {
-  nn::VkModel model;
+  kernels::VkModel model;
   kernels::SparsePriorVk prior;
   vk::TypedBuffer<kernels::SparsePoint> points;
   vk::TypedBuffer<kernels::SparsePriorParams> params;
   vk::CommandStream stream;
 
-  VulkanNet(vk::Context& ctx, const nn::Graph& g, const kernels::SparsePriorShape& shape)
+  VulkanNet(vk::Context& ctx, const kernels::Graph& g, const kernels::SparsePriorShape& shape)
       : model(ctx, g, {.fp16_storage = false}),
         prior(ctx, shape),
         points(ctx, kernels::kMaxSparsePoints),
@@ -108,7 +110,7 @@ struct VulkanNet {
 struct DepthEstimator::Impl {
   PinholeCamera camera;
   DepthEstimatorConfig config;
-  nn::Graph graph;
+  kernels::Graph graph;
   kernels::SparsePriorShape shape;
   int prior_channels = 2;
   Backend backend = Backend::kCpu;
@@ -154,16 +156,17 @@ struct DepthEstimator::Impl {
       const cv::Mat flat = out.isContinuous() ? out : out.clone();
       return std::vector<float>(flat.ptr<float>(), flat.ptr<float>() + n);
     }
-    const nn::Tensor inputs[] = {
+    const kernels::Tensor inputs[] = {
         {{1, 1, shape.height, shape.width}, std::move(image)},
         {{1, prior_channels, shape.height, shape.width}, std::move(prior)}};
-    return std::move(nn::run_cpu(graph, inputs)[0].data);
+    return std::move(kernels::run_cpu(graph, inputs)[0].data);
   }
 };
 
 DepthEstimator::DepthEstimator(const PinholeCamera& camera, const DepthEstimatorConfig& config,
                                Device& device)
     : impl_(std::make_unique<Impl>()) {
+  validate(config);
   Impl& m = *impl_;
   m.camera = camera;
   m.config = config;
@@ -174,7 +177,7 @@ DepthEstimator::DepthEstimator(const PinholeCamera& camera, const DepthEstimator
                 ": check the path (models/README.md lists the shipped models) or run with "
                 "--no-depth");
   }
-  m.graph = nn::import_onnx_bytes(*bytes, file);
+  m.graph = kernels::import_onnx_bytes(*bytes, file);
   const auto [w, h, prior_channels] = contract_shape(m.graph, file);
   m.shape = {w, h, config.sigma_px};
   m.prior_channels = prior_channels;
@@ -186,13 +189,11 @@ DepthEstimator::DepthEstimator(const PinholeCamera& camera, const DepthEstimator
   const PinholeCamera network_camera = camera.scaled(static_cast<double>(w) / camera.width_px);
   m.rays.emplace(network_camera);
   m.wall = {.curvature_per_m = config.net_curvature_per_m, .focal_px = network_camera.fx_px};
-  m.threads = config.cpu_threads > 0
-                  ? config.cpu_threads
-                  : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  m.threads = worker_threads(config.cpu_threads);
 
   auto make_opencv = [&]() -> bool {
     try {
-      const std::string compatible = nn::opencv_dnn_compatible(*bytes);
+      const std::string compatible = kernels::opencv_dnn_compatible(*bytes);
       m.opencv = cv::dnn::readNetFromONNX(compatible.data(), compatible.size());
       cv::setNumThreads(m.threads);
       m.inference = CpuInference::kOpenCv;

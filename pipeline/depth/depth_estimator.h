@@ -51,6 +51,15 @@ struct DepthEstimatorConfig {
   DepthPlaneParams plane;
 };
 
+// Throws pensight::Error "depth: key 'PATH': VALUE is outside RANGE UNIT (HELP)" for the first
+// numeric value out of its range, the plane's under "plane.".
+void validate(const DepthEstimatorConfig& config);
+// Every numeric key of the dense-depth stage with its default, unit, valid range and help: the
+// rows of a Markdown table under core/params.h's kParamTableHeader. DepthEstimatorConfig's keys,
+// its plane's under "plane.", and DvlDepthScaleConfig's and DvlNetTiltConfig's under
+// "dvl_depth_scale." and "dvl_net_tilt." (PipelineConfig's names).
+std::string depth_param_rows();
+
 struct DenseDepth {
   ImageF32 depth_m;  // camera resolution; empty when `reason` is set
   DepthPlanePose pose;
@@ -63,7 +72,7 @@ class DepthEstimator {
  public:
   // Throws pensight::Error naming the file: missing or unreadable model, or one that is not a
   // depth network (inputs/outputs other than the contract's); an explicitly requested backend
-  // or CPU inference that is not available.
+  // or CPU inference that is not available; and like validate(config).
   DepthEstimator(const PinholeCamera& camera, const DepthEstimatorConfig& config, Device& device);
   ~DepthEstimator();
   DepthEstimator(DepthEstimator&&) noexcept;

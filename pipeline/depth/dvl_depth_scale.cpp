@@ -16,13 +16,7 @@ DvlDepthScale::DvlDepthScale(const PinholeCamera& camera, const Eigen::Isometry3
       dvl_(dvl),
       config_(config),
       pairing_(config.max_pair_dt_s) {
-  if (!(config_.window_s > 0) || !(config_.max_pair_dt_s > 0) || config_.min_samples < 1 ||
-      config_.spot_half_px < 0 || !(config_.trusted_rel >= 0) || !(config_.confidence_z >= 0) ||
-      !(config_.max_two_beam_spread > 0)) {
-    throw Error(
-        "DvlDepthScaleConfig: window_s, max_pair_dt_s and max_two_beam_spread must be > 0, "
-        "trusted_rel and confidence_z >= 0, min_samples >= 1 and spot_half_px >= 0");
-  }
+  validate(config_);
   for (Eigen::Vector3d& u : dvl_.beam_directions_S) u.normalize();
 }
 

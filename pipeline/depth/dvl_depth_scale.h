@@ -42,6 +42,10 @@ struct DvlDepthScaleConfig {
   double max_two_beam_spread = 0.1;
 };
 
+// Throws pensight::Error "depth: key 'dvl_depth_scale.KEY': VALUE is outside RANGE UNIT (HELP)"
+// for the first value out of its range (depth_param_rows() lists them).
+void validate(const DvlDepthScaleConfig& config);
+
 struct DvlDepthScaleState {
   double scale = 1;          // multiplies dense depth; 1 when not engaged
   bool engaged = false;      // the DVL's scale replaces scene.yaml's
@@ -51,8 +55,7 @@ struct DvlDepthScaleState {
 
 class DvlDepthScale {
  public:
-  // Throws pensight::Error when the configuration is not usable (a non-positive window, pairing
-  // span or two-beam spread, a negative band or confidence, min_samples < 1).
+  // Throws like validate(config).
   DvlDepthScale(const PinholeCamera& camera, const Eigen::Isometry3d& T_body_camera,
                 const DvlCalibration& dvl, DvlDepthScaleConfig config = {});
 

@@ -19,13 +19,7 @@ DvlNetTilt::DvlNetTilt(const Eigen::Isometry3d& T_body_camera, const DvlCalibrat
       dvl_(dvl),
       config_(config),
       pairing_(config.max_pair_dt_s) {
-  if (!(config_.window_s > 0) || !(config_.max_pair_dt_s > 0) || config_.min_samples < 1 ||
-      !(config_.trusted_rad >= 0) || !(config_.confidence_z >= 0) ||
-      !(config_.max_residual_m > 0) || !(config_.range_noise_m >= 0)) {
-    throw Error(
-        "DvlNetTiltConfig: window_s, max_pair_dt_s and max_residual_m must be > 0, trusted_rad, "
-        "confidence_z and range_noise_m >= 0, min_samples >= 1");
-  }
+  validate(config_);
 }
 
 void DvlNetTilt::add(const DvlSample& s) {

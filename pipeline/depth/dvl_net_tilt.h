@@ -47,6 +47,10 @@ struct DvlNetTiltConfig {
   double range_noise_m = 0.01;
 };
 
+// Throws pensight::Error "depth: key 'dvl_net_tilt.KEY': VALUE is outside RANGE UNIT (HELP)" for
+// the first value out of its range (depth_param_rows() lists them).
+void validate(const DvlNetTiltConfig& config);
+
 struct DvlNetTiltState {
   // Added to the dense depth's psi and pitch; 0 on an axis that is not engaged.
   double psi_offset_rad = 0, pitch_offset_rad = 0;
@@ -59,8 +63,7 @@ struct DvlNetTiltState {
 
 class DvlNetTilt {
  public:
-  // Throws pensight::Error when the configuration is not usable (a non-positive window, pairing
-  // span or residual, a negative or NaN band, confidence or range noise, min_samples < 1).
+  // Throws like validate(config).
   DvlNetTilt(const Eigen::Isometry3d& T_body_camera, const DvlCalibration& dvl,
              DvlNetTiltConfig config = {});
 

@@ -1,21 +1,39 @@
 #include "pipeline/fft/depth_priors.h"
 
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "core/error.h"
 
 namespace pensight {
 
+namespace {
+
+const Param<DepthPriorParams> kDepthPriorParams[] = {
+    {"per_axis",
+     &DepthPriorParams::per_axis,
+     "",
+     {1, std::numeric_limits<double>::infinity()},
+     "samples per ROI and axis: per_axis^2 per ROI (1: the ROI's point alone)"},
+    {"spacing_share",
+     &DepthPriorParams::spacing_share,
+     "",
+     {0, 0.5, true, false},
+     "grid step of a ROI's samples as a share of the ROI side"},
+};
+
+}  // namespace
+
+std::span<const Param<DepthPriorParams>> depth_prior_params() {
+  return kDepthPriorParams;
+}
+
 std::vector<SparseDepth> roi_surface_priors(std::span<const RoiNetPoint> rois,
                                             const FftRelativePose& pose, int roi_size_px,
                                             const PinholeCamera& camera,
                                             const DepthPriorParams& params) {
-  if (params.per_axis < 1 || !(params.spacing_share > 0 && params.spacing_share <= 0.5)) {
-    throw Error("depth priors: per_axis must be >= 1 and spacing_share in (0, 0.5] (got " +
-                std::to_string(params.per_axis) + ", " + std::to_string(params.spacing_share) +
-                ")");
-  }
+  check_params(params, depth_prior_params(), "depth priors");
   std::vector<SparseDepth> out;
   if (!pose.valid()) return out;
   if (pose.inlier.size() != rois.size()) {

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "core/camera.h"
+#include "core/params.h"
 #include "pipeline/fft/net_geometry.h"
 #include "pipeline/fft/relative_pose_fft.h"
 
@@ -23,9 +24,12 @@ struct DepthPriorParams {
   double spacing_share = 0.25;  // grid step as a share of the ROI side
 };
 
+// Key, unit, valid range and help of every DepthPriorParams member (NetDetectorConfig::priors).
+std::span<const Param<DepthPriorParams>> depth_prior_params();
+
 // Empty when the pose is not valid. Samples whose ray misses the plane (grazing) or falls outside
-// the image are left out. Throws pensight::Error when per_axis < 1, spacing_share is not in
-// (0, 0.5], or `rois` and pose.inlier differ in length.
+// the image are left out. Throws pensight::Error when a parameter is outside its range
+// (depth_prior_params) or `rois` and pose.inlier differ in length.
 std::vector<SparseDepth> roi_surface_priors(std::span<const RoiNetPoint> rois,
                                             const FftRelativePose& pose, int roi_size_px,
                                             const PinholeCamera& camera,

@@ -2,11 +2,12 @@
 
 #include <Eigen/Core>
 #include <optional>
-#include <thread>
 
 #include "core/error.h"
+#include "core/threads.h"
 #include "core/timing.h"
 #include "pipeline/fft/lattice_chirp.h"
+#include "pipeline/fft/net_detector_params.h"
 #include "runtime/vk_buffer.h"
 #include "runtime/vk_stream.h"
 
@@ -110,9 +111,7 @@ struct NetDetector::Impl {
 #endif
 
   void make_cpu() {
-    const int threads = config.cpu_threads > 0
-                            ? config.cpu_threads
-                            : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+    const int threads = worker_threads(config.cpu_threads);
     cpu.emplace(shape, config.peaks, threads);
     backend = Backend::kCpu;
     description = "cpu (FFTW, " + std::to_string(threads) + " threads)";
@@ -153,10 +152,7 @@ NetDetector::NetDetector(const PinholeCamera& camera, const NetDetectorConfig& c
                          Device& device)
     : impl_(std::make_unique<Impl>()) {
   Impl& m = *impl_;
-  if (!(config.bar_length_m > 0)) {
-    throw Error("NetDetector: net mesh size must be > 0 m, got " +
-                std::to_string(config.bar_length_m) + "; set net_mesh_size_m in scene.yaml");
-  }
+  validate(config);
   m.camera = camera;
   m.config = config;
   m.mesh_filter = MeshAngleFilter(config.mesh_angle_rad, config.mesh_angle_filter);

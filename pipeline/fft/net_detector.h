@@ -69,8 +69,8 @@ struct NetDetection {
 class NetDetector {
  public:
   // The Vulkan backend runs on `device`'s context, which must outlive the detector. Throws
-  // pensight::Error when the grid does not fit the camera image, bar_length_m <= 0, or an
-  // explicitly requested backend is unavailable.
+  // pensight::Error when the config is not valid (net_detector_params.h), the grid does not fit
+  // the camera image, or an explicitly requested backend is unavailable.
   NetDetector(const PinholeCamera& camera, const NetDetectorConfig& config, Device& device);
   ~NetDetector();
   NetDetector(NetDetector&&) noexcept;

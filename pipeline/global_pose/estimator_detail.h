@@ -10,7 +10,7 @@
 #include "core/units.h"
 #include "pipeline/global_pose/global_pose_estimator.h"
 
-namespace pensight::global_pose::internal {
+namespace pensight::global_pose::detail {
 
 enum Sensor : int {
   kDvlVelocity,
@@ -57,7 +57,7 @@ Eigen::Matrix<double, M, M> diag(const Eigen::Matrix<double, M, 1>& sigma) {
   return sigma.cwiseAbs2().asDiagonal();
 }
 
-}  // namespace pensight::global_pose::internal
+}  // namespace pensight::global_pose::detail
 
 namespace pensight::global_pose {
 

@@ -11,7 +11,7 @@
 #include "pipeline/global_pose/estimator_detail.h"
 
 namespace pensight::global_pose {
-using namespace internal;
+using namespace detail;
 
 void GlobalPoseEstimator::release_motion_states(int sensor) {
   struct Release {

@@ -10,7 +10,7 @@
 #include "pipeline/global_pose/estimator_detail.h"
 
 namespace pensight::global_pose {
-using namespace internal;
+using namespace detail;
 
 std::optional<GlobalPoseEstimator::WallPose> GlobalPoseEstimator::pose_from_fix(
     const WallFix& fix, double rho_rad) const {

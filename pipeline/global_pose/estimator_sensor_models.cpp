@@ -10,7 +10,7 @@
 #include "pipeline/global_pose/estimator_detail.h"
 
 namespace pensight::global_pose {
-using namespace internal;
+using namespace detail;
 
 std::pair<double, double> GlobalPoseEstimator::level_at(int64_t t_ns) {
   const auto a = attitude_.at(t_ns, cfg_.max_attitude_gap_s);

@@ -14,7 +14,7 @@
 #include "pipeline/global_pose/estimator_detail.h"
 
 namespace pensight::global_pose {
-using namespace internal;
+using namespace detail;
 
 std::string describe(const GlobalPoseCounters& c) {
   std::string out;
@@ -47,19 +47,10 @@ std::string describe(const GlobalPoseCounters& c) {
 
 GlobalPoseEstimator::GlobalPoseEstimator(GlobalPoseEstimatorConfig config)
     : cfg_(std::move(config)) {
-  if (!(cfg_.pen_radius_m > 0))
-    throw Error(
-        "global pose: pen_radius_m must be > 0 (scene.yaml pen_radius_m; 100 for a flat net)");
-  if (!(cfg_.history_s >= 0))
-    throw Error("global pose: history_s must be >= 0 (seconds of late samples to re-apply)");
+  validate(cfg_);
   if (cfg_.flat_panel) {
-    const Eigen::Vector2d normal = cfg_.flat_panel->plane_normal.head<2>();
-    const Eigen::Vector2d point = cfg_.flat_panel->plane_point_m.head<2>();
-    if (!(normal.norm() > 0.5) || !(normal.normalized().dot(point) > 0))
-      throw Error(
-          "global pose: the flat panel's normal must be horizontal and point away from the pen "
-          "frame's origin (scene.yaml net_plane_normal, net_plane_point_m)");
-    wall_ = NetWall::flat_panel(cfg_.pen_radius_m, point, normal);
+    wall_ = NetWall::flat_panel(cfg_.pen_radius_m, cfg_.flat_panel->plane_point_m.head<2>(),
+                                cfg_.flat_panel->plane_normal.head<2>());
     cfg_.circle.radius_m = kFlatPanelFitRadius_m;
   } else {
     wall_ = NetWall::cylinder(cfg_.pen_radius_m);

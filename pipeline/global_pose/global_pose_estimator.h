@@ -133,6 +133,16 @@ struct GlobalPoseEstimatorConfig {
   double max_z_sigma_m = 1.0;
 };
 
+// Throws pensight::Error "global pose: key 'PATH': VALUE is outside RANGE UNIT (HELP)" for the
+// first value out of its range, nested parts under their member's name ("noise.process.yaw_accel");
+// and "global pose: key 'flat_panel.plane_normal': ..." for a flat panel whose normal is not
+// horizontal or points towards the pen frame's origin.
+void validate(const GlobalPoseEstimatorConfig& config);
+// Every numeric and bool key of GlobalPoseEstimatorConfig and its nested parts with its default,
+// unit, valid range and help: the rows of a Markdown table under core/params.h's
+// kParamTableHeader.
+std::string global_pose_param_rows();
+
 // A flat panel's net points are fitted as a circle of this radius: a line to within 0.05 mm over
 // a 2 m view (sagitta w^2 / 8R), with the circle fit's robust machinery and covariance.
 inline constexpr double kFlatPanelFitRadius_m = 1e4;
@@ -162,6 +172,7 @@ std::string describe(const GlobalPoseCounters& c);
 
 class GlobalPoseEstimator {
  public:
+  // Throws like validate().
   explicit GlobalPoseEstimator(GlobalPoseEstimatorConfig config);
 
   void add(const DvlSample& s);

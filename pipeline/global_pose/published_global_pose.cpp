@@ -3,16 +3,13 @@
 #include <cmath>
 #include <utility>
 
-#include "core/error.h"
 #include "core/log.h"
 
 namespace pensight::global_pose {
 
 PublishedGlobalPose::PublishedGlobalPose(PublishedGlobalPoseConfig config)
     : cfg_(std::move(config)) {
-  if (!(cfg_.pen_radius_m > 0))
-    throw Error(
-        "global pose: pen_radius_m must be > 0 (scene.yaml pen_radius_m; 100 for a flat net)");
+  validate(cfg_);
   cfg_.circle.radius_m = cfg_.pen_radius_m;
   if (!cfg_.has_dvl)
     log_warning(

@@ -4,6 +4,7 @@
 // horizontal velocity over r_g; z_g is the latest pressure depth; psi_g = rho_g + psi_r. Samples
 // are used in the order they are given, each sensor's latest value held (as the node did).
 #include <Eigen/Geometry>
+#include <string>
 
 #include "pipeline/global_pose/measurements.h"
 #include "pipeline/global_pose/pen_fix.h"
@@ -22,8 +23,16 @@ struct PublishedGlobalPoseConfig {
   CircleFitOptions circle;  // radius_m is overwritten with pen_radius_m
 };
 
+// Throws pensight::Error "global pose (published): key 'KEY': VALUE is outside RANGE UNIT (HELP)"
+// for the first value out of its range (circle fit options under "circle.").
+void validate(const PublishedGlobalPoseConfig& config);
+// Every numeric and bool key of PublishedGlobalPoseConfig with its default, unit, valid range and
+// help: the rows of a Markdown table under core/params.h's kParamTableHeader.
+std::string published_global_pose_param_rows();
+
 class PublishedGlobalPose {
  public:
+  // Throws like validate().
   explicit PublishedGlobalPose(PublishedGlobalPoseConfig config);
 
   void add(const DvlSample& s);

@@ -439,9 +439,11 @@ TEST_F(NodeTest, BadFramesAreLoggedAndSkipped) {
 TEST_F(NodeTest, ABadParameterStopsTheNodeWithItsName) {
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"mesh_sise_m:=0.03", "~mesh_sise_m: unknown parameter"},
-      {"roi_rows:=0", "~roi_rows: takes an integer >= 1"},
+      {"roi_rows:=0", "~roi_rows: 0 is outside >= 1 (rows of the FFT's ROI grid)"},
+      {"roi_rows:=2.5", "~roi_rows: takes an integer"},
       {"backend:=gpu", "~backend"},
-      {"pen_radius_m:=-12.0", "~pen_radius_m: takes a number > 0"},
+      {"pen_radius_m:=-12.0", "~pen_radius_m: -12 is outside > 0 m (pen radius"},
+      {"sensor_wait_s:=2.5", "~sensor_wait_s: 2.5 is outside 0 to 1 s (how long"},
       {"scene:=/nonexistent/scene.yaml", "/nonexistent/scene.yaml"}};
   for (size_t i = 0; i < cases.size(); ++i) {
     const auto& [param, message] = cases[i];

@@ -14,17 +14,17 @@ namespace {
 void write_channel_pick_model(const std::filesystem::path& file, int width, int height,
                               std::vector<float> weights) {
   const int channels = static_cast<int>(weights.size());
-  nn::Graph g;
+  kernels::Graph g;
   const int image = g.add_input("image", {1, 1, height, width});
   const int prior = g.add_input("prior", {1, channels - 1, height, width});
-  nn::Attrs cat;
+  kernels::Attrs cat;
   cat.axis = 1;
-  const int x = g.add(nn::Op::kConcat, {image, prior}, cat);
+  const int x = g.add(kernels::Op::kConcat, {image, prior}, cat);
   const int pick = g.add_constant("pick", {{1, channels, 1, 1}, std::move(weights)});
-  const int depth = g.add(nn::Op::kConv, {x, pick});
+  const int depth = g.add(kernels::Op::kConv, {x, pick});
   g.values()[static_cast<size_t>(depth)].name = "depth";
   g.mark_output(depth);
-  nn::export_onnx(g, file);
+  kernels::export_onnx(g, file);
 }
 
 }  // namespace

@@ -1,8 +1,8 @@
 // The simulated vehicle under its ArduSub autopilot (vehicle/vehicle_sim.h): ALT_HOLD holds
 // depth against the buoyancy while surging, the throttle stick climbs at the asked rate, the yaw
 // stick turns at the asked rate, roll and pitch stay level at full forward stick, MANUAL passes
-// the sticks through, disarmed means no thrust, bad parameters name themselves, and the cost of
-// advance().
+// the sticks through, disarmed means no thrust, bad parameters name themselves in the message of
+// core/params.h, their documentation rows, and the cost of advance().
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "vehicle/bluerov2_params.h"
 #include "vehicle/vehicle_sim.h"
 
 namespace pensight::vehicle {
@@ -161,6 +162,47 @@ TEST(VehicleSim, BadParametersThrowNamingTheParameter) {
   ManualCommand c;
   c.x = kNaN;
   EXPECT_THROW(sim.set_command(c), Error);
+}
+
+TEST(VehicleParams, OutOfRangeGivesTheUniformMessageWithKeyAndRange) {
+  const std::vector<std::pair<std::string, std::function<void(VehicleParams&)>>> cases = {
+      {"vehicle: key 'hull.mass_kg': -1 is outside > 0 kg (dry mass)",
+       [](VehicleParams& p) { p.hull.mass_kg = -1; }},
+      {"vehicle: key 'autopilot.pilot_gain': 1.5 is outside (0, 1] (",
+       [](VehicleParams& p) { p.autopilot.pilot_gain = 1.5; }},
+      {"vehicle: key 'autopilot.rate_yaw.i': -0.1 is outside >= 0 (",
+       [](VehicleParams& p) { p.autopilot.rate_yaw.i = -0.1; }},
+      {"vehicle: key 'hull.quadratic_damping[4]': -1 is outside >= 0 N m s^2 (",
+       [](VehicleParams& p) { p.hull.quadratic_damping[4] = -1; }},
+      {"vehicle: key 't200.deadband_high_us': 1400 us is below t200.deadband_low_us (1464 us)",
+       [](VehicleParams& p) { p.t200.deadband_high_us = 1400; }},
+      {"vehicle: key 'physics_rate_hz': 300 Hz is not a whole multiple of autopilot.rate_hz "
+       "(400 Hz)",
+       [](VehicleParams& p) { p.physics_rate_hz = 300; }},
+  };
+  EXPECT_NO_THROW(check_params(VehicleParams{}));
+  for (const auto& [message, spoil] : cases) {
+    VehicleParams p;
+    spoil(p);
+    try {
+      check_params(p);
+      ADD_FAILURE() << message << " accepted";
+    } catch (const Error& e) {
+      EXPECT_TRUE(std::string(e.what()).starts_with(message)) << e.what();
+    }
+  }
+}
+
+TEST(VehicleParams, RowsDocumentEveryParameterWithItsDefault) {
+  const std::string rows = bluerov2_param_rows();
+  for (const std::string row :
+       {"| `hull.mass_kg` | 13.5 | kg | > 0 | dry mass |\n",
+        "| `hull.added_mass[]` | 6.36, 7.12, 18.69, 0.186, 0.135, 0.222 | kg, kg m^2 | >= 0 |",
+        "| `thrusters[].direction_body` |", "| `t200.deadband_low_us` | 1464 | us | > 0 |",
+        "| `autopilot.climb_rate.imax` | 0.5 |  | >= 0 |",
+        "| `physics_rate_hz` | 400 | Hz | > 0 |"}) {
+    EXPECT_NE(rows.find(row), std::string::npos) << row << " not in\n" << rows;
+  }
 }
 
 TEST(VehicleSim, AdvanceIsFarFasterThanRealTime) {

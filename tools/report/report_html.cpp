@@ -3,23 +3,16 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <initializer_list>
-#include <iterator>
-#include <limits>
 #include <map>
 #include <numbers>
-#include <optional>
 #include <span>
-#include <sstream>
 #include <string>
 #include <string_view>
-#include <unordered_map>
 #include <vector>
 
 #include <opencv2/imgcodecs.hpp>
 
 #include "core/atomic_file.h"
-#include "core/csv.h"
 #include "core/error.h"
 #include "core/file_bytes.h"
 #include "core/units.h"
@@ -72,76 +65,13 @@ void unwrap(std::vector<double>& angles_rad) {
   }
 }
 
-// ---- Reading the run's files ------------------------------------------------------------------
-
-// A CSV file read by column name (diagnostics.csv, timing.csv).
-struct NamedTable {
-  std::optional<CsvTable> table;
-  std::unordered_map<std::string, size_t> column;
-  std::string problem;  // why the table is absent: not written, or unreadable
-
-  bool has(const std::string& name) const { return column.count(name) > 0; }
-};
-
-NamedTable read_named(const std::filesystem::path& file,
-                      std::initializer_list<std::string_view> required) {
-  NamedTable t;
-  if (!std::filesystem::exists(file)) {
-    t.problem = file.filename().string() + " was not written by this run";
-    return t;
-  }
-  try {
-    CsvTable table(file, 1, std::numeric_limits<size_t>::max());
-    for (size_t i = 0; i < table.header().size(); ++i) t.column[table.header()[i]] = i;
-    for (const std::string_view name : required) {
-      if (!t.has(std::string(name))) {
-        throw Error(file.string() + ": the header has no column '" + std::string(name) + "'");
-      }
-    }
-    for (size_t r = 0; r < table.rows(); ++r) {
-      if (table.fields(r) != table.header().size()) {
-        throw Error(file.string() + ": data row " + std::to_string(r + 1) + " has " +
-                    std::to_string(table.fields(r)) + " fields, the header names " +
-                    std::to_string(table.header().size()));
-      }
-    }
-    t.table.emplace(std::move(table));
-  } catch (const Error& e) {
-    t.problem = std::string("cannot read it: ") + e.what();
-  }
-  return t;
-}
-
-// The column as numbers; a field that is not a number reads as NaN: the report shows what it can.
-std::vector<double> numbers(const NamedTable& t, const std::string& name) {
-  std::vector<double> v;
-  const size_t c = t.column.at(name);
-  for (size_t r = 0; r < t.table->rows(); ++r) {
-    try {
-      v.push_back(t.table->number(r, c));
-    } catch (const Error&) {
-      v.push_back(kNaN);
-    }
-  }
-  return v;
-}
-
-// The timestamp column in seconds of the run; a malformed field reads as NaN.
-std::vector<double> seconds(const NamedTable& t, int64_t t0_ns) {
-  std::vector<double> v;
-  const size_t c = t.column.at("timestamp [ns]");
-  for (size_t r = 0; r < t.table->rows(); ++r) {
-    try {
-      v.push_back(seconds_between(t0_ns, t.table->integer(r, c)));
-    } catch (const Error&) {
-      v.push_back(kNaN);
-    }
-  }
-  return v;
-}
-
 std::string not_available(const std::string& why) {
   return "<p class=\"absent\">" + html_escape(why) + ".</p>\n";
+}
+
+// The page names an absent part of the run by the file it would have been written to.
+std::string not_written(const char* file) {
+  return std::string(file) + " was not written by this run";
 }
 
 // ---- The page ----------------------------------------------------------------------------------
@@ -152,15 +82,10 @@ constexpr const char* kDvlColour = "#d2691e";
 constexpr const char* kPublishedColour = "#b03060";
 
 struct Run {
-  std::filesystem::path out_dir;
-  const Dataset* dataset;
-  std::filesystem::path input;  // the user's input when not the dataset folder
-  std::vector<EstimateRow> rows;
-  int64_t t0_ns = 0;
-  std::vector<EstimateRow> published;
-  std::string published_problem;
-  NamedTable diagnostics;
-  NamedTable timing;
+  const ReportInput& in;
+  std::span<const EstimateRow> rows;       // *in.estimates
+  std::span<const EstimateRow> published;  // empty when in.published is absent
+  int64_t t0_ns = 0;                       // the first frame's: time 0 of the plots
   const GroundTruth* truth = nullptr;
 
   double seconds(int64_t t_ns) const { return seconds_between(t0_ns, t_ns); }
@@ -195,13 +120,13 @@ std::string net_pose_section(const Run& run) {
   std::vector<double> t_truth;
   for (const GroundTruthRow* g : truth) t_truth.push_back(run.seconds(g->timestamp_ns));
   std::vector<double> t_dvl, dvl_d, dvl_psi;
-  const NamedTable& diag = run.diagnostics;
-  const bool dvl = diag.table && diag.has("dvl_plane_d [m]") && diag.has("dvl_plane_psi [rad]");
+  const bool dvl = run.in.diagnostics.has_value();
   if (dvl) {
-    t_dvl = seconds(diag, run.t0_ns);
-    dvl_d = numbers(diag, "dvl_plane_d [m]");
-    dvl_psi = numbers(diag, "dvl_plane_psi [rad]");
-    for (double& v : dvl_psi) v = rad_to_deg(v);
+    for (const DiagnosticsRow& d : *run.in.diagnostics) {
+      t_dvl.push_back(run.seconds(d.timestamp_ns));
+      dvl_d.push_back(d.dvl_plane_d_m);
+      dvl_psi.push_back(rad_to_deg(d.dvl_plane_psi_rad));
+    }
   }
   struct Quantity {
     const char* title;
@@ -238,14 +163,11 @@ std::string net_pose_section(const Run& run) {
     html += svg(c);
   }
   std::string notes;
-  if (!dvl) {
-    notes += diag.table ? "diagnostics.csv has no DVL net plane columns"
-                        : "DVL net plane: " + diag.problem;
-  }
+  if (!dvl) notes += "DVL net plane: " + not_written(kDiagnosticsFile);
   if (truth.empty()) {
     if (!notes.empty()) notes += "; ";
-    notes += run.dataset ? "the dataset has no groundtruth0 for these frames"
-                         : "no dataset given: no ground truth";
+    notes += run.in.dataset ? "the dataset has no groundtruth0 for these frames"
+                            : "no dataset given: no ground truth";
   }
   if (!notes.empty()) html += not_available(notes);
   return html;
@@ -337,9 +259,9 @@ std::string global_pose_section(const Run& run) {
   pen.y_label = "y = r_g sin rho_g [m]";
   pen.equal_aspect = true;
   pen.width = pen.height = 490;
-  if (run.dataset) {
+  if (run.in.dataset) {
     // A flat net is a pen of a large radius (dataset-format.md): then only its arc is drawn.
-    pen.circle_radius_m = run.dataset->scene.pen_radius_m;
+    pen.circle_radius_m = run.in.dataset->scene.pen_radius_m;
     pen.fit_circle = pen.circle_radius_m <= 30;
     pen.series.push_back({"net", kPenColour, {}, {}, false});
   }
@@ -362,7 +284,8 @@ std::string global_pose_section(const Run& run) {
       "and y down the page turn clockwise, as yaw does.</p>\n";
 
   std::vector<std::string> notes;
-  if (run.published.empty()) notes.push_back("published node: " + run.published_problem);
+  if (!run.in.published)
+    notes.push_back("published node: " + not_written(kPublishedGlobalPoseFile));
   if (!truth.empty()) {
     notes.push_back(aligned ? "truth rho and yaw shifted by " +
                                   printf_double("%.1f", rad_to_deg(rho_offset)) + " and " +
@@ -371,7 +294,7 @@ std::string global_pose_section(const Run& run) {
                                   "pen's azimuth origin is not observable)"
                             : "no frame with rho_g and psi_g: truth azimuth and yaw as recorded");
   }
-  if (!run.dataset) notes.push_back("no dataset given: no pen circle");
+  if (!run.in.dataset) notes.push_back("no dataset given: no pen circle");
   std::string joined;
   for (const std::string& n : notes) joined += (joined.empty() ? "" : "; ") + n;
   if (!joined.empty()) html += not_available(joined);
@@ -380,7 +303,7 @@ std::string global_pose_section(const Run& run) {
 
 std::string evaluation_section(const Run& run) {
   std::string html = "<h2>Errors against the ground truth (pensight evaluate)</h2>\n";
-  if (!run.dataset) return html + not_available("No dataset given: no ground truth");
+  if (!run.in.dataset) return html + not_available("No dataset given: no ground truth");
   if (!run.truth) return html + not_available("The dataset has no groundtruth0/");
   const AccuracyEnvelope envelope;
   html += "<pre>" +
@@ -390,31 +313,29 @@ std::string evaluation_section(const Run& run) {
               printf_double("%.1f m, ", envelope.max_d_net_m) +
               printf_double("|psi_net| <= %.0f deg\n", rad_to_deg(envelope.max_abs_psi_net_rad)) +
               "net pose from FFT:\n" +
-              describe(score_net_pose(*run.dataset, run.rows, NetPoseSource::kFft, envelope)) +
+              describe(score_net_pose(*run.in.dataset, run.rows, NetPoseSource::kFft, envelope)) +
               "global pose (all frames; rho_g and psi_g as changes from the first frame with "
               "both):\n" +
-              describe(score_global_pose(*run.dataset, run.rows)));
+              describe(score_global_pose(*run.in.dataset, run.rows)));
   if (!run.published.empty()) {
     html += html_escape(std::string("global pose of the published node (") +
                         kPublishedGlobalPoseFile + ", the baseline):\n" +
-                        describe(score_global_pose(*run.dataset, run.published)));
+                        describe(score_global_pose(*run.in.dataset, run.published)));
   }
   return html + "</pre>\n";
 }
 
 std::string diagnostics_section(const Run& run) {
   std::string html = "<h2>Diagnostics</h2>\n";
-  const NamedTable& d = run.diagnostics;
-  if (!d.table) return html + not_available(d.problem);
-  const CsvTable& t = *d.table;
+  if (!run.in.diagnostics) return html + not_available(not_written(kDiagnosticsFile));
+  const std::vector<DiagnosticsRow>& rows = *run.in.diagnostics;
   std::map<std::string, size_t> reasons;
-  const size_t reason_column = d.column.at("fft_reason");
-  for (size_t r = 0; r < t.rows(); ++r) {
-    if (!t.text(r, reason_column).empty()) ++reasons[t.text(r, reason_column)];
+  for (const DiagnosticsRow& d : rows) {
+    if (!d.fft_reason.empty()) ++reasons[d.fft_reason];
   }
   size_t nan_frames = 0;
   for (const auto& [reason, count] : reasons) nan_frames += count;
-  html += "<p>" + std::to_string(t.rows()) + " frames, " + std::to_string(nan_frames) +
+  html += "<p>" + std::to_string(rows.size()) + " frames, " + std::to_string(nan_frames) +
           " with the FFT pose NaN.</p>\n";
   if (!reasons.empty()) {
     std::vector<std::pair<std::string, size_t>> sorted(reasons.begin(), reasons.end());
@@ -427,76 +348,63 @@ std::string diagnostics_section(const Run& run) {
     }
     html += "</table>\n";
   }
-  // The estimator's outcome per sensor: the <sensor>_accepted / <sensor>_rejected column pairs.
-  std::string sensors;
-  for (const std::string& name : t.header()) {
-    const std::string suffix = "_accepted";
-    if (name.size() <= suffix.size() || !name.ends_with(suffix)) continue;
-    const std::string sensor = name.substr(0, name.size() - suffix.size());
-    if (!d.has(sensor + "_rejected")) continue;
+  // The estimator's outcome per sensor, summed over the frames.
+  html += "<table><tr><th>sensor</th><th>accepted</th><th>rejected</th></tr>\n";
+  for (size_t i = 0; i < kDiagnosticsSensors.size(); ++i) {
     double accepted = 0, rejected = 0;
-    for (const double v : numbers(d, name)) accepted += std::isfinite(v) ? v : 0;
-    for (const double v : numbers(d, sensor + "_rejected")) rejected += std::isfinite(v) ? v : 0;
-    sensors += "<tr><td>" + html_escape(sensor) + "</td><td class=\"n\">" + short_number(accepted) +
-               "</td><td class=\"n\">" + short_number(rejected) + "</td></tr>\n";
+    for (const DiagnosticsRow& d : rows) {
+      accepted += d.accepted[i];
+      rejected += d.rejected[i];
+    }
+    html += "<tr><td>" + html_escape(kDiagnosticsSensors[i]) + "</td><td class=\"n\">" +
+            short_number(accepted) + "</td><td class=\"n\">" + short_number(rejected) +
+            "</td></tr>\n";
   }
-  if (!sensors.empty()) {
-    html += "<table><tr><th>sensor</th><th>accepted</th><th>rejected</th></tr>\n" + sensors +
-            "</table>\n";
-  }
-  if (d.has("valid_rois") && d.has("inlier_rois")) {
-    const std::vector<double> ts = seconds(d, run.t0_ns);
-    Chart c;
-    c.title = "ROIs per frame";
-    c.x_label = "time [s]";
-    c.y_label = "ROIs";
-    c.height = 200;
-    c.series.push_back(
-        {"with a lattice (valid_rois)", kEstimateColour, ts, numbers(d, "valid_rois")});
-    c.series.push_back(
-        {"inliers of the pose (inlier_rois)", "#2a2", ts, numbers(d, "inlier_rois")});
-    html += svg(c);
-  }
-  return html;
+  html += "</table>\n";
+  Chart c;
+  c.title = "ROIs per frame";
+  c.x_label = "time [s]";
+  c.y_label = "ROIs";
+  c.height = 200;
+  const std::vector<double> ts = column<DiagnosticsRow>(
+      rows, [&](const DiagnosticsRow& d) { return run.seconds(d.timestamp_ns); });
+  c.series.push_back({"with a lattice (valid_rois)", kEstimateColour, ts,
+                      column<DiagnosticsRow>(rows, [](const DiagnosticsRow& d) {
+                        return static_cast<double>(d.valid_rois);
+                      })});
+  c.series.push_back({"inliers of the pose (inlier_rois)", "#2a2", ts,
+                      column<DiagnosticsRow>(rows, [](const DiagnosticsRow& d) {
+                        return static_cast<double>(d.inlier_rois);
+                      })});
+  return html + svg(c);
 }
+
+// The columns of timing.csv, labelled for a reader, after the node's name.
+struct TimingColumn {
+  const char* label;
+  double (*value)(const TimingRow&);
+};
+constexpr TimingColumn kTimingColumns[] = {
+    {"count", [](const TimingRow& r) { return static_cast<double>(r.ours.processed); }},
+    {"mean [ms]", [](const TimingRow& r) { return r.ours.mean_ms; }},
+    {"p95 [ms]", [](const TimingRow& r) { return r.ours.p95_ms; }},
+    {"max [ms]", [](const TimingRow& r) { return r.ours.max_ms; }},
+    {"rate [Hz]", [](const TimingRow& r) { return r.ours.rate_hz; }},
+    {"latency mean [ms]", [](const TimingRow& r) { return r.ours.latency_mean_ms; }},
+    {"latency p95 [ms]", [](const TimingRow& r) { return r.ours.latency_p95_ms; }},
+    {"published (Orin) mean [ms]", [](const TimingRow& r) { return r.published_ms; }},
+    {"published rate [Hz]", [](const TimingRow& r) { return r.published_rate_hz; }}};
 
 std::string timing_section(const Run& run) {
   std::string html = "<h2>Per-stage timing</h2>\n";
-  const NamedTable& tm = run.timing;
-  if (!tm.table) return html + not_available(tm.problem);
-  const CsvTable& t = *tm.table;
-  static const std::map<std::string, std::string> kLabel = {
-      {"node", "node"},
-      {"count", "count"},
-      {"mean_ms", "mean [ms]"},
-      {"p95_ms", "p95 [ms]"},
-      {"max_ms", "max [ms]"},
-      {"rate_hz", "rate [Hz]"},
-      {"latency_mean_ms", "latency mean [ms]"},
-      {"latency_p95_ms", "latency p95 [ms]"},
-      {"published_mean_ms", "published (Orin) mean [ms]"},
-      {"published_rate_hz", "published rate [Hz]"}};
-  html += "<table><tr>";
-  for (const std::string& name : t.header()) {
-    const auto it = kLabel.find(name);
-    html += "<th>" + html_escape(it == kLabel.end() ? name : it->second) + "</th>";
-  }
+  if (!run.in.timing) return html + not_available(not_written(kTimingFile));
+  html += "<table><tr><th>node</th>";
+  for (const TimingColumn& c : kTimingColumns) html += std::string("<th>") + c.label + "</th>";
   html += "</tr>\n";
-  const size_t node = tm.column.at("node");
-  for (size_t r = 0; r < t.rows(); ++r) {
-    html += "<tr>";
-    for (size_t f = 0; f < t.fields(r); ++f) {
-      if (f == node) {
-        html += "<td>" + html_escape(t.text(r, f)) + "</td>";
-        continue;
-      }
-      std::string cell;
-      try {
-        cell = short_number(t.number(r, f));
-      } catch (const Error&) {
-        cell = t.text(r, f);
-      }
-      html += "<td class=\"n\">" + html_escape(cell) + "</td>";
+  for (const TimingRow& row : *run.in.timing) {
+    html += "<tr><td>" + html_escape(row.ours.name) + "</td>";
+    for (const TimingColumn& c : kTimingColumns) {
+      html += "<td class=\"n\">" + short_number(c.value(row)) + "</td>";
     }
     html += "</tr>\n";
   }
@@ -520,7 +428,7 @@ std::pair<std::string, std::string> embeddable(const std::filesystem::path& png)
 
 std::string overlays_section(const Run& run) {
   std::string html = "<h2>Overlay frames</h2>\n";
-  const std::filesystem::path dir = run.out_dir / "overlays";
+  const std::filesystem::path dir = run.in.out_dir / "overlays";
   std::vector<std::filesystem::path> files;
   if (std::filesystem::is_directory(dir)) {
     for (const auto& entry : std::filesystem::directory_iterator(dir)) {
@@ -555,13 +463,14 @@ std::string summary_section(const Run& run) {
   }
   const double span_s = run.rows.empty() ? 0 : run.seconds(run.rows.back().timestamp_ns);
   std::string html =
-      "<p>Output folder: <code>" + html_escape(run.out_dir.string()) + "</code><br>\n";
-  if (!run.input.empty()) {
-    html += "Input: <code>" + html_escape(run.input.string()) +
+      "<p>Output folder: <code>" + html_escape(run.in.out_dir.string()) + "</code><br>\n";
+  if (!run.in.input.empty()) {
+    html += "Input: <code>" + html_escape(run.in.input.string()) +
             "</code> (converted to the dataset layout for the run)";
   } else {
-    html += run.dataset ? "Dataset: <code>" + html_escape(run.dataset->root.string()) + "</code>"
-                        : std::string("Dataset: none given (no ground truth)");
+    html += run.in.dataset
+                ? "Dataset: <code>" + html_escape(run.in.dataset->root.string()) + "</code>"
+                : std::string("Dataset: none given (no ground truth)");
   }
   html += "<br>\n" + std::to_string(run.rows.size()) + " frames over " +
           printf_double("%.1f", span_s) + " s (time 0: the first frame, timestamp " +
@@ -609,28 +518,17 @@ figcaption { font-size: 0.85em; color: #555; }
 
 }  // namespace
 
-void write_report_html(const std::filesystem::path& out_dir, const Dataset* dataset,
-                       const std::filesystem::path& input) {
-  const std::filesystem::path estimates = out_dir / "estimates.csv";
-  if (!std::filesystem::exists(estimates)) {
-    throw Error("report: '" + estimates.string() + "' not found; `pensight run DATASET --out " +
-                out_dir.string() + "` writes it, run that first (or pass the folder it wrote)");
+void write_report_html(const ReportInput& input) {
+  const std::filesystem::path& out_dir = input.out_dir;
+  if (!input.estimates) {
+    throw Error("report for '" + out_dir.string() +
+                "': no estimates; `pensight run DATASET --out " + out_dir.string() +
+                "` produces them (estimates.csv), run that first");
   }
-  Run run{out_dir, dataset, input, read_estimates_csv(estimates), 0, {}, {}, {}, {}, nullptr};
+  Run run{input, *input.estimates, {}, 0, nullptr};
+  if (input.published) run.published = *input.published;
   if (!run.rows.empty()) run.t0_ns = run.rows.front().timestamp_ns;
-  if (dataset && dataset->groundtruth0) run.truth = &*dataset->groundtruth0;
-  const std::filesystem::path published = out_dir / kPublishedGlobalPoseFile;
-  if (!std::filesystem::exists(published)) {
-    run.published_problem = std::string(kPublishedGlobalPoseFile) + " was not written by this run";
-  } else {
-    try {
-      run.published = read_global_pose_csv(published);
-    } catch (const Error& e) {
-      run.published_problem = std::string("cannot read it: ") + e.what();
-    }
-  }
-  run.diagnostics = read_named(out_dir / kDiagnosticsFile, {"timestamp [ns]", "fft_reason"});
-  run.timing = read_named(out_dir / kTimingFile, {"node"});
+  if (input.dataset && input.dataset->groundtruth0) run.truth = &*input.dataset->groundtruth0;
 
   std::string html =
       "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>pensight "

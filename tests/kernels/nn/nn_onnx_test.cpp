@@ -20,7 +20,7 @@
 #include "tests/kernels/nn/nn_test_util.h"
 #include "tests/support/vulkan_fixture.h"
 
-namespace pensight::nn {
+namespace pensight::kernels {
 namespace {
 
 namespace fs = std::filesystem;
@@ -361,4 +361,4 @@ TEST(Onnx, ExportWritesAtomically) {
 }
 
 }  // namespace
-}  // namespace pensight::nn
+}  // namespace pensight::kernels

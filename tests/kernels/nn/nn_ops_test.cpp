@@ -10,7 +10,7 @@
 #include "tests/kernels/nn/nn_test_util.h"
 #include "tests/support/vulkan_fixture.h"
 
-namespace pensight::nn {
+namespace pensight::kernels {
 namespace {
 
 using testing::VulkanTest;
@@ -298,9 +298,9 @@ TEST(NnGraph, RejectsMismatchedShapesNamingTheNode) {
 }
 
 }  // namespace
-}  // namespace pensight::nn
+}  // namespace pensight::kernels
 
-namespace pensight::nn {
+namespace pensight::kernels {
 namespace {
 
 // S1/S2 written by the sparse_prior kernel straight into the model's "prior" input buffer, then
@@ -404,4 +404,4 @@ TEST_F(VulkanTest, ModelsShareTheirPipelines) {
 }
 
 }  // namespace
-}  // namespace pensight::nn
+}  // namespace pensight::kernels

@@ -7,7 +7,7 @@
 
 #include "kernels/nn/nn.h"
 
-namespace pensight::nn::testutil {
+namespace pensight::kernels::testutil {
 
 inline Tensor random_tensor(Dims shape, std::mt19937_64& rng, float lo = -1, float hi = 1) {
   std::uniform_real_distribution<float> u(lo, hi);
@@ -42,4 +42,4 @@ inline void expect_close(const Tensor& got, const Tensor& want, float tol = 1e-4
   EXPECT_EQ(bad, 0u) << "of " << want.data.size();
 }
 
-}  // namespace pensight::nn::testutil
+}  // namespace pensight::kernels::testutil

@@ -260,13 +260,16 @@ TEST_F(DatasetFilesTest, BadYamlAndMissingKeysAreNamed) {
   std::string e = error_of([&] { read_dataset(root_); });
   EXPECT_NE(e.find("'pen_radius_m': missing"), std::string::npos) << e;
   write_file(scene, "net_mesh_size_m: -0.03\npen_radius_m: 12\n");
-  EXPECT_NE(error_of([&] { read_dataset(root_); }).find("positive"), std::string::npos);
+  e = error_of([&] { read_dataset(root_); });
+  EXPECT_NE(e.find("scene.yaml: key 'net_mesh_size_m': -0.03 is outside > 0 m (bar length"),
+            std::string::npos)
+      << e;
   write_file(scene, "net_mesh_size_m: 0.03\npen_radius_m: 12\nnet_mesh_type: hexagonal\n");
   e = error_of([&] { read_dataset(root_); });
   EXPECT_NE(e.find("'net_mesh_type': 'hexagonal' is not a mesh type"), std::string::npos) << e;
   write_file(scene, "net_mesh_size_m: 0.03\npen_radius_m: 12\nnet_mesh_angle_deg: 170\n");
   e = error_of([&] { read_dataset(root_); });
-  EXPECT_NE(e.find("'net_mesh_angle_deg': must be within 30-150 deg"), std::string::npos) << e;
+  EXPECT_NE(e.find("'net_mesh_angle_deg': 170 is outside 30 to 150 deg"), std::string::npos) << e;
   write_file(scene, "net_mesh_size_m: 0.03\npen_radius_m: 12\n");
   write_file(root_ / "cam0" / "sensor.yaml", "sensor_type: camera\nrate_hz: 10\n");
   e = error_of([&] { read_dataset(root_); });

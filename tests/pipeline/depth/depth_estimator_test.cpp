@@ -42,9 +42,9 @@ class DepthEstimatorTest : public ::testing::Test {
   }
   void TearDown() override { fs::remove_all(dir_); }
 
-  fs::path write(const nn::Graph& g, const std::string& name) {
+  fs::path write(const kernels::Graph& g, const std::string& name) {
     const fs::path file = dir_ / name;
-    nn::export_onnx(g, file);
+    kernels::export_onnx(g, file);
     return file;
   }
 
@@ -81,7 +81,8 @@ Frame plane_frame(const PinholeCamera& cam, uint64_t seed) {
 TEST_F(DepthEstimatorTest, BackendsAgreeOnTheContract) {
   const PinholeCamera cam;
   // A random network of the contract at 64x48 (the camera's aspect), small enough for lavapipe.
-  const fs::path model = write(nn::compact_depth_net({64, 48}, testing::fresh_seed()), "net.onnx");
+  const fs::path model =
+      write(kernels::compact_depth_net({64, 48}, testing::fresh_seed()), "net.onnx");
   const Frame f = plane_frame(cam, testing::fresh_seed());
   ASSERT_FALSE(f.priors.empty());
   std::vector<ImageF32> outputs;
@@ -211,15 +212,15 @@ TEST_F(DepthEstimatorTest, BadModelsSizesAndFramesWithoutPriors) {
     EXPECT_NE(std::string(e.what()).find("missing.onnx"), std::string::npos) << e.what();
   }
   // TRUDepth's RGB image input is not this stage's contract.
-  const fs::path rgb =
-      write(nn::trudepth_net({64, 48}, 0.25f, 1, nn::DepthHead::kConvSoftplus), "rgb.onnx");
+  const fs::path rgb = write(
+      kernels::trudepth_net({64, 48}, 0.25f, 1, kernels::DepthHead::kConvSoftplus), "rgb.onnx");
   try {
     DepthEstimator(cam, {.model = rgb}, testing::test_device());
     FAIL();
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("not a depth network"), std::string::npos) << e.what();
   }
-  const fs::path wide = write(nn::compact_depth_net({64, 32}, 1), "wide.onnx");
+  const fs::path wide = write(kernels::compact_depth_net({64, 32}, 1), "wide.onnx");
   EXPECT_THROW(DepthEstimator(cam, {.model = wide}, testing::test_device()), Error);
   std::ofstream(dir_ / "junk.onnx") << "not a protobuf";
   EXPECT_THROW(DepthEstimator(cam, {.model = dir_ / "junk.onnx"}, testing::test_device()), Error);

@@ -94,18 +94,19 @@ TEST(Scenario, NetMeshKeysParse) {
 TEST(Scenario, BadNetMeshValuesAreRefused) {
   const std::pair<const char*, const char*> cases[] = {
       {"mesh_type: hexagonal", "'net.mesh_type': must be 'square' or 'diamond', got 'hexagonal'"},
-      {"opening_angle_deg: 30", "'net.opening_angle_deg': must be between 45"},
-      {"opening_angle_deg: 140", "'net.opening_angle_deg': must be between 45"},
-      {"opening_angle_variation_deg: 12", "'net.opening_angle_variation_deg': must be between"},
-      {"stretch_variation: 0.1", "'net.stretch_variation': must be between 0"},
-      {"deform_scale_m: 0.1", "'net.deform_scale_m': must be between"},
+      {"opening_angle_deg: 30", "'net.opening_angle_deg': 30 is outside 45 to 135 deg"},
+      {"opening_angle_deg: 140", "'net.opening_angle_deg': 140 is outside 45 to 135 deg"},
+      {"opening_angle_variation_deg: 12",
+       "'net.opening_angle_variation_deg': 12 is outside 0 to 10 deg"},
+      {"stretch_variation: 0.1", "'net.stretch_variation': 0.1 is outside 0 to 0.05 ("},
+      {"deform_scale_m: 0.1", "'net.deform_scale_m': 0.1 is outside 0.2 to 100 m"},
       {"twine_width_m: 0.011", "'net.twine_width_m': must be less than 0.35 * mesh_m"},
       {"knot_size_m: 0.019", "'net.knot_size_m': must be less than 0.6 * mesh_m"},
       {"knot_shape: star", "'net.knot_shape': must be 'square' or 'round', got 'star'"},
-      {"fouling_coverage: 0.8", "'net.fouling_coverage': must be between 0"},
+      {"fouling_coverage: 0.8", "'net.fouling_coverage': 0.8 is outside 0 to 0.7 ("},
       {"ropes: {spacing_m: 0.05}", "'net.ropes.spacing_m': must be 0 (no ropes) or at least"},
-      {"ropes: {width_m: 0.5}", "'net.ropes.width_m': must be between"},
-      {"ropes: {albedo: 2}", "'net.ropes.albedo': must be between 0"},
+      {"ropes: {width_m: 0.5}", "'net.ropes.width_m': 0.5 is outside 0.001 to 0.2 m"},
+      {"ropes: {albedo: 2}", "'net.ropes.albedo': 2 is outside 0 to 1 ("},
       {"ropes: {spacing: 1}", "'net.ropes.spacing': unknown key"},
       {"seam_spacing_m: 0.04", "'net.seam_spacing_m': must be 0 (no seams) or at least"},
       {"mesh_angle_rad: 0.7", "'net.mesh_angle_rad': unknown key"},
@@ -166,14 +167,18 @@ TEST(Scenario, TypoIsNamedWithItsFile) {
   EXPECT_NE(e.find("water.attenuation_per_n"), std::string::npos) << e;
   EXPECT_NE(e.find("unknown key"), std::string::npos) << e;
   // Scenarios are the project's own input, so unlike dataset files they stay strict at every level.
+  // Every key of the section is named as known, the absent ones too.
+  EXPECT_NE(e.find("known keys here: attenuation_per_m, backscatter, current_mps, "
+                   "diffuse_attenuation_per_m, lamp_backscatter, marine_snow, snow_brightness"),
+            std::string::npos)
+      << e;
   const std::string top = error_of(std::string(kMinimal) + "pen_radius_m: 12\n");
   EXPECT_NE(top.find("bad.yaml: key 'pen_radius_m': unknown key"), std::string::npos) << top;
 }
 
 TEST(Scenario, ImpossibleValuesAreRefused) {
   std::string e = error_of(std::string(kMinimal) + "pen: {radius_m: -3}\n");
-  EXPECT_NE(e.find("pen.radius_m"), std::string::npos) << e;
-  EXPECT_NE(e.find("positive"), std::string::npos) << e;
+  EXPECT_NE(e.find("'pen.radius_m': -3 is outside > 0 m ("), std::string::npos) << e;
   // Body 0.2 m from the net with the camera 0.3 m ahead of it: the camera is outside the pen.
   e = error_of(
       "trajectory:\n  waypoints:\n    - {t_s: 0, net_distance_m: 1.0, depth_m: 3}\n"
@@ -193,12 +198,78 @@ TEST(Scenario, ImpossibleValuesAreRefused) {
   EXPECT_NE(e.find("water.current_mps"), std::string::npos) << e;
   // Sizes that would make the loaders loop or allocate without bound.
   e = error_of(std::string(kMinimal) + "duration_s: 1e9\n");
-  EXPECT_NE(e.find("'duration_s': must be between 0 and 21600 s"), std::string::npos) << e;
+  EXPECT_NE(e.find("'duration_s': 1e+09 is outside 0 to 21600 s"), std::string::npos) << e;
+  // Without duration_s the waypoints' span is held to the same range.
+  e = error_of(
+      "trajectory:\n  waypoints:\n    - {t_s: 0, net_distance_m: 1.0, depth_m: 3}\n"
+      "    - {t_s: 30000, net_distance_m: 1.5, depth_m: 3}\n");
+  EXPECT_NE(e.find("bad.yaml: key 'duration_s': 30000 is outside 0 to 21600 s"), std::string::npos)
+      << e;
   e = error_of(std::string(kMinimal) + "camera: {rate_hz: 1e9}\n");
   EXPECT_NE(e.find("camera.rate_hz"), std::string::npos) << e;
   e = error_of(
       "trajectory:\n  lawnmower: {net_distances_m: [1.0], depth_from_m: 2, depth_to_m: 1e9}\n");
   EXPECT_NE(e.find("more than 1000 rows"), std::string::npos) << e;
+}
+
+// Every number out of its range gets the one message of core/params.h: file, key path, value,
+// range, unit and what the key means.
+TEST(Scenario, OutOfRangeValueGetsTheUniformMessage) {
+  EXPECT_EQ(error_of(std::string(kMinimal) + "net: {albedo: 1.5}\n"),
+            "bad.yaml: key 'net.albedo': 1.5 is outside 0 to 1 (twine albedo)");
+  EXPECT_EQ(error_of(std::string(kMinimal) + "light: {lamps: [{intensity: -1}]}\n"),
+            "bad.yaml: key 'light.lamps[0].intensity': -1 is outside 0 to 1000 (irradiance at 1 m "
+            "on the axis, in clear water)");
+  EXPECT_EQ(error_of(std::string(kMinimal) + "camera: {samples_per_axis: 9}\n"),
+            "bad.yaml: key 'camera.samples_per_axis': 9 is outside 1 to 8 (supersampling: N x N "
+            "rays per pixel)");
+  EXPECT_EQ(error_of(std::string(kMinimal) + "vehicle: {pilot_gain: 2}\n"),
+            "bad.yaml: key 'vehicle.pilot_gain': 2 is outside (0, 1] (ArduSub's joystick gain)");
+  EXPECT_EQ(error_of(std::string(kMinimal) + "seed: -1\n"),
+            "bad.yaml: key 'seed': -1 is outside 0 to 9e+15 (random seed of the noise, net "
+            "deformation and current; a whole number)");
+  EXPECT_EQ(error_of(std::string(kMinimal) + "seed: 1.5\n"),
+            "bad.yaml: key 'seed': must be a whole number");
+}
+
+TEST(Scenario, MissingRequiredKeyIsRefused) {
+  EXPECT_EQ(error_of("trajectory:\n  waypoints:\n    - {t_s: 0, net_distance_m: 1.0}\n"),
+            "bad.yaml: key 'trajectory.waypoints[0].depth_m': missing; add it (body origin's "
+            "depth)");
+  EXPECT_EQ(error_of(std::string(kMinimal) + "net: {bulges: [{depth_m: 4}]}\n"),
+            "bad.yaml: key 'net.bulges[0].along_m': missing; add it (centre's arc length along "
+            "the net)");
+  EXPECT_EQ(
+      error_of("trajectory:\n  lawnmower: {net_distances_m: [1.0], depth_from_m: 2}\n"),
+      "bad.yaml: key 'trajectory.lawnmower.depth_to_m': missing; add it (rows down to this depth, "
+      "not above depth_from_m)");
+}
+
+// A key written without a value keeps its default, as before the keys were read from tables.
+TEST(Scenario, KeyWithoutValueKeepsItsDefault) {
+  const Scenario s = parse_scenario(std::string(kMinimal) + "pen: {radius_m: }\nseed:\n", "n.yaml");
+  EXPECT_EQ(s.pen.radius_m, 12.0);
+  EXPECT_EQ(s.seed, 1u);
+}
+
+TEST(Scenario, ParamRowsNameEveryKeyWithItsSection) {
+  const std::string rows = scenario_param_rows();
+  for (const char* row :
+       {"| `seed` | 1 |  | 0 to 9e+15 |", "| `duration_s` | none | s | 0 to 21600 |",
+        "| `camera.rate_hz` | 10 | Hz | 0.1 to 1000 | frame rate |",
+        "| `net.mesh_m` | 0.03 | m | > 0 | bar length, knot to knot |",
+        "| `net.ropes.width_m` | 0.02 | m | 0.001 to 0.2 | rope width |",
+        "| `net.bulges[].along_m` | required | m | any |",
+        "| `water.attenuation_per_m` | 0.25 | 1/m | 0.01 to 20 |",
+        "| `light.lamps[].intensity` | 0.06 |  | 0 to 1000 |",
+        "| `dvl.enabled` | true |  | true, false |",
+        "| `dvl.spikes[].duration_s` | 0.5 | s | > 0 |",
+        "| `trajectory.waypoints[].t_s` | required | s | any |",
+        "| `trajectory.lawnmower.row_spacing_m` | 0.5 | m | > 0 |",
+        "| `vehicle.pilot_gain` | 0.5 |  | (0, 1] |"}) {
+    EXPECT_NE(rows.find(row), std::string::npos) << row << " not in\n" << rows;
+  }
+  EXPECT_EQ(std::count(rows.begin(), rows.end(), '\n'), 99);
 }
 
 TEST(Scenario, DvlErrorsAndSpikesParse) {

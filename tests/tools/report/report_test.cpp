@@ -1,5 +1,5 @@
-// The run report: overlay PNGs on rendered nets, report.html on a synthetic OUT folder, and the
-// page opened in headless Chromium (skipped where Debian's `chromium` is not installed).
+// The run report: overlay PNGs on rendered nets, report.html of a synthetic run held in memory,
+// and the page opened in headless Chromium (skipped where Debian's `chromium` is not installed).
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -16,7 +16,6 @@
 #include "core/units.h"
 #include "pipeline/dataset/diagnostics_csv.h"
 #include "pipeline/dataset/estimates_csv.h"
-#include "pipeline/dataset/global_pose_csv.h"
 #include "pipeline/fft/net_detector.h"
 #include "tests/support/net_image.h"
 #include "tests/support/vulkan_fixture.h"
@@ -77,16 +76,16 @@ class ReportTest : public ::testing::Test {
     }
   }
 
-  // A synthetic run: the vehicle passes along the net of a 12 m pen at r 11 m, turning; the
-  // optional files come from the writers `pensight run` uses.
-  Dataset write_run(const fs::path& out, bool optional_files) const {
-    Dataset ds;
+  // A synthetic run into `out`: the vehicle passes along the net of a 12 m pen at r 11 m,
+  // turning, on dataset_. Without optional_parts only the estimates are there; with them, the
+  // published node's poses, diagnostics, timing and overlay PNGs in out/overlays.
+  ReportInput synthetic_run(const fs::path& out, bool optional_parts) {
+    Dataset& ds = dataset_;
     ds.root = "synthetic-dataset";
     ds.scene.pen_radius_m = 12;
     ds.groundtruth0.emplace();
-    EstimatesCsvWriter estimates(out / "estimates.csv");
-    GlobalPoseCsvWriter published(out / kPublishedGlobalPoseFile);
-    DiagnosticsCsvWriter diagnostics(out / kDiagnosticsFile);
+    std::vector<EstimateRow> estimates, published;
+    std::vector<DiagnosticsRow> diagnostics;
     const double rho0 = 0.4;
     for (int i = 0; i < 80; ++i) {
       const int64_t t = kStart_ns + i * kFrame_ns;
@@ -115,11 +114,11 @@ class ReportTest : public ::testing::Test {
       e.rho_g_rad = rho - rho0 + 0.001 * s;
       e.z_g_m = g.p_pen_body_m.z() + 0.005;
       e.psi_g_rad = g.yaw_rad - rho0 + deg_to_rad(0.2);
-      estimates.write(e);
+      estimates.push_back(e);
       EstimateRow p = e;
       p.rho_g_rad = rho - rho0 + 0.01 * s;
       p.r_g_m = r - 0.05;
-      published.write(p);
+      published.push_back(p);
 
       DiagnosticsRow d{.timestamp_ns = t, .valid_rois = e.valid_rois};
       d.inlier_rois = nan_frame ? 0 : 25;
@@ -131,26 +130,23 @@ class ReportTest : public ::testing::Test {
         d.accepted[static_cast<size_t>(k)] = (k + i) % 3;
         d.rejected[static_cast<size_t>(k)] = k == 1 && i % 7;
       }
-      diagnostics.write(d);
+      diagnostics.push_back(d);
     }
-    estimates.finish();
-    published.finish();
-    diagnostics.finish();
-    if (!optional_files) {
-      fs::remove(out / kPublishedGlobalPoseFile);
-      fs::remove(out / kDiagnosticsFile);
-      return ds;
-    }
+    ReportInput run{.out_dir = out, .dataset = &ds, .estimates = std::move(estimates)};
+    if (!optional_parts) return run;
+    run.published = std::move(published);
+    run.diagnostics = std::move(diagnostics);
     const std::vector<StageStats> stages = {
         {"fft net detection", 80, 0, 4.61, 5.2, 9.8, 10, 4.7, 5.4},
         {"relative pose (fft)", 80, 0, 0.31, 0.4, 0.9, 10, 5.1, 5.8},
         {"global pose", 80, 0, 0.02, 0.03, 0.05, 10, 5.2, 5.9}};
-    write_timing_csv(out / kTimingFile, timing_table(stages));
+    run.timing = timing_table(stages);
     write_overlays(out / "overlays", 7);
-    return ds;
+    return run;
   }
 
   fs::path dir_;
+  Dataset dataset_;
 };
 
 TEST_F(ReportTest, OverlayIsAColourPngOfTheFrameWithTheRoiGrid) {
@@ -212,8 +208,7 @@ TEST_F(ReportTest, OverlaysOfDetectedNets) {
 }
 
 TEST_F(ReportTest, ReportHasEverySectionAndFetchesNothing) {
-  const Dataset ds = write_run(dir_, true);
-  write_report_html(dir_, &ds);
+  write_report_html(synthetic_run(dir_, true));
   const std::string html = read_text(dir_ / "report.html");
   for (const char* section :
        {"Net-relative pose (FFT)", "Global pose in the pen", "Track in the pen, seen from above",
@@ -236,9 +231,10 @@ TEST_F(ReportTest, ReportHasEverySectionAndFetchesNothing) {
   EXPECT_EQ(html.find("<3>"), std::string::npos);
 }
 
-TEST_F(ReportTest, OptionalFilesAbsent) {
-  write_run(dir_, false);
-  write_report_html(dir_, nullptr);
+TEST_F(ReportTest, OptionalPartsAbsent) {
+  ReportInput run = synthetic_run(dir_, false);
+  run.dataset = nullptr;
+  write_report_html(run);
   const std::string html = read_text(dir_ / "report.html");
   for (const char* absent :
        {"diagnostics.csv was not written by this run", "timing.csv was not written by this run",
@@ -249,36 +245,38 @@ TEST_F(ReportTest, OptionalFilesAbsent) {
   }
   EXPECT_EQ(html.find("<img"), std::string::npos);
 
-  // Ground truth without groundtruth0, and an unreadable optional file named in its section.
-  std::ofstream(dir_ / "timing.csv") << "#node,count\nglobal pose,1,2\n";
+  // Ground truth without groundtruth0, and timing rows of nodes that did not run: no figures.
   Dataset no_truth;
-  write_report_html(dir_, &no_truth);
+  run.dataset = &no_truth;
+  run.timing = timing_table({});
+  write_report_html(run);
   const std::string again = read_text(dir_ / "report.html");
   EXPECT_NE(again.find("The dataset has no groundtruth0/"), std::string::npos);
-  EXPECT_NE(again.find("timing.csv: data row 1 has 3 fields, the header names 2"),
+  EXPECT_NE(again.find("<tr><td>global pose</td><td class=\"n\">0</td><td class=\"n\">n/a</td>"),
             std::string::npos);
+  EXPECT_EQ(again.find("timing.csv was not written by this run"), std::string::npos);
 }
 
 // A bag run through a temporary dataset folder: the page names the bag, not the folder.
 TEST_F(ReportTest, NamesTheInputWhenItWasNotTheDatasetFolder) {
-  write_run(dir_, false);
+  ReportInput run = synthetic_run(dir_, false);
   Dataset converted;
   converted.root = dir_ / ".bag_dataset";
-  write_report_html(dir_, &converted, "dives/net <3>.bag");
+  run.dataset = &converted;
+  run.input = "dives/net <3>.bag";
+  write_report_html(run);
   const std::string html = read_text(dir_ / "report.html");
   EXPECT_NE(html.find("Input: <code>dives/net &lt;3&gt;.bag</code>"), std::string::npos);
   EXPECT_EQ(html.find(".bag_dataset"), std::string::npos);
 }
 
 TEST_F(ReportTest, EmptyAndAllNanRuns) {
-  EstimatesCsvWriter(dir_ / "estimates.csv").finish();
-  write_report_html(dir_, nullptr);
+  ReportInput run{.out_dir = dir_, .estimates = std::vector<EstimateRow>{}};
+  write_report_html(run);
   EXPECT_NE(read_text(dir_ / "report.html").find("0 frames over 0.0 s"), std::string::npos);
 
-  EstimatesCsvWriter estimates(dir_ / "estimates.csv");
-  for (int i = 0; i < 3; ++i) estimates.write({.timestamp_ns = kStart_ns + i * kFrame_ns});
-  estimates.finish();
-  write_report_html(dir_, nullptr);
+  for (int i = 0; i < 3; ++i) run.estimates->push_back({.timestamp_ns = kStart_ns + i * kFrame_ns});
+  write_report_html(run);
   const std::string html = read_text(dir_ / "report.html");
   EXPECT_NE(html.find("3 frames over 0.2 s"), std::string::npos);
   for (const char* bad : {"nan", "inf"}) {
@@ -288,11 +286,12 @@ TEST_F(ReportTest, EmptyAndAllNanRuns) {
 
 TEST_F(ReportTest, MissingEstimatesIsAnErrorNamingIt) {
   try {
-    write_report_html(dir_, nullptr);
-    FAIL() << "no error without estimates.csv";
+    write_report_html({.out_dir = dir_});
+    FAIL() << "no error without estimates";
   } catch (const Error& e) {
     const std::string what = e.what();
-    EXPECT_NE(what.find((dir_ / "estimates.csv").string()), std::string::npos) << what;
+    EXPECT_NE(what.find(dir_.string()), std::string::npos) << what;
+    EXPECT_NE(what.find("estimates"), std::string::npos) << what;
     EXPECT_NE(what.find("pensight run"), std::string::npos) << what;
   }
   EXPECT_FALSE(fs::exists(dir_ / "report.html"));
@@ -351,8 +350,7 @@ TEST_F(ReportTest, OpensInHeadlessChromium) {
   }
   const fs::path out = dir_ / "OUT";
   fs::create_directories(out);
-  const Dataset ds = write_run(out, true);
-  write_report_html(out, &ds);
+  write_report_html(synthetic_run(out, true));
   HeadlessChromium chromium(dir_);
 
   const auto [verdict, log] = chromium.self_check(out / "report.html");
