@@ -35,7 +35,7 @@ int cmd_run(const Args& args) {
       ->capture_default_str();
   cli.add_option("--roi-rows", grid.rows, "ROI grid rows")->capture_default_str();
   cli.add_option("--roi-cols", grid.cols, "ROI grid columns")->capture_default_str();
-  cli.add_option("--roi-size", grid.size_px, "ROI side in pixels")->capture_default_str();
+  cli.add_option("--roi-size", grid.roi_size_px, "ROI side in pixels")->capture_default_str();
   cli.add_option("--roi-border", grid.border_px, "margin kept free at the image edges, pixels")
       ->capture_default_str();
   cli.add_option("--fft-size", options.detector.fft_size, "resampled ROI side (power of two)")

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "core/camera.h"
+#include "core/dataset_types.h"
 #include "core/units.h"
 #include "pipeline/global_pose/global_pose_estimator.h"
 #include "pipeline/global_pose/published_global_pose.h"
@@ -22,7 +23,7 @@ namespace {
 using namespace pensight;
 using namespace pensight::global_pose;
 
-constexpr double kRadius = 12.0;
+constexpr double kRadius = kDefaultPenRadius_m;
 constexpr int kFrames = 600;
 
 Eigen::Isometry3d forward_mount(double x, double z) {
@@ -70,12 +71,12 @@ TextureStep texture_step_at(double t0, double t1, const Eigen::Isometry3d& T_bc)
   };
   const Eigen::Vector3d a = axis_point(t0), b = axis_point(t1);
   const double azimuth = std::atan2(b.y(), b.x()), bar = 0.030;
-  const Eigen::Matrix3d R_C_P = (pose_at(t1) * T_bc).linear().transpose();
+  const Eigen::Matrix3d R_camera_pen = (pose_at(t1) * T_bc).linear().transpose();
   TextureStep s;
   s.valid = true;
   s.from_ns = seconds_to_ns(t0);
-  s.bars_C = {bar * R_C_P * Eigen::Vector3d(-std::sin(azimuth), std::cos(azimuth), 0),
-              bar * R_C_P * Eigen::Vector3d::UnitZ()};
+  s.bars_C = {bar * R_camera_pen * Eigen::Vector3d(-std::sin(azimuth), std::cos(azimuth), 0),
+              bar * R_camera_pen * Eigen::Vector3d::UnitZ()};
   const double moved[2] = {kRadius * wrap_angle(azimuth - std::atan2(a.y(), a.x())) / bar,
                            (b.z() - a.z()) / bar};
   for (size_t i = 0; i < 2; ++i) s.moved_bars[i] = moved[i] - std::floor(moved[i] + 0.5);
@@ -112,13 +113,13 @@ std::vector<Frame> make_frames() {
     if (f % 4 == 0 || f % 4 == 2) {
       const double s = t + 0.013, h = 1e-4;
       const Eigen::Isometry3d T = pose_at(s);
-      const Eigen::Vector3d v_P =
+      const Eigen::Vector3d v_pen =
           (pose_at(s + h).translation() - pose_at(s - h).translation()) / (2 * h);
       DvlSample d;
       d.timestamp_ns = seconds_to_ns(s);
       d.valid = true;
       d.velocity_B_mps =
-          T.linear().transpose() * v_P + 0.01 * Eigen::Vector3d(n01(rng), n01(rng), n01(rng));
+          T.linear().transpose() * v_pen + 0.01 * Eigen::Vector3d(n01(rng), n01(rng), n01(rng));
       d.beam_range_m = dvl_ranges_to_wall(dvl, T, NetWall::cylinder(kRadius));
       fr.dvl.push_back(d);
     }

@@ -15,7 +15,7 @@ PipelineConfig tiny_config() {
   PipelineConfig c;
   c.camera = {
       .width_px = 160, .height_px = 120, .fx_px = 100, .fy_px = 100, .cx_px = 79.5, .cy_px = 59.5};
-  c.detector.grid = {.rows = 1, .cols = 1, .size_px = 64, .border_px = 0};
+  c.detector.grid = {.rows = 1, .cols = 1, .roi_size_px = 64, .border_px = 0};
   c.detector.fft_size = 32;
   c.detector.backend = Backend::kCpu;
   c.detector.cpu_threads = 1;

@@ -5,15 +5,17 @@
 #include <Eigen/Core>
 #include <optional>
 
+#include "core/default_camera.h"
+
 namespace pensight {
 
 struct PinholeCamera {
-  int width_px = 720;
-  int height_px = 540;
-  double fx_px = 462.0;
-  double fy_px = 462.0;
-  double cx_px = 359.5;
-  double cy_px = 269.5;
+  int width_px = kDefaultImageWidth_px;
+  int height_px = kDefaultImageHeight_px;
+  double fx_px = kDefaultFocalLength_px;
+  double fy_px = kDefaultFocalLength_px;
+  double cx_px = (kDefaultImageWidth_px - 1) / 2.0;
+  double cy_px = (kDefaultImageHeight_px - 1) / 2.0;
   double k1 = 0, k2 = 0, p1 = 0, p2 = 0;
 
   bool has_distortion() const { return k1 != 0 || k2 != 0 || p1 != 0 || p2 != 0; }

@@ -29,10 +29,13 @@ const char* to_string(MeshType type);  // "square" | "diamond", as in scene.yaml
 // The type that to_string() names `name`; nullopt for any other text.
 std::optional<MeshType> parse_mesh_type(const std::string& name);
 
+// The pen radius a config holds until scene.yaml (where it is required) or a scenario sets it.
+inline constexpr double kDefaultPenRadius_m = 12.0;
+
 // scene.yaml.
 struct SceneConfig {
-  double bar_length_m = 0.030;  // bar length: knot to knot
-  double pen_radius_m = 12.0;   // a flat net is a large radius (e.g. 100)
+  double bar_length_m = 0.030;                // bar length: knot to knot
+  double pen_radius_m = kDefaultPenRadius_m;  // a flat net is a large radius (e.g. 100)
   std::optional<double> initial_rho_rad;
   // Optional (contract 1.1): a prior for the detector, which estimates what is absent.
   std::optional<MeshType> net_mesh_type;
@@ -94,7 +97,8 @@ struct GroundTruthRow {
   double net_fraction = 0;  // share of pixels that see net
 };
 
-// Rotation body -> pen (R_P_B) from the contract's roll, pitch, yaw (Z-Y-X, yaw about +z down).
+// Rotation body -> pen (R_pen_body) from the contract's roll, pitch, yaw (Z-Y-X, yaw about +z
+// down).
 inline Eigen::Matrix3d rotation_from_rpy(double roll_rad, double pitch_rad, double yaw_rad) {
   return (Eigen::AngleAxisd(yaw_rad, Eigen::Vector3d::UnitZ()) *
           Eigen::AngleAxisd(pitch_rad, Eigen::Vector3d::UnitY()) *
@@ -102,7 +106,7 @@ inline Eigen::Matrix3d rotation_from_rpy(double roll_rad, double pitch_rad, doub
       .toRotationMatrix();
 }
 
-// The inverse: roll, pitch, yaw of R_P_B, pitch in [-pi/2, pi/2]. At pitch +-pi/2 roll and yaw
+// The inverse: roll, pitch, yaw of R_pen_body, pitch in [-pi/2, pi/2]. At pitch +-pi/2 roll and yaw
 // share one angle and roll is reported as 0.
 inline Eigen::Vector3d rpy_from_rotation(const Eigen::Matrix3d& R) {
   const double pitch = std::asin(std::clamp(-R(2, 0), -1.0, 1.0));

@@ -68,9 +68,10 @@ std::string format_param_value(double v);
 std::string param_range_error(double value, const ParamRange& range, std::string_view unit,
                               std::string_view help);
 
-// Reads every parameter of `params` that `map` has into `config` (absent ones keep their value),
-// checking its range; throws pensight::Error "FILE: key 'PATH': VALUE is outside RANGE UNIT
-// (HELP)". The caller reads the map's other keys and then calls map.check_unknown_keys().
+// Reads every parameter of `params` that `map` has into `config` (absent ones keep their value
+// and, like every key asked about, count as known to check_unknown_keys), checking its range;
+// throws pensight::Error "FILE: key 'PATH': VALUE is outside RANGE UNIT (HELP)". The caller reads
+// the map's other keys and then calls map.check_unknown_keys().
 template <class Config>
 void read_params(const YamlMap& map, std::span<const Param<Config>> params, Config& config) {
   for (const Param<Config>& p : params) {
@@ -97,6 +98,11 @@ void read_params(const YamlMap& map, std::span<const Param<Config>> params, Conf
       config.*std::get<int Config::*>(p.member) = static_cast<int>(v);
     }
   }
+}
+
+template <class Config, size_t N>
+void read_params(const YamlMap& map, const Param<Config> (&params)[N], Config& config) {
+  read_params(map, std::span<const Param<Config>>(params), config);
 }
 
 // The value of p in `config`, as written (divided by p.scale); bools as 0 / 1, an absent optional

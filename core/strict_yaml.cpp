@@ -40,6 +40,7 @@ std::string YamlMap::key_path(const std::string& key) const {
 }
 
 bool YamlMap::has(const std::string& key) const {
+  used_->insert(key);
   return node_[key].IsDefined() && !node_[key].IsNull();
 }
 
@@ -56,7 +57,6 @@ void YamlMap::fail(const std::string& key, const std::string& message) const {
 }
 
 YAML::Node YamlMap::required(const std::string& key) const {
-  used_->insert(key);
   if (!has(key)) fail(key, "missing; add it to the file");
   return node_[key];
 }
@@ -79,7 +79,6 @@ double YamlMap::number(const std::string& key, double fallback) const {
 }
 
 std::optional<double> YamlMap::optional_number(const std::string& key) const {
-  used_->insert(key);
   if (!has(key)) return std::nullopt;
   return to_number(node_[key], key);
 }
@@ -91,14 +90,11 @@ int YamlMap::integer(const std::string& key) const {
 }
 
 int YamlMap::integer(const std::string& key, int fallback) const {
-  return has(key) ? integer(key) : (used_->insert(key), fallback);
+  return has(key) ? integer(key) : fallback;
 }
 
 int64_t YamlMap::integer64(const std::string& key, int64_t fallback) const {
-  if (!has(key)) {
-    used_->insert(key);
-    return fallback;
-  }
+  if (!has(key)) return fallback;
   const YAML::Node n = required(key);
   long long v = 0;
   if (!n.IsScalar() || !YAML::convert<long long>::decode(n, v)) {
@@ -117,7 +113,7 @@ bool YamlMap::boolean(const std::string& key) const {
 }
 
 bool YamlMap::boolean(const std::string& key, bool fallback) const {
-  return has(key) ? boolean(key) : (used_->insert(key), fallback);
+  return has(key) ? boolean(key) : fallback;
 }
 
 std::string YamlMap::string(const std::string& key) const {
@@ -127,7 +123,7 @@ std::string YamlMap::string(const std::string& key) const {
 }
 
 std::string YamlMap::string(const std::string& key, const std::string& fallback) const {
-  return has(key) ? string(key) : (used_->insert(key), fallback);
+  return has(key) ? string(key) : fallback;
 }
 
 std::vector<double> YamlMap::numbers(const std::string& key, size_t size) const {
@@ -161,10 +157,7 @@ YamlMap YamlMap::map(const std::string& key) const {
 }
 
 std::optional<YamlMap> YamlMap::optional_map(const std::string& key) const {
-  if (!has(key)) {
-    used_->insert(key);
-    return std::nullopt;
-  }
+  if (!has(key)) return std::nullopt;
   return map(key);
 }
 
@@ -181,10 +174,7 @@ std::vector<YamlMap> YamlMap::map_list(const std::string& key) const {
 }
 
 std::optional<std::vector<YamlMap>> YamlMap::optional_map_list(const std::string& key) const {
-  if (!has(key)) {
-    used_->insert(key);
-    return std::nullopt;
-  }
+  if (!has(key)) return std::nullopt;
   return map_list(key);
 }
 

@@ -30,6 +30,7 @@ class YamlMap {
   const std::string& file() const { return file_; }
   // "key" at the top level, "parent.key" below.
   std::string key_path(const std::string& key) const;
+  // Every key asked about, present or not, is a known key in check_unknown_keys' message.
   bool has(const std::string& key) const;
   // The kind of a present value, for keys that come in more than one form.
   bool is_list(const std::string& key) const;
@@ -55,7 +56,7 @@ class YamlMap {
   YamlMap map(const std::string& key) const;
   std::optional<YamlMap> optional_map(const std::string& key) const;
   std::vector<YamlMap> map_list(const std::string& key) const;
-  // nullopt when the key is absent (it still counts as known in check_unknown_keys' message).
+  // nullopt when the key is absent.
   std::optional<std::vector<YamlMap>> optional_map_list(const std::string& key) const;
 
   // Deals with the keys of this mapping that no accessor above has asked for. kReject: throws

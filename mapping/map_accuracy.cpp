@@ -22,7 +22,7 @@ struct CellHash {
 }  // namespace
 
 MapAccuracy score_map(const OccupancyMap& map, const SurfaceMesh& mesh,
-                      std::span<const Eigen::Vector3d> observed_P,
+                      std::span<const Eigen::Vector3d> observed_pen,
                       const std::function<double(const Eigen::Vector3d&)>& signed_distance_m) {
   const double v = map.config().voxel_m;
   MapAccuracy a;
@@ -39,10 +39,10 @@ MapAccuracy score_map(const OccupancyMap& map, const SurfaceMesh& mesh,
   a.median_m = e.count ? e.median : kNaN;
   a.p95_m = e.count ? e.p95 : kNaN;
 
-  a.observed_points = observed_P.size();
+  a.observed_points = observed_pen.size();
   size_t covered = 0;
   const auto v2 = static_cast<float>(v * v);
-  for (const Eigen::Vector3d& q : observed_P) {
+  for (const Eigen::Vector3d& q : observed_pen) {
     const Eigen::Vector3i c = (q / v).array().floor().cast<int>().matrix();
     const Eigen::Vector3f qf = q.cast<float>();
     bool near = false;
@@ -62,7 +62,7 @@ MapAccuracy score_map(const OccupancyMap& map, const SurfaceMesh& mesh,
     }
     covered += near;
   }
-  a.completeness = observed_P.empty() ? kNaN : double(covered) / double(observed_P.size());
+  a.completeness = observed_pen.empty() ? kNaN : double(covered) / double(observed_pen.size());
 
   size_t in_front = 0;
   const auto threshold = static_cast<float>(map.config().occupied_log_odds);

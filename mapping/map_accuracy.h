@@ -23,9 +23,9 @@ struct MapAccuracy {
 };
 
 // signed_distance_m: distance of a point of P to the true surface, positive on the side the
-// camera sees it from. observed_P: points of the true surface that the depth images saw.
+// camera sees it from. observed_pen: points of the true surface that the depth images saw.
 MapAccuracy score_map(const OccupancyMap& map, const SurfaceMesh& mesh,
-                      std::span<const Eigen::Vector3d> observed_P,
+                      std::span<const Eigen::Vector3d> observed_pen,
                       const std::function<double(const Eigen::Vector3d&)>& signed_distance_m);
 
 // "vertices N: median X mm (Y voxel), p95 ...; completeness ...; false occupancy ...".

@@ -116,10 +116,10 @@ struct Classifier {
 
   // Block of `size` voxels per side from index `origin`.
   BlockKind classify(const openvdb::Coord& origin, int size) const {
-    const Eigen::Vector3d centre_P = (Eigen::Vector3d(origin.x(), origin.y(), origin.z()) +
-                                      Eigen::Vector3d::Constant(0.5 * (size - 1))) *
-                                     voxel_m;
-    const Eigen::Vector3d c = proj.R_camera_pen * centre_P + proj.t_camera_pen;
+    const Eigen::Vector3d centre_pen = (Eigen::Vector3d(origin.x(), origin.y(), origin.z()) +
+                                        Eigen::Vector3d::Constant(0.5 * (size - 1))) *
+                                       voxel_m;
+    const Eigen::Vector3d c = proj.R_camera_pen * centre_pen + proj.t_camera_pen;
     const Projection::Footprint f = proj.footprint(c, 0.5 * size * voxel_m);
     if (f.z_far <= 0 || f.z_near > max_range_m) return BlockKind::kSkip;
     if (f.z_near <= 0) return BlockKind::kSurface;  // straddles the camera plane: look closer

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "control/control_config.h"
+#include "core/camera.h"
 #include "core/error.h"
 #include "core/params.h"
 #include "core/strict_yaml.h"
@@ -295,22 +296,8 @@ const Param<vehicle::HullParams> kVehicleHullParams[] = {
 constexpr TopLevelKeys kTopLevelDefaults;
 constexpr Lawnmower kLawnmowerDefaults;
 
-// read_params, and every key of the table counts as known even when absent, as with YamlMap's
-// accessors: a typo's message lists them all, and a key given no value keeps its default.
-template <class Config, size_t N>
-void read_keys(const YamlMap& y, const Param<Config> (&params)[N], Config& config) {
-  read_params(y, std::span<const Param<Config>>(params), config);
-  for (const Param<Config>& p : params) {
-    const std::string key(p.key);
-    if (!y.has(key)) y.optional_number(key);
-  }
-}
-
 Eigen::Vector3d vec3(const YamlMap& y, const std::string& key, const Eigen::Vector3d& fallback) {
-  if (!y.has(key)) {
-    y.optional_number(key);  // marks the key as known
-    return fallback;
-  }
+  if (!y.has(key)) return fallback;
   const auto v = y.numbers(key, 3);
   return {v[0], v[1], v[2]};
 }
@@ -318,7 +305,7 @@ Eigen::Vector3d vec3(const YamlMap& y, const std::string& key, const Eigen::Vect
 CameraConfig parse_camera(const YamlMap& y) {
   CameraConfig c;
   PinholeCamera& k = c.calibration.camera;
-  read_keys(y, kCalibrationParams, c.calibration);
+  read_params(y, kCalibrationParams, c.calibration);
   if (y.has("resolution")) {
     const auto r = y.numbers("resolution", 2);
     if (r[0] < 8 || r[1] < 8 || r[0] > 8192 || r[1] > 8192 || r[0] != std::round(r[0]) ||
@@ -327,8 +314,6 @@ CameraConfig parse_camera(const YamlMap& y) {
     }
     k.width_px = static_cast<int>(r[0]);
     k.height_px = static_cast<int>(r[1]);
-  } else {
-    y.optional_number("resolution");
   }
   if (y.has("intrinsics")) {
     const auto i = y.numbers("intrinsics", 4);
@@ -338,9 +323,9 @@ CameraConfig parse_camera(const YamlMap& y) {
     k.cx_px = i[2];
     k.cy_px = i[3];
   } else {
-    y.optional_number("intrinsics");
-    // Defaults scale with the resolution: 720x540 -> fx = 462, principal point at the centre.
-    k.fx_px = k.fy_px = 462.0 * k.width_px / 720.0;
+    // Defaults scale the default camera's focal length with the width; principal point at the
+    // centre.
+    k.fx_px = k.fy_px = kDefaultFocalLength_px * k.width_px / kDefaultImageWidth_px;
     k.cx_px = (k.width_px - 1) / 2.0;
     k.cy_px = (k.height_px - 1) / 2.0;
   }
@@ -350,11 +335,9 @@ CameraConfig parse_camera(const YamlMap& y) {
     k.k2 = d[1];
     k.p1 = d[2];
     k.p2 = d[3];
-  } else {
-    y.optional_number("distortion");
   }
   c.position_B_m = vec3(y, "position_m", c.position_B_m);
-  read_keys(y, kCameraParams, c);
+  read_params(y, kCameraParams, c);
   // The thin-lens blur circle needs the focus beyond the focal length (and a real lens focuses
   // no closer than a few focal lengths).
   const double focal_m = k.fx_px * c.pixel_pitch_m;
@@ -381,14 +364,14 @@ PenConfig parse_pen(const YamlMap& y) {
   } else {
     y.fail("shape", "must be 'cylinder' or 'plane', got '" + shape + "'");
   }
-  read_keys(y, kPenParams, p);
+  read_params(y, kPenParams, p);
   y.check_unknown_keys();
   return p;
 }
 
 NetConfig parse_net(const YamlMap& y) {
   NetConfig n;
-  read_keys(y, kNetParams, n);
+  read_params(y, kNetParams, n);
   const std::string type = y.string("mesh_type", to_string(n.mesh_type));
   const std::optional<MeshType> mesh_type = parse_mesh_type(type);
   if (!mesh_type) y.fail("mesh_type", "must be 'square' or 'diamond', got '" + type + "'");
@@ -408,7 +391,7 @@ NetConfig parse_net(const YamlMap& y) {
     y.fail("knot_shape", "must be 'square' or 'round', got '" + knot + "'");
   }
   if (const auto r = y.optional_map("ropes")) {
-    read_keys(*r, kRopeParams, n.ropes);
+    read_params(*r, kRopeParams, n.ropes);
     if (n.ropes.spacing_m > 0 && n.ropes.spacing_m < 4 * n.ropes.width_m) {
       r->fail("spacing_m", "must be 0 (no ropes) or at least 4 * width_m");
     }
@@ -421,7 +404,7 @@ NetConfig parse_net(const YamlMap& y) {
     if (list->size() > kMaxBulges) y.fail("bulges", "at most 8 bulges");
     for (const YamlMap& b : *list) {
       Bulge g;
-      read_keys(b, kBulgeParams, g);
+      read_params(b, kBulgeParams, g);
       b.check_unknown_keys();
       n.bulges.push_back(g);
     }
@@ -432,7 +415,7 @@ NetConfig parse_net(const YamlMap& y) {
 
 WaterConfig parse_water(const YamlMap& y) {
   WaterConfig w;
-  read_keys(y, kWaterParams, w);
+  read_params(y, kWaterParams, w);
   w.current_mps = vec3(y, "current_mps", w.current_mps);
   if (!(w.current_mps.norm() <= 3)) y.fail("current_mps", "a water current of at most 3 m/s");
   y.check_unknown_keys();
@@ -448,7 +431,7 @@ std::vector<Lamp> default_lamps() {
 
 LightConfig parse_light(const YamlMap& y) {
   LightConfig l;
-  read_keys(y, kLightParams, l);
+  read_params(y, kLightParams, l);
   if (const auto list = y.optional_map_list("lamps")) {
     if (list->size() > kMaxLamps) y.fail("lamps", "at most 4 lamps");
     for (const YamlMap& m : *list) {
@@ -457,7 +440,7 @@ LightConfig parse_light(const YamlMap& y) {
       lamp.direction_B = vec3(m, "direction", lamp.direction_B);
       if (!(lamp.direction_B.norm() > 1e-6)) m.fail("direction", "must not be zero");
       lamp.direction_B.normalize();
-      read_keys(m, kLampParams, lamp);
+      read_params(m, kLampParams, lamp);
       m.check_unknown_keys();
       l.lamps.push_back(lamp);
     }
@@ -475,7 +458,7 @@ std::vector<Fish> parse_fish(const YamlMap& y) {
   if (list->size() > kMaxFish) y.fail("fish", "at most 8 fish");
   for (const YamlMap& m : *list) {
     Fish f;
-    read_keys(m, kFishParams, f);
+    read_params(m, kFishParams, f);
     m.check_unknown_keys();
     out.push_back(f);
   }
@@ -484,13 +467,13 @@ std::vector<Fish> parse_fish(const YamlMap& y) {
 
 DvlConfig parse_dvl(const YamlMap& y) {
   DvlConfig d;
-  read_keys(y, kDvlParams, d);
+  read_params(y, kDvlParams, d);
   d.position_B_m = vec3(y, "position_m", d.position_B_m);
   d.bias_B_mps = vec3(y, "bias_mps", d.bias_B_mps);
   if (const auto list = y.optional_map_list("spikes")) {
     for (const YamlMap& m : *list) {
       DvlSpike spike;
-      read_keys(m, kDvlSpikeParams, spike);
+      read_params(m, kDvlSpikeParams, spike);
       spike.velocity_B_mps = vec3(m, "velocity_mps", spike.velocity_B_mps);
       m.check_unknown_keys();
       d.spikes.push_back(spike);
@@ -502,21 +485,21 @@ DvlConfig parse_dvl(const YamlMap& y) {
 
 PressureConfig parse_pressure(const YamlMap& y) {
   PressureConfig p;
-  read_keys(y, kPressureParams, p);
+  read_params(y, kPressureParams, p);
   y.check_unknown_keys();
   return p;
 }
 
 AttitudeConfig parse_attitude(const YamlMap& y) {
   AttitudeConfig a;
-  read_keys(y, kAttitudeParams, a);
+  read_params(y, kAttitudeParams, a);
   y.check_unknown_keys();
   return a;
 }
 
 Waypoint parse_waypoint(const YamlMap& m) {
   Waypoint w;
-  read_keys(m, kWaypointParams, w);
+  read_params(m, kWaypointParams, w);
   m.check_unknown_keys();
   return w;
 }
@@ -527,7 +510,7 @@ std::vector<Waypoint> lawnmower(const YamlMap& y) {
   const std::vector<double> distances = y.numbers("net_distances_m");
   if (distances.empty()) y.fail("net_distances_m", "needs at least one distance");
   Lawnmower mower;
-  read_keys(y, kLawnmowerParams, mower);
+  read_params(y, kLawnmowerParams, mower);
   const double top = mower.depth_from_m, bottom = mower.depth_to_m, spacing = mower.row_spacing_m;
   if (!(bottom >= top)) y.fail("depth_to_m", "must not be above depth_from_m");
   if (!((bottom - top) / spacing <= 1000)) y.fail("row_spacing_m", "more than 1000 rows");
@@ -568,10 +551,8 @@ std::vector<Waypoint> parse_trajectory(const YamlMap& y) {
   }
   if (has_wp) {
     for (const YamlMap& m : y.map_list("waypoints")) out.push_back(parse_waypoint(m));
-    y.optional_number("lawnmower");
   } else {
     out = lawnmower(y.map("lawnmower"));
-    y.optional_number("waypoints");
   }
   for (size_t i = 1; i < out.size(); ++i) {
     if (!(out[i].t_s > out[i - 1].t_s)) {
@@ -607,9 +588,9 @@ namespace {
 
 // The closed loop's vehicle: what a scenario may change of the BlueROV2 Heavy's defaults.
 void parse_vehicle(const YamlMap& y, vehicle::VehicleParams& v) {
-  read_keys(y, kVehicleCurrentParams, v.current);
-  read_keys(y, kVehicleAutopilotParams, v.autopilot);
-  read_keys(y, kVehicleHullParams, v.hull);
+  read_params(y, kVehicleCurrentParams, v.current);
+  read_params(y, kVehicleAutopilotParams, v.autopilot);
+  read_params(y, kVehicleHullParams, v.hull);
   y.check_unknown_keys();
 }
 
@@ -621,7 +602,7 @@ Scenario parse_scenario(const std::string& text, const std::string& file_name) {
   s.file = file_name;
   s.name = std::filesystem::path(file_name).stem().string();
   TopLevelKeys top;
-  read_keys(y, kTopLevelParams, top);
+  read_params(y, kTopLevelParams, top);
   if (top.seed != std::floor(top.seed)) y.fail("seed", "must be a whole number");
   s.seed = static_cast<uint64_t>(top.seed);
   s.start_time_ns = y.integer64("start_time_ns", s.start_time_ns);

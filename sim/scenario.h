@@ -27,7 +27,7 @@ struct PenConfig {
   NetShape shape = NetShape::kCylinder;
   // Cylinder: net radius. Plane: the net is the plane x = radius_m (facing -x), which is also
   // the radius written to scene.yaml so that cylinder-based estimators see a near-flat wall.
-  double radius_m = 12.0;
+  double radius_m = kDefaultPenRadius_m;
   double depth_m = 15.0;  // cylinder: depth of the net wall's lower edge (and of the bottom)
   bool bottom = true;     // cylinder: flat bottom net at depth_m
   // Plane (test tank): net rectangle centred at along = 0.

@@ -46,7 +46,7 @@ const Param<NodeConfig> kNodeParams[] = {
 const Param<kernels::RoiGrid> kGridParams[] = {
     {"roi_rows", &kernels::RoiGrid::rows, "", at_least(1), "rows of the FFT's ROI grid"},
     {"roi_cols", &kernels::RoiGrid::cols, "", at_least(1), "columns of the FFT's ROI grid"},
-    {"roi_size_px", &kernels::RoiGrid::size_px, "px", at_least(16), "ROI side in image pixels"},
+    {"roi_size_px", &kernels::RoiGrid::roi_size_px, "px", at_least(16), "ROI side in image pixels"},
 };
 
 const Param<NetDetectorConfig> kDetectorParams[] = {

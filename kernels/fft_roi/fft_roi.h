@@ -8,13 +8,14 @@
 // Spectrum layout (all backends, as FFTW's r2c): per ROI fft_size rows (ky, natural order with
 // negative frequencies in the upper half) of fft_size/2+1 complex bins (kx >= 0), row-major.
 // A bin index k is k cycles per ROI, whatever fft_size is, so frequencies in image pixels are
-// k / roi_size cycles per pixel.
+// k / roi_size_px cycles per pixel.
 #include <complex>
 #include <cstdint>
 #include <memory>
 #include <span>
 #include <vector>
 
+#include "core/default_camera.h"
 #include "core/image.h"
 #include "runtime/vk_buffer.h"
 #include "runtime/vk_pipeline.h"
@@ -31,12 +32,15 @@ struct RoiOrigin {
 // division by a near-zero standard deviation. The shaders and CUDA use the same threshold.
 inline constexpr double kFlatVariance = 1e-9;
 
-// rows x cols ROIs of size_px; top-left corners spread evenly from border_px to the far edge
+// The default ROI side: 6 ROIs span the default 720 px width, 5 the 540 px height (overlapping).
+inline constexpr int kDefaultRoiSize_px = 300;
+
+// rows x cols ROIs of roi_size_px; top-left corners spread evenly from border_px to the far edge
 // (the last column ends at width - 1, the last row at height - 1).
 struct RoiGrid {
   int rows = 5;
   int cols = 6;
-  int size_px = 300;
+  int roi_size_px = kDefaultRoiSize_px;
   int border_px = 0;
 };
 
@@ -45,9 +49,9 @@ struct RoiGrid {
 std::vector<RoiOrigin> roi_grid(int width, int height, const RoiGrid& grid);
 
 struct FftRoiShape {
-  int width = 720;
-  int height = 540;
-  int roi_size = 300;  // ROI side in image pixels
+  int width = kDefaultImageWidth_px;
+  int height = kDefaultImageHeight_px;
+  int roi_size_px = kDefaultRoiSize_px;  // ROI side in image pixels
   int fft_size = 256;  // resampled side; a power of two for the Vulkan and CUDA paths
   bool window = true;  // separable Hann window (off = the published method)
 };

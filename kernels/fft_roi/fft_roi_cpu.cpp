@@ -124,7 +124,7 @@ struct FftRoiCpu::Impl {
   PeakParams params;
   int threads;
   size_t nn, nc;
-  bool prefilter;             // false when fft_size == roi_size: samples are the pixels
+  bool prefilter;             // false when fft_size == roi_size_px: samples are the pixels
   std::vector<int> lerp_at;   // per column u: prefiltered pixel floor(x), index into a padded line
   std::vector<float> lerp_f;  // its interpolation fraction
   std::vector<RowTaps> rows;
@@ -164,11 +164,11 @@ struct FftRoiCpu::Impl {
       auto it = std::find_if(columns.begin(), columns.end(),
                              [&](const Column& c) { return c.x0 == o.x; });
       if (it == columns.end()) {
-        columns.push_back({o.x, o.y, o.y + shape.roi_size, 0, 0});
+        columns.push_back({o.x, o.y, o.y + shape.roi_size_px, 0, 0});
         it = columns.end() - 1;
       }
       it->y_begin = std::min(it->y_begin, o.y);
-      it->y_end = std::max(it->y_end, o.y + shape.roi_size);
+      it->y_end = std::max(it->y_end, o.y + shape.roi_size_px);
       ++it->count;
       roi_column.push_back(static_cast<int>(it - columns.begin()));
     }
@@ -204,7 +204,7 @@ struct FftRoiCpu::Impl {
 
   PENSIGHT_SIMD_CLONES void resample_line(const uint8_t* __restrict src, float* __restrict dst,
                                           float* __restrict line) const {
-    const int n = shape.fft_size, roi = shape.roi_size;
+    const int n = shape.fft_size, roi = shape.roi_size_px;
     if (!prefilter) {
       for (int u = 0; u < n; ++u) dst[u] = src[u];
       return;
@@ -296,7 +296,7 @@ struct FftRoiCpu::Impl {
       }
     }
     if (!(e > 0)) return {0.0f, 0.0f};
-    const double centre = 0.5 * (n - 1), scale = static_cast<double>(shape.roi_size) / n;
+    const double centre = 0.5 * (n - 1), scale = static_cast<double>(shape.roi_size_px) / n;
     return {static_cast<float>((eu / e - centre) * scale),
             static_cast<float>((ev / e - centre) * scale)};
   }
@@ -315,7 +315,7 @@ FftRoiCpu::FftRoiCpu(const FftRoiShape& shape, const PeakParams& params, int thr
   m.shape = shape;
   m.params = params;
   m.threads = threads;
-  const int n = shape.fft_size, roi = shape.roi_size;
+  const int n = shape.fft_size, roi = shape.roi_size_px;
   m.nn = static_cast<size_t>(n) * n;
   m.nc = static_cast<size_t>(n) * (n / 2 + 1);
   m.prefilter = n != roi;

@@ -366,14 +366,14 @@ std::vector<RoiLattice> FftRoiCuda::run(const ImageU8& image, std::span<const Ro
   m.image.upload(image.pixels.data(), image.pixels.size());
   m.rois.upload(rois.data(), rois.size());
   extract_kernel<<<count, kThreads>>>({m.image.data(), m.shape.width, m.rois.data(),
-                                       m.shape.roi_size, m.shape.fft_size, m.shape.window,
+                                       m.shape.roi_size_px, m.shape.fft_size, m.shape.window,
                                        m.samples.data(), m.lattices.data()});
   PENSIGHT_CUDA(cudaGetLastError());
   check_cufft(cufftExecR2C(m.plan, m.samples.data(), m.spectrum.data()), "cufftExecR2C");
   const float r_max = m.params.max_nyquist_share * float(m.shape.fft_size / 2);
   const float c = cosf(m.params.min_angle_deg * std::numbers::pi_v<float> / 180.0f);
   peaks_kernel<<<count, kThreads>>>(
-      {m.spectrum.data(), m.shape.fft_size, m.shape.roi_size,
+      {m.spectrum.data(), m.shape.fft_size, m.shape.roi_size_px,
        m.params.min_cycles * m.params.min_cycles, r_max * r_max, c * c, m.params.subharmonic_ratio,
        m.params.subbin, m.params.beyond_band_ratio, m.params.below_band_ratio, m.lattices.data()});
   PENSIGHT_CUDA(cudaGetLastError());

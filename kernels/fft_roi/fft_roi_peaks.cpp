@@ -234,7 +234,7 @@ RoiLattice analyze_spectrum(std::span<const std::complex<float>> spectrum, const
       dx = peak_vertex(s.power(b.kx - 1, b.ky), b.power, s.power(b.kx + 1, b.ky));
       dy = peak_vertex(s.power(b.kx, b.ky - 1), b.power, s.power(b.kx, b.ky + 1));
     }
-    const float inv = 1.0f / static_cast<float>(shape.roi_size);
+    const float inv = 1.0f / static_cast<float>(shape.roi_size_px);
     fx = (static_cast<float>(b.kx) + dx) * inv;
     fy = (static_cast<float>(b.ky) + dy) * inv;
     // A peak on the kx = 0 column may refine to kx < 0: back to the half plane.

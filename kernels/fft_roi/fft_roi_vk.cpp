@@ -30,7 +30,7 @@ std::vector<uint32_t> peak_constants(const FftRoiShape& s, const PeakParams& p) 
   const float r_max = p.max_nyquist_share * static_cast<float>(s.fft_size / 2);
   const float c = std::cos(static_cast<float>(deg_to_rad(p.min_angle_deg)));
   return {u32(s.fft_size),
-          u32(s.roi_size),
+          u32(s.roi_size_px),
           bits(p.min_cycles * p.min_cycles),
           bits(r_max * r_max),
           bits(c * c),
@@ -49,7 +49,7 @@ FftRoiVk::FftRoiVk(const vk::Context& ctx, const FftRoiShape& shape, const PeakP
       extract_(&ctx.pipeline({.shader = kernel_shader("fft_roi/extract"),
                               .num_buffers = 4,
                               .push_constant_bytes = sizeof(FftRoiPush),
-                              .specialization = {u32(shape.width), u32(shape.roi_size),
+                              .specialization = {u32(shape.width), u32(shape.roi_size_px),
                                                  u32(shape.fft_size), shape.window ? 1u : 0u}})),
       rows_(&ctx.pipeline({.shader = kernel_shader("fft_roi/fft_rows"),
                            .num_buffers = 2,

@@ -3,7 +3,7 @@
 // camera frame in the TUM format that evo and similar tools read, one line per frame
 //   t x y z qx qy qz qw
 // t in seconds (the frame's timestamp_ns / 1e9, all nine decimals), x y z the body origin in P
-// [m], q the unit quaternion of R_P_B with qw >= 0 (q and -q are the same rotation: fixing the
+// [m], q the unit quaternion of R_pen_body with qw >= 0 (q and -q are the same rotation: fixing the
 // sign makes equal poses equal text); space-separated, no header. Frames without a pose (any
 // element not finite, GlobalPose before the lock etc.) are left out. Written whole like
 // estimates.csv.

@@ -84,12 +84,12 @@ class LatticeField {
 }  // namespace
 
 kernels::RoiLattice chirp_corrected(const kernels::RoiLattice& measured, kernels::RoiOrigin origin,
-                                    int roi_size, const Eigen::Vector2d& point_px,
+                                    int roi_size_px, const Eigen::Vector2d& point_px,
                                     const PinholeCamera& camera, const Eigen::Vector3d& normal_C,
                                     const ChirpModelParams& params) {
   Eigen::Matrix2d f;
   f << measured.f1x, measured.f2x, measured.f1y, measured.f2y;
-  if (!(std::abs(f.determinant()) > 1e-12) || !(roi_size > 0)) return measured;
+  if (!(std::abs(f.determinant()) > 1e-12) || !(roi_size_px > 0)) return measured;
   const LatticeField field(camera, point_px, f.inverse().transpose(), normal_C);
   const auto at_point = field.frequencies(point_px);
   if (!field.ok() || !at_point) return measured;
@@ -97,7 +97,7 @@ kernels::RoiLattice chirp_corrected(const kernels::RoiLattice& measured, kernels
   // The field and the transfer^2 of both peaks at 9 x 9 nodes over the positions (each ray and
   // projection is ~0.1 us; the field is smooth, bilinear between nodes is within 0.1 % of it
   // at 30 deg): per node f1x, f1y, f2x, f2y, h1^2, h2^2.
-  const double n = roi_size, step = n / kPositions;
+  const double n = roi_size_px, step = n / kPositions;
   constexpr double kNodeStep = (kPositions - 1.0) / (kNodes - 1);  // positions per node step
   std::array<Eigen::Matrix<double, 6, 1>, kNodes * kNodes> node;
   for (int b = 0; b < kNodes; ++b) {
@@ -154,7 +154,7 @@ kernels::RoiLattice chirp_corrected(const kernels::RoiLattice& measured, kernels
 
   // The model assumes net over the whole ROI. A ROI partly on water (the net's edge, a fish) puts
   // its measured energy centroid (the point's pixel) away from the model's.
-  if (!((moment / energy - point_px).norm() <= params.max_centroid_gap_share * roi_size)) {
+  if (!((moment / energy - point_px).norm() <= params.max_centroid_gap_share * roi_size_px)) {
     return measured;
   }
   // Each peak's model spectrum over the bins its positions span, the window's main lobe beyond:

@@ -27,7 +27,7 @@ namespace pensight {
 struct ChirpModelParams {
   bool window = true;     // the ROI's Hann window (kernels::FftRoiShape::window)
   bool subbin = true;     // log-parabola refinement (kernels::PeakParams::subbin)
-  bool resampled = true;  // the ROI is resampled (roi_size != fft_size)
+  bool resampled = true;  // the ROI is resampled (roi_size_px != fft_size)
   // The lattice is corrected only where its energy centroid (the point's pixel) lies within this
   // share of the ROI size of the model's own: on oblique full nets the two differ by up to 1.2 %
   // (the far side's finer twines are softer than the model has them); a ROI a third on water,
@@ -35,14 +35,14 @@ struct ChirpModelParams {
   double max_centroid_gap_share = 0.02;
 };
 
-// `measured`: the kernel's lattice of the ROI at `origin` (size `roi_size` px), assigned to pixel
-// `point_px` (the ROI's centre plus its energy centroid); the net plane there has unit normal
+// `measured`: the kernel's lattice of the ROI at `origin` (size `roi_size_px` px), assigned to
+// pixel `point_px` (the ROI's centre plus its energy centroid); the net plane there has unit normal
 // `normal_C` (C, any sign). Returns `measured` with f1, f2 corrected; unchanged where the
 // geometry is degenerate (a ray parallel to the plane, a lattice vector that does not project),
 // the chirp spreads a peak over more than 128 bins, or the centroids disagree (above). Pure
 // function, no exceptions.
 kernels::RoiLattice chirp_corrected(const kernels::RoiLattice& measured, kernels::RoiOrigin origin,
-                                    int roi_size, const Eigen::Vector2d& point_px,
+                                    int roi_size_px, const Eigen::Vector2d& point_px,
                                     const PinholeCamera& camera, const Eigen::Vector3d& normal_C,
                                     const ChirpModelParams& params = {});
 

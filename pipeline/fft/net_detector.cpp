@@ -70,8 +70,8 @@ struct NetDetector::Impl {
     points.reserve(rois.size());
     const MeshModel mesh{config.bar_length_m, opening_angle_rad};
     for (size_t i = 0; i < rois.size(); ++i) {
-      points.push_back(
-          roi_net_point(lattices[i], rois[i], shape.roi_size, camera, mesh, config.points, normal));
+      points.push_back(roi_net_point(lattices[i], rois[i], shape.roi_size_px, camera, mesh,
+                                     config.points, normal));
     }
     return points;
   }
@@ -85,12 +85,12 @@ struct NetDetector::Impl {
         net_plane_normal(std::tan(d.pose.psi_net_rad), std::tan(d.pose.pitch_net_rad));
     const ChirpModelParams model{.window = shape.window,
                                  .subbin = config.peaks.subbin,
-                                 .resampled = shape.roi_size != shape.fft_size};
+                                 .resampled = shape.roi_size_px != shape.fft_size};
     std::vector<kernels::RoiLattice> corrected = d.lattices;
     for (size_t i = 0; i < rois.size(); ++i) {
       if (!d.points[i].valid()) continue;
-      corrected[i] = chirp_corrected(d.lattices[i], rois[i], shape.roi_size, d.points[i].centre_px,
-                                     camera, normal, model);
+      corrected[i] = chirp_corrected(d.lattices[i], rois[i], shape.roi_size_px,
+                                     d.points[i].centre_px, camera, normal, model);
     }
     std::vector<RoiNetPoint> points = model_points(corrected, mesh_filter.angle_rad(), &normal);
     if (d.mesh_angle_frame.valid()) {  // the filter took this frame's measurement: refine it
@@ -159,7 +159,7 @@ NetDetector::NetDetector(const PinholeCamera& camera, const NetDetectorConfig& c
   m.rois = kernels::roi_grid(camera.width_px, camera.height_px, config.grid);
   m.shape = {.width = camera.width_px,
              .height = camera.height_px,
-             .roi_size = config.grid.size_px,
+             .roi_size_px = config.grid.roi_size_px,
              .fft_size = config.fft_size,
              .window = config.window};
   m.choose(device);
@@ -232,7 +232,8 @@ NetDetection NetDetector::detect(const ImageU8& image, int64_t timestamp_ns) {
   d.mesh_type = d.mesh_angle_frame.valid() ? d.mesh_angle_frame.type
                                            : m.config.mesh_type.value_or(MeshType::kSquare);
   for (const RoiNetPoint& p : d.points) d.reduced_rois += p.reduced ? 1 : 0;
-  d.depths = roi_surface_priors(d.points, d.pose, m.config.grid.size_px, m.camera, m.config.priors);
+  d.depths =
+      roi_surface_priors(d.points, d.pose, m.config.grid.roi_size_px, m.camera, m.config.priors);
   if (m.config.texture.enabled) {
     TexturePatch patch = texture_patch(image, m.camera, timestamp_ns, m.config.texture);
     d.texture = texture_step(m.previous_patch, patch, d.points, d.pose, m.camera,

@@ -26,7 +26,7 @@ constexpr double kRightAngle_rad = std::numbers::pi / 2;
 const Param<NetDetectorConfig> kDetectorParams[] = {
     {"fft_size", &NetDetectorConfig::fft_size, "px", closed_range(16, 1024),
      "side the ROI is resampled to before its FFT (a power of two unless backend cpu; at most "
-     "grid.size_px)"},
+     "grid.roi_size_px)"},
     {"window", &NetDetectorConfig::window, "", kAnyNumber, "separable Hann window on each ROI"},
     {"chirp_correction", &NetDetectorConfig::chirp_correction, "", kAnyNumber,
      "correct each ROI's lattice for its perspective chirp on the fitted plane and fit again"},
@@ -45,7 +45,7 @@ const Param<NetDetectorConfig> kDetectorParams[] = {
 const Param<kernels::RoiGrid> kGridParams[] = {
     {"rows", &kernels::RoiGrid::rows, "", range_at_least(1), "ROI rows"},
     {"cols", &kernels::RoiGrid::cols, "", range_at_least(1), "ROI columns"},
-    {"size_px", &kernels::RoiGrid::size_px, "px", range_at_least(16), "ROI side"},
+    {"roi_size_px", &kernels::RoiGrid::roi_size_px, "px", range_at_least(16), "ROI side"},
     {"border_px", &kernels::RoiGrid::border_px, "px", kNonNegative,
      "margin kept free at the image edges"},
 };
@@ -170,9 +170,9 @@ void validate(const NetDetectorConfig& c) {
   check_params<MeshAngleFilter::Params>(c.mesh_angle_filter, kMeshAngleFilterParams, kDetectorWhere,
                                         "mesh_angle_filter.");
   const std::string fft_size = format_param_value(c.fft_size);
-  if (c.fft_size > c.grid.size_px) {
-    refuse_detector_config("fft_size", fft_size + " px is above grid.size_px (" +
-                                           format_param_value(c.grid.size_px) +
+  if (c.fft_size > c.grid.roi_size_px) {
+    refuse_detector_config("fft_size", fft_size + " px is above grid.roi_size_px (" +
+                                           format_param_value(c.grid.roi_size_px) +
                                            " px): resampling only shrinks");
   }
   if (c.backend != Backend::kCpu && !is_power_of_two(c.fft_size)) {

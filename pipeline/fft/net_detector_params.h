@@ -12,8 +12,8 @@ namespace pensight {
 
 // Throws pensight::Error "net detector config: key 'PREFIX.KEY': VALUE is outside RANGE UNIT
 // (HELP)" for the first parameter out of its range, then checks the rules that tie parameters
-// together: fft_size at most grid.size_px and a power of two unless the backend is the CPU's (the
-// shaders and cuFFT plans are radix-2; kAuto may choose them), and a non-empty peak band
+// together: fft_size at most grid.roi_size_px and a power of two unless the backend is the CPU's
+// (the shaders and cuFFT plans are radix-2; kAuto may choose them), and a non-empty peak band
 // (peaks.min_cycles below peaks.max_nyquist_share * fft_size / 2). Whether the grid fits the
 // image is the camera's to say (kernels::roi_grid).
 void validate(const NetDetectorConfig& config);

@@ -74,7 +74,7 @@ std::array<Eigen::Vector3d, 2> bars_on_plane(const RoiNetPoint& roi, const Pinho
 }
 
 RoiNetPoint roi_net_point(const kernels::RoiLattice& lattice, kernels::RoiOrigin origin,
-                          int roi_size, const PinholeCamera& camera, const MeshModel& mesh,
+                          int roi_size_px, const PinholeCamera& camera, const MeshModel& mesh,
                           const NetPointParams& params, const Eigen::Vector3d* normal_hint_C) {
   if (!(mesh.bar_length_m > 0)) {
     throw Error("roi_net_point: net mesh size must be > 0 m, got " +
@@ -88,11 +88,13 @@ RoiNetPoint roi_net_point(const kernels::RoiLattice& lattice, kernels::RoiOrigin
   RoiNetPoint out;
   out.quality = lattice.quality;
   // The lattice was measured where the ROI's energy is: on the net part of a ROI at its edge.
-  out.centre_px = Eigen::Vector2d(origin.x + 0.5 * (roi_size - 1), origin.y + 0.5 * (roi_size - 1));
+  out.centre_px =
+      Eigen::Vector2d(origin.x + 0.5 * (roi_size_px - 1), origin.y + 0.5 * (roi_size_px - 1));
   if (params.use_centroid)
     out.centre_px += Eigen::Vector2d(lattice.centroid_dx, lattice.centroid_dy);
   if (!(lattice.quality >= params.min_quality)) return out;
-  if (std::hypot(lattice.centroid_dx, lattice.centroid_dy) > params.max_centroid_share * roi_size) {
+  if (std::hypot(lattice.centroid_dx, lattice.centroid_dy) >
+      params.max_centroid_share * roi_size_px) {
     out.status = RoiStatus::kPartial;
     return out;
   }

@@ -81,7 +81,7 @@ struct SparseDepth {
 // pair of bars makes the acute angle; without it the image's angle does, which can pick the
 // obtuse pair for a near-square cell seen obliquely (a range error of about |cos a|).
 RoiNetPoint roi_net_point(const kernels::RoiLattice& lattice, kernels::RoiOrigin origin,
-                          int roi_size, const PinholeCamera& camera, const MeshModel& mesh,
+                          int roi_size_px, const PinholeCamera& camera, const MeshModel& mesh,
                           const NetPointParams& params = {},
                           const Eigen::Vector3d* normal_hint_C = nullptr);
 

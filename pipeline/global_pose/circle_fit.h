@@ -19,7 +19,7 @@
 namespace pensight::global_pose {
 
 struct CircleFitOptions {
-  double radius_m = 12.0;
+  double radius_m = kDefaultPenRadius_m;
   // Residuals beyond this are down-weighted (Huber); about 2-3x the point noise.
   double huber_delta_m = 0.03;
   // Points farther than this from the circle are outliers: excluded from the final fit.

@@ -37,7 +37,7 @@ class DvlSpikeTest {
   // Takes a valid sample with its pen-frame velocity (samples in time order) and returns the
   // samples now known not to be spikes, oldest first: usually the sample itself; nothing while it
   // is suspect; the held ones too once the velocity stayed off.
-  std::vector<DvlSample> push(const DvlSample& s, const Eigen::Vector3d& velocity_P_mps);
+  std::vector<DvlSample> push(const DvlSample& s, const Eigen::Vector3d& velocity_pen_mps);
   // Drops held samples older than max_hold_s before t_ns as spikes.
   void expire(int64_t t_ns);
   // Samples judged spikes so far.
@@ -46,17 +46,17 @@ class DvlSpikeTest {
   static double difference_noise_mps(const DvlSpikeTestOptions& o);
 
  private:
-  bool within_bound(int64_t t_ns, const Eigen::Vector3d& v_P) const;
-  void set_reference(int64_t t_ns, const Eigen::Vector3d& v_P);
+  bool within_bound(int64_t t_ns, const Eigen::Vector3d& v_pen) const;
+  void set_reference(int64_t t_ns, const Eigen::Vector3d& v_pen);
 
   struct Held {
     DvlSample sample;
-    Eigen::Vector3d velocity_P_mps;
+    Eigen::Vector3d velocity_pen_mps;
   };
   DvlSpikeTestOptions o_;
   bool have_reference_ = false;
   int64_t reference_ns_ = 0;
-  Eigen::Vector3d reference_P_mps_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d reference_pen_mps_ = Eigen::Vector3d::Zero();
   double recent_accel_mps2_ = 0;
   std::vector<Held> held_;
   int spikes_ = 0;

@@ -67,7 +67,7 @@ UpdateOutcome GlobalPoseEstimator::gated_update(int sensor, SensorCounters& c,
                                                 const Eigen::Matrix<double, M, M>& R,
                                                 std::array<bool, M> angles,
                                                 std::span<const int> depends_on) {
-  using namespace internal;
+  using namespace detail;
   int& streak = state_.consecutive_rejections[static_cast<size_t>(sensor)];
   const bool motion = sensor == kDvlVelocity || sensor == kAttitudeYaw || sensor == kDepthSensor;
   const bool relock =

@@ -258,7 +258,7 @@ void GlobalPoseEstimator::start_texture_chain(const NetObservation& obs, double 
   chain.x = x;
   chain.roll_rad = roll;
   chain.pitch_rad = pitch;
-  chain.hit_P = *hit;
+  chain.hit_pen = *hit;
   chain.hit_along_m = 0;
   chain.reading_m = 0;
 }
@@ -299,8 +299,8 @@ void GlobalPoseEstimator::apply_texture(const NetObservation& obs, double roll, 
   // In a turn the prediction is too coarse to count bars by: a yaw rate that changed between the
   // last two windows by enough to move the point by the allowed ambiguity over the interval (the
   // sweep's 2.5 rad/s turns; following changes it by hundredths of a rad/s).
-  const double range_m = (chain.hit_P - T_pen_body(chain.x, chain.roll_rad, chain.pitch_rad) *
-                                            cfg_.T_body_camera.translation())
+  const double range_m = (chain.hit_pen - T_pen_body(chain.x, chain.roll_rad, chain.pitch_rad) *
+                                              cfg_.T_body_camera.translation())
                              .norm();
   const double rate_change = rate_now && rate_before ? std::abs(*rate_now - *rate_before) : 0.0;
   if (range_m * rate_change * dt > n.net_texture_max_unwrap_bars * step.bars_C[0].norm()) {
@@ -324,11 +324,12 @@ void GlobalPoseEstimator::apply_texture(const NetObservation& obs, double roll, 
     chain.active = false;
     return;
   }
-  const Eigen::Matrix3d R_P_C =
+  const Eigen::Matrix3d R_pen_camera =
       rotation_from_rpy(chain.roll_rad, chain.pitch_rad, to(kPsi)) * cfg_.T_body_camera.linear();
   Eigen::Matrix<double, 3, 2> bars;
-  bars << R_P_C * step.bars_C[0], R_P_C * step.bars_C[1];
-  const Eigen::Vector2d predicted = bars.colPivHouseholderQr().solve(*predicted_hit - chain.hit_P);
+  bars << R_pen_camera * step.bars_C[0], R_pen_camera * step.bars_C[1];
+  const Eigen::Vector2d predicted =
+      bars.colPivHouseholderQr().solve(*predicted_hit - chain.hit_pen);
   Eigen::Vector2d moved;
   for (int i = 0; i < 2; ++i) {
     const double m = step.moved_bars[static_cast<size_t>(i)];
@@ -342,17 +343,17 @@ void GlobalPoseEstimator::apply_texture(const NetObservation& obs, double roll, 
     moved(i) = m + whole;
   }
   StateVector& x = state_.ekf.x;
-  const Eigen::Vector3d measured_hit = chain.hit_P + bars * moved;
-  const double step_m = wall_.along_change_m(chain.hit_P.head<2>(), measured_hit.head<2>());
+  const Eigen::Vector3d measured_hit = chain.hit_pen + bars * moved;
+  const double step_m = wall_.along_change_m(chain.hit_pen.head<2>(), measured_hit.head<2>());
   chain.reading_m += step_m;
   state_.ekf.P(kNetTextureOffset, kNetTextureOffset) +=
       std::pow(n.net_texture_step_m, 2) + std::pow(n.net_texture_step_frac * step_m, 2);
-  const Eigen::Vector3d from_P = chain.hit_P;
+  const Eigen::Vector3d from_pen = chain.hit_pen;
   const double from_along = chain.hit_along_m;
   const auto model = [&](const StateVector& xs) {
     const auto p = centre_ray_point(xs, step.ray_C, roll, pitch);
     return Eigen::Matrix<double, 1, 1>(
-        p ? from_along + wall_.along_change_m(from_P.head<2>(), p->head<2>()) -
+        p ? from_along + wall_.along_change_m(from_pen.head<2>(), p->head<2>()) -
                 xs(kNetTextureOffset)
           : kNaN);
   };
@@ -369,8 +370,8 @@ void GlobalPoseEstimator::apply_texture(const NetObservation& obs, double roll, 
     chain.active = false;
     return;
   }
-  chain.hit_along_m += wall_.along_change_m(chain.hit_P.head<2>(), now->head<2>());
-  chain.hit_P = *now;
+  chain.hit_along_m += wall_.along_change_m(chain.hit_pen.head<2>(), now->head<2>());
+  chain.hit_pen = *now;
   chain.last_ns = obs.t_ns;
   chain.x = x;
   chain.roll_rad = roll;

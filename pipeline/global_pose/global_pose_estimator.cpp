@@ -84,9 +84,9 @@ void GlobalPoseEstimator::add(const DvlSample& s) {
     return;
   }
   const int spikes_before = dvl_spikes_.spikes();
-  for (const DvlSample& r : dvl_spikes_.push(s, dvl_velocity_P(s))) {
+  for (const DvlSample& r : dvl_spikes_.push(s, dvl_velocity_pen(s))) {
     // A span predicted with other process noise than its samples show: apply it again.
-    if (const auto from = motion_.add(r.timestamp_ns, dvl_velocity_P(r)))
+    if (const auto from = motion_.add(r.timestamp_ns, dvl_velocity_pen(r)))
       while (!history_.empty() && history_.back().event.t_ns > *from) undo_last_applied();
     enqueue({r.timestamp_ns, kDvl, r}, arrival_.dvl_velocity);
   }
@@ -94,7 +94,7 @@ void GlobalPoseEstimator::add(const DvlSample& s) {
     warn_once(kWarnDvlSpike, "DVL velocity spike rejected (beyond the vehicle's acceleration)");
 }
 
-Eigen::Vector3d GlobalPoseEstimator::dvl_velocity_P(const DvlSample& s) const {
+Eigen::Vector3d GlobalPoseEstimator::dvl_velocity_pen(const DvlSample& s) const {
   const auto a = attitude_.at(s.timestamp_ns, cfg_.max_attitude_gap_s);
   const double heading =
       a && std::isfinite(a->yaw_rad) ? a->yaw_rad : (state_.initialised ? state_.ekf.x(kPsi) : 0.0);

@@ -25,6 +25,7 @@
 #include <variant>
 #include <vector>
 
+#include "core/dataset_types.h"
 #include "pipeline/global_pose/attitude_series.h"
 #include "pipeline/global_pose/dvl_plane.h"
 #include "pipeline/global_pose/dvl_spike_test.h"
@@ -90,7 +91,7 @@ struct FilterPriors {
 };
 
 struct GlobalPoseEstimatorConfig {
-  double pen_radius_m = 12.0;  // scene.yaml; a flat net is a large radius (100 m)
+  double pen_radius_m = kDefaultPenRadius_m;  // scene.yaml; a flat net is a large radius (100 m)
   // scene.yaml net_type flat_panel: the wall is that plane instead of the pen_radius_m cylinder.
   std::optional<SceneConfig::FlatPanel> flat_panel;
   double initial_rho_rad = 0.0;
@@ -238,7 +239,7 @@ class GlobalPoseEstimator {
       double reading_m = 0;
       StateVector x = StateVector::Zero();
       double roll_rad = 0, pitch_rad = 0;
-      Eigen::Vector3d hit_P = Eigen::Vector3d::Zero();
+      Eigen::Vector3d hit_pen = Eigen::Vector3d::Zero();
       double hit_along_m = 0;
     };
     TextureChain texture;
@@ -254,7 +255,7 @@ class GlobalPoseEstimator {
   // The DVL velocity in P for the spike test and the motion schedule: levelled and turned by the
   // attitude (its yaw offset from P cancels in the difference of two samples), else by the
   // filter's heading.
-  Eigen::Vector3d dvl_velocity_P(const DvlSample& s) const;
+  Eigen::Vector3d dvl_velocity_pen(const DvlSample& s) const;
   // The process noise from t0 to t1: quiet where the motion schedule says so.
   ProcessNoise process_noise(int64_t t0_ns, int64_t t1_ns) const;
   void apply(const Event& e);

@@ -28,8 +28,8 @@ struct NetObservation {
 // The estimates.csv columns this stage fills (NaN where not available), the yaw relative to the
 // radial direction, the covariance of (r_g, rho_g, z_g, psi_g), and the full 6-DoF pose in P:
 // T_pen_body takes body coordinates to P (translation (r_g cos rho_g, r_g sin rho_g, z_g); rotation
-// R_P_B = Rz(psi_g) Ry(pitch) Rx(roll), roll and pitch from the attitude sensor: interpolated at
-// t_ns by the fused estimator, the latest sample in the published baseline, 0 without one), and
+// R_pen_body = Rz(psi_g) Ry(pitch) Rx(roll), roll and pitch from the attitude sensor: interpolated
+// at t_ns by the fused estimator, the latest sample in the published baseline, 0 without one), and
 // T_pen_camera = T_pen_body * T_body_camera (cam0's sensor.yaml T_BS). Both are all-NaN
 // matrices (nan_isometry()) whenever any of r_g, rho_g, z_g or psi_g is NaN: before the lock,
 // while rho_g is not observable, without a pressure sensor.

@@ -2,7 +2,7 @@
 
 namespace pensight::global_pose {
 
-std::optional<int64_t> MotionSchedule::add(int64_t t_ns, const Eigen::Vector3d& v_P) {
+std::optional<int64_t> MotionSchedule::add(int64_t t_ns, const Eigen::Vector3d& v_pen) {
   if (!spans_.empty() && t_ns <= spans_.rbegin()->first) return std::nullopt;
   std::optional<int64_t> reapply_from;
   if (spans_.empty()) {
@@ -11,7 +11,7 @@ std::optional<int64_t> MotionSchedule::add(int64_t t_ns, const Eigen::Vector3d& 
     const auto& [last_ns, last] = *spans_.rbegin();
     const double dt_s = seconds_between(last_ns, t_ns);
     const bool within = dt_s <= o_.max_hold_s &&
-                        (v_P - last_velocity_P_mps_).norm() <=
+                        (v_pen - last_velocity_pen_mps_).norm() <=
                             o_.max_accel_mps2 * dt_s + DvlSpikeTest::difference_noise_mps(o_);
     if (!within) calm_since_ns_ = kNotCalm;
     if (within && calm_since_ns_ == kNotCalm) calm_since_ns_ = last_ns;
@@ -22,7 +22,7 @@ std::optional<int64_t> MotionSchedule::add(int64_t t_ns, const Eigen::Vector3d& 
     if ((quiet && !predicted_quiet) || (!quiet && last.quiet)) reapply_from = last_ns;
     spans_[t_ns] = {last_ns, quiet};
   }
-  last_velocity_P_mps_ = v_P;
+  last_velocity_pen_mps_ = v_pen;
   return reapply_from;
 }
 

@@ -41,7 +41,7 @@ class MotionSchedule {
   // older one is ignored). Returns the start of its span when the span was predicted, in part or
   // whole, with the other process noise: everything applied after that time must be applied
   // again.
-  std::optional<int64_t> add(int64_t t_ns, const Eigen::Vector3d& velocity_P_mps);
+  std::optional<int64_t> add(int64_t t_ns, const Eigen::Vector3d& velocity_pen_mps);
   // Whether the prediction from t0_ns to t1_ns lies in one quiet span.
   bool quiet(int64_t t0_ns, int64_t t1_ns) const;
   // Forgets spans that ended before t_ns (the latest is kept).
@@ -59,7 +59,7 @@ class MotionSchedule {
   double settle_s_ = 1.0;
   int64_t calm_since_ns_ = kNotCalm;  // start of the samples within the bound, up to the latest
   std::map<int64_t, Span> spans_;     // by the time of the sample that ends the span
-  Eigen::Vector3d last_velocity_P_mps_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d last_velocity_pen_mps_ = Eigen::Vector3d::Zero();
 };
 
 }  // namespace pensight::global_pose

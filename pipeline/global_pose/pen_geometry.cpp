@@ -23,10 +23,10 @@ Eigen::Isometry3d T_pen_body_cylindrical(double r_m, double rho_rad, double z_m,
   return T;
 }
 
-std::optional<double> ray_to_cylinder(const Eigen::Vector3d& origin_P, const Eigen::Vector3d& dir_P,
-                                      double radius_m) {
-  const Eigen::Vector2d o = origin_P.head<2>();
-  const Eigen::Vector2d d = dir_P.head<2>();
+std::optional<double> ray_to_cylinder(const Eigen::Vector3d& origin_pen,
+                                      const Eigen::Vector3d& dir_pen, double radius_m) {
+  const Eigen::Vector2d o = origin_pen.head<2>();
+  const Eigen::Vector2d d = dir_pen.head<2>();
   const double a = d.squaredNorm();
   const double c = o.squaredNorm() - radius_m * radius_m;
   if (a < 1e-12 || c > 0) return std::nullopt;
@@ -68,24 +68,24 @@ std::optional<Eigen::Vector2d> NetWall::position_at(double rho_rad, double dista
   return Eigen::Vector2d(s * u);
 }
 
-std::optional<double> NetWall::ray_distance(const Eigen::Vector3d& origin_P,
-                                            const Eigen::Vector3d& dir_P) const {
-  if (!flat) return ray_to_cylinder(origin_P, dir_P, radius_m);
-  const double ahead = plane_normal.dot(dir_P.head<2>());
-  const double gap = distance_m(origin_P.head<2>());
+std::optional<double> NetWall::ray_distance(const Eigen::Vector3d& origin_pen,
+                                            const Eigen::Vector3d& dir_pen) const {
+  if (!flat) return ray_to_cylinder(origin_pen, dir_pen, radius_m);
+  const double ahead = plane_normal.dot(dir_pen.head<2>());
+  const double gap = distance_m(origin_pen.head<2>());
   if (!(ahead > 1e-12) || gap < 0) return std::nullopt;
   return gap / ahead;
 }
 
 NetRelativePose net_relative_pose(const Eigen::Isometry3d& T_pen_camera, const NetWall& wall) {
-  const Eigen::Vector3d axis_P = T_pen_camera.linear().col(2);
-  const auto t = wall.ray_distance(T_pen_camera.translation(), axis_P);
+  const Eigen::Vector3d axis_pen = T_pen_camera.linear().col(2);
+  const auto t = wall.ray_distance(T_pen_camera.translation(), axis_pen);
   if (!t) return {};
-  const Eigen::Vector3d hit_P = T_pen_camera.translation() + *t * axis_P;
+  const Eigen::Vector3d hit_pen = T_pen_camera.translation() + *t * axis_pen;
   // The outward wall normal points away from the camera, as m does.
-  const double bearing = wall.normal_bearing_rad(hit_P.head<2>());
-  const Eigen::Vector3d normal_P(std::cos(bearing), std::sin(bearing), 0);
-  const Eigen::Vector3d m = T_pen_camera.linear().transpose() * normal_P;
+  const double bearing = wall.normal_bearing_rad(hit_pen.head<2>());
+  const Eigen::Vector3d normal_pen(std::cos(bearing), std::sin(bearing), 0);
+  const Eigen::Vector3d m = T_pen_camera.linear().transpose() * normal_pen;
   const NetAngles angles = net_angles_from_normal_C(m);
   return {*t, angles.psi_rad, angles.pitch_rad};
 }

@@ -1,9 +1,9 @@
 #pragma once
 // Frames and geometry of a cylindrical net pen, as in ../shared/dataset-format.md: pen frame P
 // with z down and the origin on the pen axis at the surface, body frame B forward-right-down,
-// attitude as roll, pitch, yaw with R_P_B = Rz(yaw) Ry(pitch) Rx(roll). The "levelled" frame L is
-// the body frame with roll and pitch removed (x forward and horizontal, z down), so
-// R_P_B = Rz(yaw) R_L_B.
+// attitude as roll, pitch, yaw with R_pen_body = Rz(yaw) Ry(pitch) Rx(roll). The "levelled" frame L
+// is the body frame with roll and pitch removed (x forward and horizontal, z down), so R_pen_body =
+// Rz(yaw) R_L_B.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <optional>
@@ -28,17 +28,18 @@ inline Eigen::Isometry3d nan_isometry() {
 Eigen::Isometry3d T_pen_body_cylindrical(double r_m, double rho_rad, double z_m, double psi_rad,
                                          double roll_rad, double pitch_rad);
 
-// Distance along the unit direction `dir_P` from `origin_P` (inside the pen) to the vertical
+// Distance along the unit direction `dir_pen` from `origin_pen` (inside the pen) to the vertical
 // cylinder x^2 + y^2 = radius^2; nullopt when the ray is vertical or starts outside.
-std::optional<double> ray_to_cylinder(const Eigen::Vector3d& origin_P, const Eigen::Vector3d& dir_P,
-                                      double radius_m);
+std::optional<double> ray_to_cylinder(const Eigen::Vector3d& origin_pen,
+                                      const Eigen::Vector3d& dir_pen, double radius_m);
 
 // The net wall the vehicle works at, in P: the vertical cylinder of `radius_m` about the pen axis,
 // or a flat panel, the vertical plane through `plane_point_m` with the horizontal unit normal
 // `plane_normal` pointing away from the camera side (scene.yaml net_type, dataset-format.md).
 // Positions are horizontal (x, y) in P, inside the wall (on the pen axis' side).
 struct NetWall {
-  double radius_m = 12.0;  // cylinder; for a flat panel the equivalent cylinder (unused here)
+  double radius_m =
+      kDefaultPenRadius_m;  // cylinder; for a flat panel the equivalent cylinder (unused here)
   bool flat = false;
   Eigen::Vector2d plane_point_m = Eigen::Vector2d::Zero();
   Eigen::Vector2d plane_normal = Eigen::Vector2d::UnitX();
@@ -61,10 +62,10 @@ struct NetWall {
   // The position at azimuth rho_rad (atan2(y, x) = rho) that lies `distance_m` in front of the
   // wall; nullopt when the azimuth's ray misses the panel there.
   std::optional<Eigen::Vector2d> position_at(double rho_rad, double distance_m) const;
-  // Distance along the unit `dir_P` from `origin_P` (inside) to the wall; nullopt when the ray
+  // Distance along the unit `dir_pen` from `origin_pen` (inside) to the wall; nullopt when the ray
   // is horizontal-parallel to it, points away from it or starts outside.
-  std::optional<double> ray_distance(const Eigen::Vector3d& origin_P,
-                                     const Eigen::Vector3d& dir_P) const;
+  std::optional<double> ray_distance(const Eigen::Vector3d& origin_pen,
+                                     const Eigen::Vector3d& dir_pen) const;
 };
 
 // Net-relative pose of a camera looking at the pen wall: d_net along +z_C to the wall and the

@@ -6,13 +6,14 @@
 #include <Eigen/Geometry>
 #include <string>
 
+#include "core/dataset_types.h"
 #include "pipeline/global_pose/measurements.h"
 #include "pipeline/global_pose/pen_fix.h"
 
 namespace pensight::global_pose {
 
 struct PublishedGlobalPoseConfig {
-  double pen_radius_m = 12.0;
+  double pen_radius_m = kDefaultPenRadius_m;
   Eigen::Isometry3d T_body_camera = Eigen::Isometry3d::Identity();
   // false: roll = pitch = 0 (the published assumption); true: level with the latest attitude.
   bool level_with_attitude = false;

@@ -70,7 +70,8 @@ TEST(RoiGrid, DefaultGridSpansTheImage) {
   EXPECT_EQ(rois[6].y, 60);
   EXPECT_EQ(rois[29].x, 420);
   EXPECT_EQ(rois[29].y, 240);
-  const auto bordered = roi_grid(720, 540, {.rows = 2, .cols = 3, .size_px = 200, .border_px = 20});
+  const auto bordered =
+      roi_grid(720, 540, {.rows = 2, .cols = 3, .roi_size_px = 200, .border_px = 20});
   EXPECT_EQ(bordered[0].x, 20);
   EXPECT_EQ(bordered[2].x, 520);  // ends at the far edge
   EXPECT_EQ(bordered[5].y, 340);
@@ -79,14 +80,14 @@ TEST(RoiGrid, DefaultGridSpansTheImage) {
 
 TEST(RoiGrid, RejectsGridsThatDoNotFit) {
   EXPECT_THROW(roi_grid(720, 540, {.rows = 0}), Error);
-  EXPECT_THROW(roi_grid(720, 540, {.size_px = 541}), Error);
+  EXPECT_THROW(roi_grid(720, 540, {.roi_size_px = 541}), Error);
   EXPECT_THROW(roi_grid(720, 540, {.border_px = 300}), Error);
   EXPECT_THROW(roi_grid(720, 540, {.border_px = -1}), Error);
 }
 
 TEST(FftRoiCpu, RejectsBadShapesAndImages) {
-  EXPECT_THROW(FftRoiCpu({.fft_size = 512}), Error);  // larger than the ROI
-  EXPECT_THROW(FftRoiCpu({.roi_size = 600}), Error);  // larger than the image
+  EXPECT_THROW(FftRoiCpu({.fft_size = 512}), Error);     // larger than the ROI
+  EXPECT_THROW(FftRoiCpu({.roi_size_px = 600}), Error);  // larger than the image
   EXPECT_THROW(FftRoiCpu({}, {}, 0), Error);
   FftRoiCpu cpu({}, {}, 1, FftPlanning::kQuick);
   EXPECT_THROW(cpu.run(ImageU8(640, 480), roi_grid(640, 480, {})), Error);
@@ -153,7 +154,7 @@ TEST(FftRoiCpu, ThreadsDoNotChangeTheResult) {
 
 // Our radix-2 shaders against FFTW on random samples, NaN-poisoned output.
 void check_fft_against_fftw(const vk::Context& ctx, int n, uint32_t rois, uint64_t seed) {
-  const FftRoiShape shape{.width = 720, .height = 540, .roi_size = 300, .fft_size = n};
+  const FftRoiShape shape{.width = 720, .height = 540, .roi_size_px = 300, .fft_size = n};
   FftRoiCpu cpu(shape, {}, 1, FftPlanning::kQuick);
   FftRoiVk vk(ctx, shape);
   std::mt19937_64 rng(seed);
@@ -212,13 +213,13 @@ std::vector<RoiLattice> run_vulkan(const vk::Context& ctx, const FftRoiVk& kerne
 }
 
 void expect_same_lattices(const std::vector<RoiLattice>& got, const std::vector<RoiLattice>& want,
-                          double roi_size) {
+                          double roi_size_px) {
   ASSERT_EQ(got.size(), want.size());
   for (size_t i = 0; i < got.size(); ++i) {
     const RoiLattice &g = got[i], &w = want[i];
     ASSERT_FALSE(std::isnan(g.f1x) || std::isnan(g.f1y) || std::isnan(g.f2x) || std::isnan(g.f2y))
         << "ROI " << i << " has an unwritten frequency";
-    EXPECT_LE(lattice_error(g, {w.f1x, w.f1y}, {w.f2x, w.f2y}) * roi_size / 300, kBackendTol)
+    EXPECT_LE(lattice_error(g, {w.f1x, w.f1y}, {w.f2x, w.f2y}) * roi_size_px / 300, kBackendTol)
         << "ROI " << i << ": (" << g.f1x << ", " << g.f1y << "), (" << g.f2x << ", " << g.f2y
         << ") vs (" << w.f1x << ", " << w.f1y << "), (" << w.f2x << ", " << w.f2y << ")";
     EXPECT_NEAR(g.quality, w.quality, kQualityTol) << "ROI " << i;
@@ -235,7 +236,7 @@ TEST_F(VulkanTest, StageMatchesCpuOnRandomImages) {
     const ImageU8 img = random_image(720, 540, rng);
     FftRoiCpu cpu(shape, {}, 1, FftPlanning::kQuick);
     FftRoiVk vk(ctx(), shape);
-    expect_same_lattices(run_vulkan(ctx(), vk, img, rois), cpu.run(img, rois), shape.roi_size);
+    expect_same_lattices(run_vulkan(ctx(), vk, img, rois), cpu.run(img, rois), shape.roi_size_px);
   }
 }
 
@@ -251,7 +252,8 @@ TEST_F(VulkanTest, StagesOfOneShapeShareTheirPipelines) {
   const auto rois = roi_grid(720, 540, {});
   const ImageU8 img = random_image(720, 540, rng);
   expect_same_lattices(run_vulkan(ctx(), second, img, rois),
-                       FftRoiCpu(shape, {}, 1, FftPlanning::kQuick).run(img, rois), shape.roi_size);
+                       FftRoiCpu(shape, {}, 1, FftPlanning::kQuick).run(img, rois),
+                       shape.roi_size_px);
 }
 
 TEST_F(VulkanTest, StageMatchesCpuOnNetImages) {

@@ -12,6 +12,7 @@
 #include "pipeline/depth/dvl_depth_scale.h"
 #include "pipeline/depth/dvl_net_tilt.h"
 #include "sim/sensors.h"
+#include "tests/support/error_message.h"
 #include "tests/support/flat_net_world.h"
 #include "tests/support/vulkan_fixture.h"
 
@@ -19,46 +20,38 @@ namespace pensight {
 namespace {
 
 using testing::camera_mount;
-
-// The message `f` throws; empty when it throws none.
-template <class F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
-}
+using testing::error_message;
 
 TEST(DepthParams, DefaultsAreValid) {
-  EXPECT_EQ(error_of([] { validate(DepthEstimatorConfig{}); }), "");
-  EXPECT_EQ(error_of([] { validate(DvlDepthScaleConfig{}); }), "");
-  EXPECT_EQ(error_of([] { validate(DvlNetTiltConfig{}); }), "");
+  EXPECT_EQ(error_message([] { validate(DepthEstimatorConfig{}); }), "");
+  EXPECT_EQ(error_message([] { validate(DvlDepthScaleConfig{}); }), "");
+  EXPECT_EQ(error_message([] { validate(DvlNetTiltConfig{}); }), "");
   // The values in use: the DVL tests' min_samples = 1, a cylinder's curvature.
-  EXPECT_EQ(error_of([] { validate(DvlDepthScaleConfig{.min_samples = 1}); }), "");
-  EXPECT_EQ(error_of([] { validate(DvlNetTiltConfig{.min_samples = 1}); }), "");
-  EXPECT_EQ(error_of([] { validate(DepthEstimatorConfig{.net_curvature_per_m = 1 / 12.0}); }), "");
+  EXPECT_EQ(error_message([] { validate(DvlDepthScaleConfig{.min_samples = 1}); }), "");
+  EXPECT_EQ(error_message([] { validate(DvlNetTiltConfig{.min_samples = 1}); }), "");
+  EXPECT_EQ(error_message([] { validate(DepthEstimatorConfig{.net_curvature_per_m = 1 / 12.0}); }),
+            "");
 }
 
 TEST(DepthParams, ABadNestedValueNamesItsPrefixedKey) {
   DepthEstimatorConfig depth{.model = "missing.onnx"};
   depth.plane.iterations = 0;
-  const std::string e = error_of([&] { validate(depth); });
+  const std::string e = error_message([&] { validate(depth); });
   EXPECT_EQ(e,
             "depth: key 'plane.iterations': 0 is outside >= 1 (reweighted least-squares "
             "iterations)");
   // The constructor refuses it with the same message, before it reads the model.
-  EXPECT_EQ(error_of([&] { DepthEstimator(PinholeCamera{}, depth, testing::test_device()); }), e);
+  EXPECT_EQ(error_message([&] { DepthEstimator(PinholeCamera{}, depth, testing::test_device()); }),
+            e);
 
   DepthEstimatorConfig sigma;
   sigma.sigma_px = 0;
-  EXPECT_TRUE(error_of([&] { validate(sigma); })
+  EXPECT_TRUE(error_message([&] { validate(sigma); })
                   .starts_with("depth: key 'sigma_px': 0 is outside "
                                "> 0 px ("));
   DepthEstimatorConfig share;
   share.plane.central_share = kNaN;
-  EXPECT_TRUE(error_of([&] {
+  EXPECT_TRUE(error_message([&] {
                 validate(share);
               }).starts_with("depth: key 'plane.central_share': none is outside (0, 1] ("));
 }
@@ -68,12 +61,12 @@ TEST(DepthParams, TheDvlCorrectionsNameTheirKeys) {
   DvlDepthScaleConfig scale;
   scale.window_s = 0;
   EXPECT_EQ(
-      error_of([&] { DvlDepthScale(PinholeCamera{}, camera_mount(), dvl, scale); }),
+      error_message([&] { DvlDepthScale(PinholeCamera{}, camera_mount(), dvl, scale); }),
       "depth: key 'dvl_depth_scale.window_s': 0 is outside > 0 s (the median's window; the net's "
       "stretch varies over metres)");
   DvlNetTiltConfig tilt;
   tilt.range_noise_m = kNaN;
-  EXPECT_EQ(error_of([&] { DvlNetTilt(camera_mount(), dvl, tilt); }),
+  EXPECT_EQ(error_message([&] { DvlNetTilt(camera_mount(), dvl, tilt); }),
             "depth: key 'dvl_net_tilt.range_noise_m': none is outside >= 0 m (the DVL's range "
             "noise, 1 sigma: the floor of the window's standard error)");
 }

@@ -13,6 +13,7 @@
 #include "core/params.h"
 #include "core/strict_yaml.h"
 #include "core/units.h"
+#include "tests/support/error_message.h"
 #include "tests/support/vulkan_fixture.h"
 
 namespace pensight {
@@ -20,12 +21,7 @@ namespace {
 
 // The message validate() throws for `c`; empty when it passes.
 std::string error_of(const NetDetectorConfig& c) {
-  try {
-    validate(c);
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
+  return testing::error_message([&] { validate(c); });
 }
 
 TEST(NetDetectorParams, DefaultsAndTheConfigsInUseAreValid) {
@@ -39,7 +35,7 @@ TEST(NetDetectorParams, DefaultsAndTheConfigsInUseAreValid) {
   published.pose.max_curvature_share = 1e9;
   EXPECT_EQ(error_of(published), "");
   // The one-ROI grid of bench/pipeline_bench.cpp, a scene's opening angle, a still filter.
-  NetDetectorConfig small{.grid = {.rows = 1, .cols = 1, .size_px = 64}, .fft_size = 32};
+  NetDetectorConfig small{.grid = {.rows = 1, .cols = 1, .roi_size_px = 64}, .fft_size = 32};
   small.mesh_angle_rad = deg_to_rad(30);
   small.mesh_angle_filter.process_sigma_rad = 0;
   EXPECT_EQ(error_of(small), "");
@@ -118,7 +114,7 @@ TEST(NetDetectorParams, RowsListEveryPartUnderItsPrefix) {
            "| `fft_size` | 256 | px | 16 to 1024 |",
            "| `window` | true |  | true, false |",
            "| `mesh_angle_rad` | none | rad | (0, 3.14159) |",
-           "| `grid.size_px` | 300 | px | >= 16 |",
+           "| `grid.roi_size_px` | 300 | px | >= 16 |",
            "| `peaks.max_nyquist_share` | 0.9 |  | (0, 1] |",
            "| `points.min_quality` | 0.03 |  | 0 to 1 |",
            "| `pose.min_valid_rois` | 6 |  | >= 3 |",

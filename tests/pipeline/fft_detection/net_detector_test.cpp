@@ -24,7 +24,7 @@ TEST(NetDetector, RejectsBadConfigurationAndImages) {
   EXPECT_THROW(
       NetDetector(cam, {.bar_length_m = 0, .backend = Backend::kCpu}, testing::test_device()),
       Error);
-  EXPECT_THROW(NetDetector(cam, {.grid = {.size_px = 600}, .backend = Backend::kCpu},
+  EXPECT_THROW(NetDetector(cam, {.grid = {.roi_size_px = 600}, .backend = Backend::kCpu},
                            testing::test_device()),
                Error);
   NetDetector detector(cam, {.backend = Backend::kCpu}, testing::test_device());

@@ -25,7 +25,7 @@ struct Plane {
 // The exact RoiLattice a planar net produces at a ROI centre: the image lattice vectors are the
 // projection Jacobian applied to one mesh step along two in-plane twine directions.
 kernels::RoiLattice exact_lattice(const PinholeCamera& cam, const Plane& pl, Eigen::Vector2d c_px,
-                                  double twine_rot, int roi_size, Eigen::Vector3d* p_out) {
+                                  double twine_rot, int roi_size_px, Eigen::Vector3d* p_out) {
   const Eigen::Vector3d r = cam.ray(c_px);
   const Eigen::Vector3d p = r * (pl.c / (1 - pl.a * r.x() - pl.b * r.y()));
   const Eigen::Vector3d m = pl.normal();
@@ -39,7 +39,7 @@ kernels::RoiLattice exact_lattice(const PinholeCamera& cam, const Plane& pl, Eig
     a.col(i) = (*cam.project(p + eps * e) - *cam.project(p - eps * e)) / (2 * eps);
   }
   *p_out = p;
-  (void)roi_size;
+  (void)roi_size_px;
   return testing::lattice_of(a);
 }
 

@@ -84,7 +84,7 @@ TEST(DvlPlane, InThePenTracksTheRelativePose) {
     for (int i = 0; i < 200; ++i) {
       sim::Pose pose;
       const double r = radius - d(rng);
-      pose.p_P = Eigen::Vector3d(r, 0, 4);
+      pose.p_pen = Eigen::Vector3d(r, 0, 4);
       const DvlPlane square =
           dvl_net_plane(dvl, dvl_ranges_to_wall(dvl, pose.T_pen_body(), NetWall::cylinder(radius)));
       ASSERT_TRUE(square.ok);

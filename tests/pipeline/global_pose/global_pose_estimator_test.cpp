@@ -38,7 +38,7 @@ struct Errors {
 class ErrorCollector {
  public:
   void add(const GlobalPose& g, const sim::Pose& truth) {
-    if (!prev_.empty()) e_.path_m += (truth.p_P.head<2>() - prev_.back().p_P.head<2>()).norm();
+    if (!prev_.empty()) e_.path_m += (truth.p_pen.head<2>() - prev_.back().p_pen.head<2>()).norm();
     prev_.assign(1, truth);
     if (!std::isfinite(g.r_g_m) || !std::isfinite(g.rho_g_rad) || !std::isfinite(g.psi_g_rad)) {
       ++(e_.t_s.empty() ? e_.frames_before_lock : e_.nan_rows);
@@ -54,7 +54,7 @@ class ErrorCollector {
     e_.arc_m.push_back(drho * truth.r_m());
     e_.psi_rad.push_back(
         std::abs(wrap_angle((g.psi_g_rad - rho0_est_) - (truth.yaw_rad - rho0_true_))));
-    if (std::isfinite(g.z_g_m)) e_.z_m.push_back(std::abs(g.z_g_m - truth.p_P.z()));
+    if (std::isfinite(g.z_g_m)) e_.z_m.push_back(std::abs(g.z_g_m - truth.p_pen.z()));
   }
   const Errors& errors() const { return e_; }
 
@@ -445,7 +445,7 @@ TEST(GlobalPoseEstimator, WithoutDvlAndAttitudeRhoIsNaN) {
     const bool unaided = seconds_between(t_lock_ns, obs.t_ns) > cfg.max_unaided_s;
     if (unaided && (std::isfinite(g.rho_g_rad) || std::isfinite(g.psi_g_rad))) ++unaided_with_rho;
     r_m.push_back(std::abs(g.r_g_m - truth.r_m()));
-    if (std::isfinite(g.z_g_m)) z_m.push_back(std::abs(g.z_g_m - truth.p_P.z()));
+    if (std::isfinite(g.z_g_m)) z_m.push_back(std::abs(g.z_g_m - truth.p_pen.z()));
     psi_r_rad.push_back(std::abs(wrap_angle(g.psi_r_rad - truth.psi_r_rad())));
   };
   sim::replay(seq, v);

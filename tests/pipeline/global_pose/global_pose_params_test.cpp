@@ -9,29 +9,21 @@
 #include "core/units.h"
 #include "pipeline/global_pose/global_pose_estimator.h"
 #include "pipeline/global_pose/published_global_pose.h"
+#include "tests/support/error_message.h"
 
 namespace pensight::global_pose {
 namespace {
 
-// The message `f` throws; empty when it throws none.
-template <class F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
-}
+using pensight::testing::error_message;
 
 // The message validate() throws for `c`; empty when it passes.
 std::string config_error(const GlobalPoseEstimatorConfig& c) {
-  return error_of([&] { validate(c); });
+  return error_message([&] { validate(c); });
 }
 
 TEST(GlobalPoseParams, DefaultsAndTheConfigsInUseAreValid) {
   EXPECT_EQ(config_error(GlobalPoseEstimatorConfig{}), "");
-  EXPECT_EQ(error_of([] { validate(PublishedGlobalPoseConfig{}); }), "");
+  EXPECT_EQ(error_message([] { validate(PublishedGlobalPoseConfig{}); }), "");
   // The lock rule turned off (global_pose_estimator_test.cpp), a flat panel 5 m out along x.
   GlobalPoseEstimatorConfig no_rule;
   no_rule.lock.min_inliers = 3;
@@ -51,7 +43,7 @@ TEST(GlobalPoseParams, ABadNestedValueNamesItsPrefixedKey) {
   EXPECT_EQ(e,
             "global pose: key 'noise.process.yaw_accel': -1 is outside >= 0 rad/s^2/sqrt(Hz) "
             "(yaw acceleration)");
-  EXPECT_EQ(error_of([&] { GlobalPoseEstimator{c}; }), e);
+  EXPECT_EQ(error_message([&] { GlobalPoseEstimator{c}; }), e);
 
   struct Bad {
     const char* start;
@@ -98,11 +90,11 @@ TEST(GlobalPoseParams, AFlatPanelFacingTheOriginIsRefused) {
 TEST(GlobalPoseParams, ThePublishedNodeNamesItsCircleKeys) {
   PublishedGlobalPoseConfig c;
   c.circle.huber_delta_m = 0;
-  const std::string e = error_of([&] { validate(c); });
+  const std::string e = error_message([&] { validate(c); });
   EXPECT_TRUE(
       e.starts_with("global pose (published): key 'circle.huber_delta_m': 0 is outside > 0 m ("))
       << e;
-  EXPECT_EQ(error_of([&] { PublishedGlobalPose{c}; }), e);
+  EXPECT_EQ(error_message([&] { PublishedGlobalPose{c}; }), e);
 }
 
 TEST(GlobalPoseParams, RowsListEveryPartUnderItsPrefix) {

@@ -22,7 +22,7 @@ sim::Pose random_pose(double radius, std::mt19937_64& rng, double roll_pitch_amp
       depth(2.0, 10.0), rp(-roll_pitch_amp, roll_pitch_amp);
   sim::Pose p;
   const double r = radius - dist(rng), a = rho(rng);
-  p.p_P = Eigen::Vector3d(r * std::cos(a), r * std::sin(a), depth(rng));
+  p.p_pen = Eigen::Vector3d(r * std::cos(a), r * std::sin(a), depth(rng));
   p.yaw_rad = wrap_angle(a + yaw(rng));
   p.roll_rad = rp(rng);
   p.pitch_rad = rp(rng);
@@ -162,7 +162,7 @@ TEST(PublishedGlobalPose, SequenceErrorsWithinBounds) {
       r_err.push_back(std::abs(g.r_g_m - truth.r_m()));
       psi_err.push_back(std::abs(wrap_angle(g.psi_g_rad + psi0 - truth.yaw_rad)));
       psi_r_err.push_back(std::abs(wrap_angle(g.psi_r_rad - truth.psi_r_rad())));
-      z_err.push_back(std::abs(g.z_g_m - truth.p_P.z()));
+      z_err.push_back(std::abs(g.z_g_m - truth.p_pen.z()));
     };
     sim::replay(seq, v);
     std::printf("published R = %5.1f: r_g median %.4f p95 %.4f m, psi_g median %.3f deg\n", radius,

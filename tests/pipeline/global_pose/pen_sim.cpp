@@ -11,7 +11,7 @@ namespace pensight::global_pose::sim {
 Eigen::Isometry3d Pose::T_pen_body() const {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.linear() = rotation_from_rpy(roll_rad, pitch_rad, yaw_rad);
-  T.translation() = p_P;
+  T.translation() = p_pen;
   return T;
 }
 
@@ -53,12 +53,14 @@ void add_texture_steps(Sequence& seq, double radius_m, const Eigen::Isometry3d& 
     const double moved[2] = {
         radius_m * wrap_angle(azimuth - std::atan2(a.y(), a.x())) / bar_length_m,
         (b.z() - a.z()) / bar_length_m};
-    const Eigen::Matrix3d R_C_P = (seq.truth[k].T_pen_body() * T_body_camera).linear().transpose();
+    const Eigen::Matrix3d R_camera_pen =
+        (seq.truth[k].T_pen_body() * T_body_camera).linear().transpose();
     TextureStep& s = seq.camera[k].texture;
     s.valid = true;
     s.from_ns = seq.camera[k - 1].t_ns;
     s.ray_C = Eigen::Vector3d::UnitZ();
-    s.bars_C = {bar_length_m * R_C_P * along, bar_length_m * R_C_P * Eigen::Vector3d::UnitZ()};
+    s.bars_C = {bar_length_m * R_camera_pen * along,
+                bar_length_m * R_camera_pen * Eigen::Vector3d::UnitZ()};
     for (size_t i = 0; i < 2; ++i) {
       const double m = moved[i] + sigma_bars * unit(rng);
       s.moved_bars[i] = m - std::floor(m + 0.5);
@@ -105,8 +107,8 @@ Pose Trajectory::at(double t_s) const {
   const double rho = speed_mps * t_s / (radius_m - mean_distance_m) + 0.3;
   Pose p;
   p.t_s = t_s;
-  p.p_P = Eigen::Vector3d(r * std::cos(rho), r * std::sin(rho),
-                          depth_m + depth_amp_m * std::sin(two_pi * t_s / 60.0));
+  p.p_pen = Eigen::Vector3d(r * std::cos(rho), r * std::sin(rho),
+                            depth_m + depth_amp_m * std::sin(two_pi * t_s / 60.0));
   p.yaw_rad = wrap_angle(rho + psi_r_amp_rad * std::sin(two_pi * t_s / 27.0));
   p.roll_rad = roll_pitch_amp_rad * std::sin(two_pi * t_s / 11.0);
   p.pitch_rad = roll_pitch_amp_rad * std::sin(two_pi * t_s / 17.0 + 1.0);
@@ -115,9 +117,9 @@ Pose Trajectory::at(double t_s) const {
 
 Eigen::Vector3d Trajectory::body_velocity(double t_s) const {
   const double h = 1e-4;
-  const Eigen::Vector3d v_P = (at(t_s + h).p_P - at(t_s - h).p_P) / (2 * h);
+  const Eigen::Vector3d v_pen = (at(t_s + h).p_pen - at(t_s - h).p_pen) / (2 * h);
   const Pose p = at(t_s);
-  return rotation_from_rpy(p.roll_rad, p.pitch_rad, p.yaw_rad).transpose() * v_P;
+  return rotation_from_rpy(p.roll_rad, p.pitch_rad, p.yaw_rad).transpose() * v_pen;
 }
 
 namespace {
@@ -151,7 +153,7 @@ Sequence make_sequence(const Trajectory& traj, const SensorNoise& noise, uint64_
     seq.dvl.push_back(s);
   }
   for (double t = 0.031; t <= traj.duration_s; t += 0.125)
-    seq.depth.push_back({to_ns(t), traj.at(t).p_P.z() + noise.depth_sigma_m * unit(rng)});
+    seq.depth.push_back({to_ns(t), traj.at(t).p_pen.z() + noise.depth_sigma_m * unit(rng)});
   for (double t = 0.007; t <= traj.duration_s; t += 0.05) {
     const Pose p = traj.at(t);
     seq.attitude.push_back(

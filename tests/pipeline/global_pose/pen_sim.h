@@ -17,12 +17,12 @@ namespace pensight::global_pose::sim {
 
 struct Pose {
   double t_s = 0;
-  Eigen::Vector3d p_P = Eigen::Vector3d::Zero();
+  Eigen::Vector3d p_pen = Eigen::Vector3d::Zero();
   double roll_rad = 0, pitch_rad = 0, yaw_rad = 0;
 
   Eigen::Isometry3d T_pen_body() const;
-  double r_m() const { return p_P.head<2>().norm(); }
-  double rho_rad() const { return std::atan2(p_P.y(), p_P.x()); }
+  double r_m() const { return p_pen.head<2>().norm(); }
+  double rho_rad() const { return std::atan2(p_pen.y(), p_pen.x()); }
   double psi_r_rad() const { return wrap_angle(yaw_rad - rho_rad()); }
 };
 
@@ -46,7 +46,7 @@ NetObservation net_observation(const Pose& pose, double radius_m,
                                std::mt19937_64& rng, const PinholeCamera& camera = {});
 
 struct Trajectory {
-  double radius_m = 12.0;
+  double radius_m = kDefaultPenRadius_m;
   double duration_s = 120.0;
   double speed_mps = 0.3;         // along the net
   double mean_distance_m = 1.35;  // body origin to net

@@ -72,7 +72,8 @@ class ReportTest : public ::testing::Test {
       const NetDetection d = detector.detect(frame, kStart_ns + i * kFrame_ns);
       char name[32];
       std::snprintf(name, sizeof name, "%06d.png", i);
-      write_overlay_png(dir / name, frame, d, detector.rois(), NetDetectorConfig{}.grid.size_px);
+      write_overlay_png(dir / name, frame, d, detector.rois(),
+                        NetDetectorConfig{}.grid.roi_size_px);
     }
   }
 
