@@ -184,9 +184,10 @@ std::string frame_name(const Params& p, const std::string& name, const std::stri
 
 }  // namespace
 
-std::string node_param_rows() {
+std::string node_params_markdown() {
   const NodeConfig d;
-  std::string rows = param_table_rows<SceneConfig>(kSceneParams, d.scene, "~");
+  std::string rows(kParamTableHeader);
+  rows += param_table_rows<SceneConfig>(kSceneParams, d.scene, "~");
   rows += param_table_rows<NodeConfig>(kNodeParams, d, "~");
   rows += param_table_rows<kernels::RoiGrid>(kGridParams, d.detector.grid, "~");
   rows += param_table_rows<NetDetectorConfig>(kDetectorParams, d.detector, "~");

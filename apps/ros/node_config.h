@@ -50,8 +50,9 @@ struct NodeConfig {
 // read_camera_yaml and read_dvl_yaml for the files they name.
 NodeConfig read_node_config(const ros::NodeHandle& private_nh);
 
-// Markdown rows (core/params.h's param_table_rows) of the numbers and flags, keys written `~name`,
-// defaults those of NodeConfig{}.
-std::string node_param_rows();
+// The Markdown table (core/params.h's param_table_rows under kParamTableHeader) of the numbers
+// and flags, keys written `~name`, defaults those of NodeConfig{}: docs/ros.md's generated section
+// (`pensight_node --params`).
+std::string node_params_markdown();
 
 }  // namespace pensight::node

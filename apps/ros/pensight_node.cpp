@@ -22,6 +22,7 @@
 #include <mutex>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <thread>
 #include <vector>
 
@@ -426,6 +427,11 @@ void request_stop(int) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // `pensight_node --params`: the table of docs/ros.md's generated section, without ROS.
+  if (argc == 2 && std::string_view(argv[1]) == "--params") {
+    std::fputs(pensight::node::node_params_markdown().c_str(), stdout);
+    return 0;
+  }
   std::setvbuf(stdout, nullptr, _IOLBF, 0);  // each log line as it comes, also into a file
   ros::init(argc, argv, "pensight_node", ros::init_options::NoSigintHandler);
   std::signal(SIGINT, request_stop);
