@@ -31,6 +31,8 @@ TEST(FftAccuracy, SweepMeetsBounds) {
 // error was 0.26 deg median, 1.48 at p90, 4.17 at worst, and the median of 12 frames exceeded
 // 1 deg in 2 of 102 runs (seeds 87, 102). Resampling those frames, the median of 24 exceeds
 // 1.25 deg once in ~50000 runs; low light's median of 12 exceeds 1 deg once in ~30000.
+// A turbid frame has no pose about once in 150 (6 of 912 frames, seeds 1-38; low light 0 of 456):
+// 2 of 24 happens in ~1 % of runs, 4 of 24 in ~2e-5.
 TEST(FftAccuracy, TurbidAndLowLight) {
   const PinholeCamera cam;
   const uint64_t seed = testing::fresh_seed();
@@ -38,19 +40,21 @@ TEST(FftAccuracy, TurbidAndLowLight) {
     const char* label;
     NetScene base;
     int frames;
+    int max_invalid;
     double psi_median_deg;
   };
   for (const Case& c :
        {Case{"turbid",
              {.net_level = 150, .water_level = 90, .attenuation_m = 1.0, .noise_sigma = 4},
              24,
+             3,
              1.25},
-        Case{"low light", {.net_level = 40, .water_level = 15, .noise_sigma = 6}, 12, 1.0}}) {
+        Case{"low light", {.net_level = 40, .water_level = 15, .noise_sigma = 6}, 12, 1, 1.0}}) {
     const auto scenes = testing::sweep_scenes(c.frames, seed, c.base);
     NetDetector detector(cam, {.backend = Backend::kCpu}, testing::test_device());
     const auto e = testing::run_sweep(render_all(cam, scenes), scenes, detector, true);
     testing::print_errors(c.label, e);
-    EXPECT_LE(e.invalid, 1) << c.label;
+    EXPECT_LE(e.invalid, c.max_invalid) << c.label;
     EXPECT_LE(testing::percentile(e.d_rel, 0.5), 0.02) << c.label;
     EXPECT_LE(testing::percentile(e.psi_deg, 0.5), c.psi_median_deg) << c.label;
   }
