@@ -100,6 +100,7 @@ double MeshAngleFilter::refine(const MeshAngleMeasurement& m) {
 }
 
 void MeshAngleFilter::fuse(const MeshAngleMeasurement& m) {
+  rejected_last_ = false;
   if (!m.valid()) return;
   const double sigma = std::max(m.sigma_rad, params_.min_sigma_rad);
   const double r = sigma * sigma;
@@ -111,7 +112,10 @@ void MeshAngleFilter::fuse(const MeshAngleMeasurement& m) {
     s = {m.opening_angle_rad, r, 0};
     return;
   }
-  if (outside) return;
+  if (outside) {
+    rejected_last_ = true;
+    return;
+  }
   s.outside = 0;
   const double k = s.var / (s.var + r);
   s.angle += k * innovation;

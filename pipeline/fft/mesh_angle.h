@@ -74,6 +74,9 @@ class MeshAngleFilter {
   // Replaces the last update's measurement by a better one of the same frame; returns
   // angle_rad().
   double refine(const MeshAngleMeasurement& m);
+  // The last update's or refine's measurement fell outside the gate and was not fused: the frame
+  // disagrees with the carried angle (NetDetector then solves it on its own).
+  bool rejected_last() const { return rejected_last_; }
 
  private:
   struct State {
@@ -84,6 +87,7 @@ class MeshAngleFilter {
   void fuse(const MeshAngleMeasurement& m);
   Params params_;
   State state_, before_;
+  bool rejected_last_ = false;
 };
 
 }  // namespace pensight

@@ -80,7 +80,7 @@ struct NetDetector::Impl {
   // measured again from them (the chirp biases the bars' angle as it does their length: up to
   // 3 deg on a frame 30 deg oblique), their points and the pose again. The first fit stays where
   // the second loses the plane.
-  void correct_chirp(NetDetection& d) {
+  void correct_chirp(NetDetection& d, MeshAngleFilter& filter) const {
     const Eigen::Vector3d normal =
         net_plane_normal(std::tan(d.pose.psi_net_rad), std::tan(d.pose.pitch_net_rad));
     const ChirpModelParams model{.window = shape.window,
@@ -92,13 +92,13 @@ struct NetDetector::Impl {
       corrected[i] = chirp_corrected(d.lattices[i], rois[i], shape.roi_size_px,
                                      d.points[i].centre_px, camera, normal, model);
     }
-    std::vector<RoiNetPoint> points = model_points(corrected, mesh_filter.angle_rad(), &normal);
+    std::vector<RoiNetPoint> points = model_points(corrected, filter.angle_rad(), &normal);
     if (d.mesh_angle_frame.valid()) {  // the filter took this frame's measurement: refine it
       const MeshAngleMeasurement angle = measure_mesh_angle(points, d.pose.inlier, normal, camera,
                                                             config.mesh_type, config.mesh_angle);
       if (angle.valid()) {
         d.mesh_angle_frame = angle;
-        points = model_points(corrected, mesh_filter.refine(angle), &normal);
+        points = model_points(corrected, filter.refine(angle), &normal);
       }
     }
     FftRelativePose pose = relative_pose_fft(points, config.pose);
@@ -106,6 +106,37 @@ struct NetDetector::Impl {
     d.points = std::move(points);
     d.pose = std::move(pose);
   }
+
+  // The frame's points, opening angle and pose from its lattices, modelled with `filter`'s angle
+  // and updating it.
+  void solve(NetDetection& d, MeshAngleFilter& filter) const {
+    d.mesh_angle_frame = {};
+    d.points = model_points(d.lattices, filter.angle_rad(), nullptr);
+    // Rounds of plane from the points alone -> opening angle -> points, until the angle settles:
+    // one for an angle already known, two or three from a prior 10-30 deg off (the first plane
+    // is then tilted by the wrong cell's range errors).
+    RelativePoseFftParams plane_only = config.pose;
+    plane_only.check_tilts = false;
+    plane_only.fuse_roi_tilt = false;
+    double modelled = filter.angle_rad();
+    for (int round = 0; round < kMeshAngleRounds; ++round) {
+      const FftRelativePose plane = relative_pose_fft(d.points, plane_only);
+      if (!plane.valid()) break;
+      const Eigen::Vector3d normal =
+          net_plane_normal(std::tan(plane.psi_net_rad), std::tan(plane.pitch_net_rad));
+      d.mesh_angle_frame = measure_mesh_angle(d.points, plane.inlier, normal, camera,
+                                              config.mesh_type, config.mesh_angle);
+      if (!d.mesh_angle_frame.valid()) break;
+      const double angle =
+          round == 0 ? filter.update(d.mesh_angle_frame) : filter.refine(d.mesh_angle_frame);
+      d.points = model_points(d.lattices, angle, &normal);
+      if (std::abs(angle - modelled) < kMeshAngleSettled_rad) break;
+      modelled = angle;
+    }
+    d.pose = relative_pose_fft(d.points, config.pose);
+    if (config.chirp_correction && d.pose.valid()) correct_chirp(d, filter);
+  }
+
 #if PENSIGHT_HAS_CUDA
   std::optional<kernels::FftRoiCuda> cuda;
 #endif
@@ -204,30 +235,19 @@ NetDetection NetDetector::detect(const ImageU8& image, int64_t timestamp_ns) {
   }
   d.fft_ms = sw.elapsed_ms();
   sw.restart();
-  d.points = m.model_points(d.lattices, m.mesh_filter.angle_rad(), nullptr);
-  // Rounds of plane from the points alone -> opening angle -> points, until the angle settles:
-  // one for an angle already known, two or three from a prior 10-30 deg off (the first plane
-  // is then tilted by the wrong cell's range errors).
-  RelativePoseFftParams plane_only = m.config.pose;
-  plane_only.check_tilts = false;
-  plane_only.fuse_roi_tilt = false;
-  double modelled = m.mesh_filter.angle_rad();
-  for (int round = 0; round < kMeshAngleRounds; ++round) {
-    const FftRelativePose plane = relative_pose_fft(d.points, plane_only);
-    if (!plane.valid()) break;
-    const Eigen::Vector3d normal =
-        net_plane_normal(std::tan(plane.psi_net_rad), std::tan(plane.pitch_net_rad));
-    d.mesh_angle_frame = measure_mesh_angle(d.points, plane.inlier, normal, m.camera,
-                                            m.config.mesh_type, m.config.mesh_angle);
-    if (!d.mesh_angle_frame.valid()) break;
-    const double angle = round == 0 ? m.mesh_filter.update(d.mesh_angle_frame)
-                                    : m.mesh_filter.refine(d.mesh_angle_frame);
-    d.points = m.model_points(d.lattices, angle, &normal);
-    if (std::abs(angle - modelled) < kMeshAngleSettled_rad) break;
-    modelled = angle;
+  m.solve(d, m.mesh_filter);
+  // The carried opening angle is a prior, never a gate: a frame that disagrees with it or that it
+  // cannot explain (a new panel, a diamond section, another pen) is solved on its own, and that
+  // solution replaces it.
+  if ((!d.pose.valid() || m.mesh_filter.rejected_last()) && m.mesh_filter.has_estimate()) {
+    MeshAngleFilter fresh(m.config.mesh_angle_rad, m.config.mesh_angle_filter);
+    NetDetection alone = d;
+    m.solve(alone, fresh);
+    if (alone.pose.valid()) {
+      d = std::move(alone);
+      m.mesh_filter = fresh;
+    }
   }
-  d.pose = relative_pose_fft(d.points, m.config.pose);
-  if (m.config.chirp_correction && d.pose.valid()) m.correct_chirp(d);
   if (m.mesh_filter.has_estimate()) d.mesh_angle_rad = m.mesh_filter.angle_rad();
   d.mesh_type = d.mesh_angle_frame.valid() ? d.mesh_angle_frame.type
                                            : m.config.mesh_type.value_or(MeshType::kSquare);

@@ -63,7 +63,8 @@ struct RoiNetPoint {
   Eigen::Vector3d p_C = Eigen::Vector3d::Zero();  // net point on the centre ray, camera frame
   double range_m = 0;                             // |p_C|
   double tilt_rad = 0;                            // between the net normal and the centre ray
-  std::array<Eigen::Vector3d, 2> normals_C{};     // the two normal candidates (+z_C pointing)
+  // The two normal candidates (+z_C pointing); zero for a point without them.
+  std::array<Eigen::Vector3d, 2> normals_C{Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
   double quality = 0;
   bool valid() const { return status == RoiStatus::kValid; }
 };

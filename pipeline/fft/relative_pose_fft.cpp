@@ -19,7 +19,18 @@ struct Sample {
   Eigen::Vector3d p;
   double w;
   size_t roi;  // index into the caller's span
+  // The ROI's own normal candidates (RoiNetPoint::normals_C); none for a point without them.
+  std::array<Eigen::Vector3d, 2> normals_C{};
+  bool has_normals = false;
 };
+
+// Whether the sample's own tilt (its normal candidate nearer `normal`) is within the angle
+// whose cosine is `min_cos` of the unit `normal`; a sample without normals always is.
+bool tilt_agrees(const Sample& q, const Eigen::Vector3d& normal, double min_cos) {
+  if (!q.has_normals) return true;
+  return std::max(std::abs(q.normals_C[0].dot(normal)), std::abs(q.normals_C[1].dot(normal))) >=
+         min_cos;
+}
 
 FftRelativePose invalid(size_t rois, int valid_rois, FftPoseStatus status, std::string reason) {
   return {status,           kNaN, kNaN, kNaN, valid_rois, 0, kNaN, std::vector<uint8_t>(rois, 0),
@@ -55,19 +66,27 @@ double residual(const Eigen::Matrix<double, K, 1>& c, const Eigen::Vector3d& p,
   return p.z() - c.dot(basis(p));
 }
 
-template <int K>
-std::vector<int> inliers(const std::vector<Sample>& s, const Eigen::Matrix<double, K, 1>& c,
-                         Eigen::Matrix<double, K, 1> (*basis)(const Eigen::Vector3d&), double rel) {
+// The samples on the plane (c, a, b): within `rel` of their depth and, with min_cos > -1, tilted
+// like it (tilt_agrees).
+std::vector<int> inliers(const std::vector<Sample>& s, const Eigen::Vector3d& plane, double rel,
+                         double min_cos) {
+  const Eigen::Vector3d normal = net_plane_normal(plane(1), plane(2));
   std::vector<int> in;
   for (int i = 0; i < static_cast<int>(s.size()); ++i) {
-    if (std::abs(residual(c, s[i].p, basis)) <= rel * s[i].p.z()) in.push_back(i);
+    if (std::abs(residual<3>(plane, s[i].p, plane_basis)) <= rel * s[i].p.z() &&
+        tilt_agrees(s[i], normal, min_cos)) {
+      in.push_back(i);
+    }
   }
   return in;
 }
 
 // Plane through the largest consistent subset: every triple proposes a plane, the one with the
-// most inliers (then the smallest residual) wins. 30 ROIs give 4060 triples, well under a ms.
-std::vector<int> consensus(const std::vector<Sample>& s, double rel) {
+// most inliers (then the smallest residual) wins; an inlier lies within `rel` of its depth and,
+// with min_cos > -1, is tilted like the plane (a rope, seam or fold crossing ROIs that lie near
+// the net's plane still shows another lattice orientation). 30 ROIs give 4060 triples, well
+// under a ms.
+std::vector<int> consensus(const std::vector<Sample>& s, double rel, double min_cos) {
   const int n = static_cast<int>(s.size());
   int best_count = 0;
   double best_cost = std::numeric_limits<double>::infinity();
@@ -81,11 +100,14 @@ std::vector<int> consensus(const std::vector<Sample>& s, double rel) {
         if (!(std::abs(normal.z()) > 1e-9 * normal.norm())) continue;
         const double a = -normal.x() / normal.z(), b = -normal.y() / normal.z();
         const double c = s[i].p.z() - a * s[i].p.x() - b * s[i].p.y();
+        const Eigen::Vector3d plane_normal = net_plane_normal(a, b);
         int count = 0;
         double cost = 0;
         for (const Sample& q : s) {
           const double r = std::abs(q.p.z() - a * q.p.x() - b * q.p.y() - c);
-          if (r <= rel * q.p.z()) ++count, cost += r / q.p.z();
+          if (r <= rel * q.p.z() && tilt_agrees(q, plane_normal, min_cos)) {
+            ++count, cost += r / q.p.z();
+          }
         }
         if (count > best_count || (count == best_count && cost < best_cost)) {
           best_count = count;
@@ -96,7 +118,7 @@ std::vector<int> consensus(const std::vector<Sample>& s, double rel) {
     }
   }
   if (best_count == 0) return {};
-  return inliers<3>(s, best_plane, plane_basis, rel);
+  return inliers(s, best_plane, rel, min_cos);
 }
 
 // Of a ROI's two normal candidates, the one nearer the given unit normal; nullopt for a point
@@ -201,12 +223,17 @@ Eigen::Vector3d net_plane_normal(double slope_x, double slope_y) {
   return Eigen::Vector3d(slope_x, slope_y, -1).normalized();
 }
 
-FftRelativePose relative_pose_fft(std::span<const RoiNetPoint> rois,
-                                  const RelativePoseFftParams& params) {
+namespace {
+
+// The pose from the ROIs whose points and (min_cos > -1) own tilts agree with one plane.
+FftRelativePose solve(std::span<const RoiNetPoint> rois, const RelativePoseFftParams& params,
+                      double min_cos) {
   std::vector<Sample> s;
   for (size_t i = 0; i < rois.size(); ++i) {
     const RoiNetPoint& r = rois[i];
-    if (r.valid() && r.p_C.z() > 0) s.push_back({r.p_C, std::max(r.quality, 1e-6), i});
+    if (!r.valid() || !(r.p_C.z() > 0)) continue;
+    const bool has_normals = r.normals_C[0].z() > 0 || r.normals_C[1].z() > 0;
+    s.push_back({r.p_C, std::max(r.quality, 1e-6), i, r.normals_C, has_normals});
   }
   const int valid = static_cast<int>(s.size());
   const int need = std::max(3, params.min_valid_rois);
@@ -215,14 +242,14 @@ FftRelativePose relative_pose_fft(std::span<const RoiNetPoint> rois,
                    "only " + std::to_string(valid) + " of " + std::to_string(rois.size()) +
                        " ROIs show a net lattice (need " + std::to_string(need) + ")");
   }
-  std::vector<int> in = consensus(s, params.inlier_rel);
+  std::vector<int> in = consensus(s, params.inlier_rel, min_cos);
   if (static_cast<int>(in.size()) < need) {
     return invalid(rois.size(), valid, FftPoseStatus::kNoConsensus,
                    "no plane is consistent with " + std::to_string(need) + " of the " +
                        std::to_string(valid) + " net points");
   }
   Eigen::Vector3d plane = fit<3>(s, in, plane_basis);
-  in = inliers<3>(s, plane, plane_basis, params.inlier_rel);
+  in = inliers(s, plane, params.inlier_rel, min_cos);
   if (static_cast<int>(in.size()) < need) {
     return invalid(rois.size(), valid, FftPoseStatus::kRefitLost,
                    "the refitted plane keeps fewer than " + std::to_string(need) + " net points");
@@ -252,6 +279,13 @@ FftRelativePose relative_pose_fft(std::span<const RoiNetPoint> rois,
                        std::vector<uint8_t>(rois.size(), 0),
                        {}};
   for (int i : in) pose.inlier[s[i].roi] = 1;
+  pose.other_tilt.assign(rois.size(), 0);
+  for (const Sample& q : s) {
+    if (!pose.inlier[q.roi] &&
+        std::abs(residual<3>(plane, q.p, plane_basis)) <= params.inlier_rel * q.p.z()) {
+      pose.other_tilt[q.roi] = 1;
+    }
+  }
   double sq = 0;
   if (static_cast<int>(in.size()) >= params.min_paraboloid_rois) {
     const auto q = fit<6>(s, in, paraboloid_basis);
@@ -266,6 +300,18 @@ FftRelativePose relative_pose_fft(std::span<const RoiNetPoint> rois,
   }
   pose.rms_residual_m = std::sqrt(sq / static_cast<double>(in.size()));
   return pose;
+}
+
+}  // namespace
+
+FftRelativePose relative_pose_fft(std::span<const RoiNetPoint> rois,
+                                  const RelativePoseFftParams& params) {
+  if (params.check_tilts) {
+    FftRelativePose agreeing = solve(rois, params, std::cos(params.max_roi_tilt_rad));
+    if (agreeing.valid()) return agreeing;
+  }
+  // Points alone: a pose where the tilts only blur the consensus, else the reason it fails.
+  return solve(rois, params, -2);
 }
 
 }  // namespace pensight

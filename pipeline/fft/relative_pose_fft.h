@@ -39,6 +39,10 @@ struct RelativePoseFftParams {
   // for the fundamental in every ROI still fits a plane, but not the ROIs' tilts (19 deg at
   // 79 deg); 360 synthetic frames within the envelope stayed below 5 deg.
   double max_tilt_disagreement_rad = 0.14;  // 8 deg
+  // A ROI whose own tilt is further than this from a candidate plane's does not support it (a
+  // rope, seam, fold or fish across the ROI); the pose comes from the ROIs that agree, and from
+  // the points alone when too few do.
+  double max_roi_tilt_rad = 0.28;  // 16 deg
   // Off for a plane from the points alone (the tilts then do not count): the net's opening
   // angle is measured against it before the ROIs' tilts can be trusted (mesh_angle.h).
   bool check_tilts = true;
@@ -70,6 +74,9 @@ struct FftRelativePose {
   double rms_residual_m = kNaN;  // of the inliers about the fitted surface
   std::vector<uint8_t> inlier;   // per input ROI: 1 when it supports the fitted surface
   std::string reason;            // status in words with its numbers; empty when valid
+  // Per input ROI (empty without a pose): 1 when its net point lies on the fitted surface but its
+  // own lattice is tilted otherwise (a rope, seam or fold across the ROI), so it was left out.
+  std::vector<uint8_t> other_tilt;
   bool valid() const { return status == FftPoseStatus::kValid; }
 };
 

@@ -18,16 +18,19 @@ namespace pensight {
 namespace {
 
 // A ROI's part in the frame's pose, which its colour shows (BGR).
-enum class RoiState { kInlier, kOutlier, kNoLattice };
-const std::array<cv::Scalar, 3> kStateColour = {cv::Scalar(60, 210, 60), cv::Scalar(0, 165, 255),
-                                                cv::Scalar(70, 70, 235)};
-const std::array<const char*, 3> kStateLabel = {"inlier of the pose", "valid, not an inlier",
-                                                "no usable lattice"};
+enum class RoiState { kInlier, kOtherTilt, kOutlier, kNoLattice };
+const std::array<cv::Scalar, 4> kStateColour = {cv::Scalar(60, 210, 60), cv::Scalar(235, 120, 235),
+                                                cv::Scalar(0, 165, 255), cv::Scalar(70, 70, 235)};
+const std::array<const char*, 4> kStateLabel = {
+    "inlier of the pose", "on the net, tilted otherwise (rope, seam, fold): left out",
+    "valid, off the net's surface: left out", "no usable lattice"};
 
 RoiState state_of(const NetDetection& detection, size_t i) {
   if (!detection.points[i].valid()) return RoiState::kNoLattice;
-  const auto& inlier = detection.pose.inlier;
-  return i < inlier.size() && inlier[i] ? RoiState::kInlier : RoiState::kOutlier;
+  const FftRelativePose& pose = detection.pose;
+  if (i < pose.inlier.size() && pose.inlier[i]) return RoiState::kInlier;
+  if (i < pose.other_tilt.size() && pose.other_tilt[i]) return RoiState::kOtherTilt;
+  return RoiState::kOutlier;
 }
 
 // cv::line and cv::polylines draw at sub-pixel positions with this many fractional bits.
@@ -164,7 +167,8 @@ void write_overlay_png(const std::filesystem::path& file, const ImageU8& frame,
   draw_text_box(image, cv::Point(margin, margin), lines, font);
   const std::vector<std::string> legend(kStateLabel.begin(), kStateLabel.end());
   draw_text_box(image,
-                cv::Point(margin, frame.height - margin - 3 * font.line_height() -
+                cv::Point(margin, frame.height - margin -
+                                      static_cast<int>(legend.size()) * font.line_height() -
                                       2 * (font.line_height() / 3)),
                 legend, font, kStateColour);
 

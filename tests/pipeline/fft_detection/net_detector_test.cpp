@@ -6,6 +6,7 @@
 #include <random>
 
 #include "core/error.h"
+#include "core/units.h"
 #include "tests/support/net_image.h"
 #include "tests/support/vulkan_fixture.h"
 
@@ -60,6 +61,41 @@ TEST(NetDetector, SparseDepthsAreOnTheNet) {
 }
 
 // The Vulkan backend (lavapipe here) gives the CPU's pose.
+// The net changes under the camera (a new panel, a diamond section, a frame of another pen): the
+// opening angle the detector carries is a prior, so the first frame of each net already has a
+// pose, and the right one.
+TEST(NetDetector, AChangingNetRecoversOnItsFirstFrame) {
+  std::mt19937_64 rng(testing::fresh_seed());
+  std::uniform_real_distribution<double> distance(0.7, 2.0), angle(-0.4, 0.4);
+  const PinholeCamera cam;
+  NetDetector detector(cam, {.backend = Backend::kCpu}, testing::test_device());
+  struct Net {
+    MeshType type;
+    double opening_deg;
+  };
+  const Net nets[] = {{MeshType::kSquare, 104}, {MeshType::kDiamond, 72},
+                      {MeshType::kSquare, 92},  {MeshType::kDiamond, 116},
+                      {MeshType::kSquare, 97},  {MeshType::kDiamond, 84}};
+  int frame = 0;
+  for (const Net& net : nets) {
+    for (int k = 0; k < 3; ++k, ++frame) {
+      const testing::NetScene scene{.distance_m = distance(rng),
+                                    .psi_rad = angle(rng),
+                                    .pitch_rad = angle(rng) / 2,
+                                    .mesh_type = net.type,
+                                    .opening_angle_rad = deg_to_rad(net.opening_deg),
+                                    .seed = rng()};
+      const NetDetection d = detector.detect(testing::render_net(cam, scene));
+      ASSERT_TRUE(d.pose.valid()) << "frame " << frame << " (" << k
+                                  << " of this net): " << d.pose.reason;
+      EXPECT_NEAR(d.pose.d_net_m, scene.distance_m, 0.02 * scene.distance_m) << "frame " << frame;
+      EXPECT_NEAR(d.pose.psi_net_rad, scene.psi_rad, deg_to_rad(2)) << "frame " << frame;
+      EXPECT_NEAR(d.mesh_angle_frame.opening_angle_rad, deg_to_rad(net.opening_deg), deg_to_rad(3))
+          << "frame " << frame;
+    }
+  }
+}
+
 TEST(NetDetector, VulkanBackendMatchesCpu) {
   std::mt19937_64 rng(testing::fresh_seed());
   const PinholeCamera cam{.k1 = -0.03};

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/median.h"
+#include "core/net_angles.h"
 #include "core/units.h"
 #include "pipeline/dataset/dataset_reader.h"
 #include "pipeline/fft/net_detector.h"
@@ -24,6 +25,59 @@ const std::filesystem::path kFrameDir =
 
 NetDetectorConfig config_for(const Dataset& d, Backend backend) {
   return detector_config(d.scene, {.backend = backend});
+}
+
+// Every dataset folder in ../shared/real/ (frames are added there; each must give a pose).
+std::vector<std::filesystem::path> real_datasets() {
+  std::vector<std::filesystem::path> out;
+  const auto root = std::filesystem::path(PENSIGHT_SHARED_DIR) / "real";
+  for (const auto& e : std::filesystem::directory_iterator(root)) {
+    if (std::filesystem::exists(e.path() / "scene.yaml")) out.push_back(e.path());
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// Real frames have no ground truth: the pose must agree with the ROIs it came from. Its distance
+// lies within the spread of the inlier ROIs' own depths on their rays, its heading and pitch within
+// 5 deg of the median of the inliers' own tilts (each ROI's normal candidate nearer the pose's).
+TEST(RealFrame, EveryRealFrameGivesAPoseTheAgreeingRoisSupport) {
+  const auto datasets = real_datasets();
+  ASSERT_GE(datasets.size(), 2u) << "../shared/real/ holds solaqua_close and solaqua_far";
+  for (const auto& dir : datasets) {
+    const Dataset d = read_dataset(dir);
+    NetDetector detector(d.cam0.camera, config_for(d, Backend::kCpu), testing::test_device());
+    for (size_t f = 0; f < d.frames.size(); ++f) {
+      const NetDetection det = detector.detect(d.load_frame(f));
+      const std::string where = dir.filename().string() + " frame " + std::to_string(f);
+      ASSERT_TRUE(det.pose.valid()) << where << ": " << det.pose.reason;
+      const Eigen::Vector3d m =
+          -Eigen::Vector3d(std::tan(det.pose.psi_net_rad), std::tan(det.pose.pitch_net_rad), -1)
+               .normalized();
+      std::vector<double> depths, psi, pitch;
+      for (size_t i = 0; i < det.points.size(); ++i) {
+        if (!det.pose.inlier[i]) continue;
+        const RoiNetPoint& p = det.points[i];
+        depths.push_back(p.p_C.z());
+        const auto& n = p.normals_C;
+        const Eigen::Vector3d own = std::abs(n[0].dot(m)) >= std::abs(n[1].dot(m)) ? n[0] : n[1];
+        const NetAngles a = net_angles_from_normal_C(own);
+        psi.push_back(a.psi_rad);
+        pitch.push_back(a.pitch_rad);
+      }
+      std::printf(
+          "%s: d_net %.3f m (ROIs %.3f-%.3f), psi %.1f deg (ROIs' median %.1f), pitch %.1f "
+          "(%.1f), %d of %d ROIs agree\n",
+          where.c_str(), det.pose.d_net_m, *std::min_element(depths.begin(), depths.end()),
+          *std::max_element(depths.begin(), depths.end()), rad_to_deg(det.pose.psi_net_rad),
+          rad_to_deg(median(psi)), rad_to_deg(det.pose.pitch_net_rad), rad_to_deg(median(pitch)),
+          det.pose.inlier_rois, det.pose.valid_rois);
+      EXPECT_GE(det.pose.d_net_m, *std::min_element(depths.begin(), depths.end())) << where;
+      EXPECT_LE(det.pose.d_net_m, *std::max_element(depths.begin(), depths.end())) << where;
+      EXPECT_NEAR(det.pose.psi_net_rad, median(psi), deg_to_rad(5)) << where;
+      EXPECT_NEAR(det.pose.pitch_net_rad, median(pitch), deg_to_rad(5)) << where;
+    }
+  }
 }
 
 TEST(RealFrame, SolaquaCloseGivesAPlausiblePose) {

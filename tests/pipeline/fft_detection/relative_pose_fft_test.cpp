@@ -4,6 +4,7 @@
 
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -75,6 +76,42 @@ TEST(RelativePoseFft, IgnoresOutlierRois) {
   EXPECT_NEAR(pose.pitch_net_rad, -0.1, 1e-9);
   EXPECT_EQ(pose.inlier_rois, 20);
   for (int i : bad) EXPECT_EQ(pose.inlier[i], 0) << i;
+}
+
+// Ropes, a seam and a fold cross more than half of the ROIs: their points stay near the net (a
+// rope lies on it) but their lattices show another orientation. The pose comes from the ROIs that
+// agree in both, exactly, and the others are named as tilted otherwise.
+TEST(RelativePoseFft, APoseFromTheRoisThatAgreeWhenMostAreTiltedOtherwise) {
+  std::mt19937_64 rng(testing::fresh_seed());
+  std::uniform_real_distribution<double> ang(-0.5, 0.5), d(0.5, 2.5), off(0.35, 0.7),
+      along(-0.02, 0.02), axis(-1, 1);
+  for (int trial = 0; trial < 20; ++trial) {
+    const double psi = ang(rng), pitch = ang(rng) / 2, c = d(rng);
+    const double a = std::tan(psi), b = std::tan(pitch);
+    auto pts =
+        grid_points([&](const Eigen::Vector3d& r) { return c / (1 - a * r.x() - b * r.y()); });
+    std::vector<int> order(pts.size());
+    for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
+    std::shuffle(order.begin(), order.end(), rng);
+    const std::vector<int> crossed(order.begin(), order.begin() + 17);
+    for (int i : crossed) {
+      const Eigen::Vector3d turn_axis = Eigen::Vector3d(axis(rng), axis(rng), 0).normalized();
+      const Eigen::Vector3d n =
+          Eigen::AngleAxisd(off(rng), turn_axis) * pts[static_cast<size_t>(i)].normals_C[0];
+      pts[static_cast<size_t>(i)].normals_C = {n, n};
+      pts[static_cast<size_t>(i)].p_C *= 1 + along(rng);
+    }
+    const FftRelativePose pose = relative_pose_fft(pts);
+    ASSERT_TRUE(pose.valid()) << pose.reason;
+    EXPECT_NEAR(pose.d_net_m, c, 1e-9);
+    EXPECT_NEAR(pose.psi_net_rad, psi, 1e-9);
+    EXPECT_NEAR(pose.pitch_net_rad, pitch, 1e-9);
+    EXPECT_EQ(pose.inlier_rois, 13);
+    for (int i : crossed) {
+      EXPECT_EQ(pose.inlier[static_cast<size_t>(i)], 0) << i;
+      EXPECT_EQ(pose.other_tilt[static_cast<size_t>(i)], 1) << i;
+    }
+  }
 }
 
 // A pen wall of radius 12 m seen from inside bends towards the camera at the sides; the
