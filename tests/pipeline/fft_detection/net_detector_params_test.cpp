@@ -56,11 +56,7 @@ TEST(NetDetectorParams, ABadValueInAPartNamesItsPrefixedKey) {
     EXPECT_EQ(constructor.what(), e);
   }
 
-  struct Bad {
-    const char* start;
-    void (*spoil)(NetDetectorConfig&);
-  };
-  const Bad bad[] = {
+  const testing::SpoiltConfig<NetDetectorConfig> bad[] = {
       {"key 'peaks.max_nyquist_share': none is outside (0, 1] (",
        [](NetDetectorConfig& x) { x.peaks.max_nyquist_share = std::nanf(""); }},
       {"key 'points.max_range_m': none is outside > 0 m (",
@@ -81,12 +77,8 @@ TEST(NetDetectorParams, ABadValueInAPartNamesItsPrefixedKey) {
       {"key 'mesh_angle_rad': 3.14159 is outside (0, 3.14159) rad (",
        [](NetDetectorConfig& x) { x.mesh_angle_rad = std::numbers::pi; }},
   };
-  for (const Bad& b : bad) {
-    NetDetectorConfig spoilt;
-    b.spoil(spoilt);
-    const std::string message = error_of(spoilt);
-    EXPECT_TRUE(message.starts_with(std::string("net detector config: ") + b.start)) << message;
-  }
+  testing::expect_refused(
+      bad, "net detector config: ", [](const NetDetectorConfig& spoilt) { validate(spoilt); });
 }
 
 TEST(NetDetectorParams, CrossRulesNameTheKey) {

@@ -43,19 +43,31 @@ std::vector<RoiNetPoint> grid_points(Surface surface) {
   return pts;
 }
 
+// The net plane of psi_net, pitch_net and d_net (z = tan(psi) x + tan(pitch) y + d in C).
+struct NetPlane {
+  double psi_rad, pitch_rad, d_m;
+};
+
+std::vector<RoiNetPoint> points_on(const NetPlane& p) {
+  const double a = std::tan(p.psi_rad), b = std::tan(p.pitch_rad);
+  return grid_points([&](const Eigen::Vector3d& r) { return p.d_m / (1 - a * r.x() - b * r.y()); });
+}
+
+// The pose is `truth`, exactly.
+void expect_exact(const FftRelativePose& pose, const NetPlane& truth) {
+  ASSERT_TRUE(pose.valid()) << pose.reason;
+  EXPECT_NEAR(pose.d_net_m, truth.d_m, 1e-9);
+  EXPECT_NEAR(pose.psi_net_rad, truth.psi_rad, 1e-9);
+  EXPECT_NEAR(pose.pitch_net_rad, truth.pitch_rad, 1e-9);
+}
+
 TEST(RelativePoseFft, RecoversAnExactPlane) {
   std::mt19937_64 rng(testing::fresh_seed());
   std::uniform_real_distribution<double> ang(-0.6, 0.6), d(0.4, 3);
   for (int trial = 0; trial < 10; ++trial) {
-    const double psi = ang(rng), pitch = ang(rng) / 2, c = d(rng);
-    const double a = std::tan(psi), b = std::tan(pitch);
-    const auto pts =
-        grid_points([&](const Eigen::Vector3d& r) { return c / (1 - a * r.x() - b * r.y()); });
-    const FftRelativePose pose = relative_pose_fft(pts);
-    ASSERT_TRUE(pose.valid()) << pose.reason;
-    EXPECT_NEAR(pose.d_net_m, c, 1e-9);
-    EXPECT_NEAR(pose.psi_net_rad, psi, 1e-9);
-    EXPECT_NEAR(pose.pitch_net_rad, pitch, 1e-9);
+    const NetPlane truth{ang(rng), ang(rng) / 2, d(rng)};
+    const FftRelativePose pose = relative_pose_fft(points_on(truth));
+    expect_exact(pose, truth);
     EXPECT_EQ(pose.inlier_rois, 30);
     EXPECT_LT(pose.rms_residual_m, 1e-9);
   }
@@ -86,10 +98,8 @@ TEST(RelativePoseFft, APoseFromTheRoisThatAgreeWhenMostAreTiltedOtherwise) {
   std::uniform_real_distribution<double> ang(-0.5, 0.5), d(0.5, 2.5), off(0.35, 0.7),
       along(-0.02, 0.02), axis(-1, 1);
   for (int trial = 0; trial < 20; ++trial) {
-    const double psi = ang(rng), pitch = ang(rng) / 2, c = d(rng);
-    const double a = std::tan(psi), b = std::tan(pitch);
-    auto pts =
-        grid_points([&](const Eigen::Vector3d& r) { return c / (1 - a * r.x() - b * r.y()); });
+    const NetPlane truth{ang(rng), ang(rng) / 2, d(rng)};
+    auto pts = points_on(truth);
     std::vector<int> order(pts.size());
     for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
     std::shuffle(order.begin(), order.end(), rng);
@@ -102,10 +112,7 @@ TEST(RelativePoseFft, APoseFromTheRoisThatAgreeWhenMostAreTiltedOtherwise) {
       pts[static_cast<size_t>(i)].p_C *= 1 + along(rng);
     }
     const FftRelativePose pose = relative_pose_fft(pts);
-    ASSERT_TRUE(pose.valid()) << pose.reason;
-    EXPECT_NEAR(pose.d_net_m, c, 1e-9);
-    EXPECT_NEAR(pose.psi_net_rad, psi, 1e-9);
-    EXPECT_NEAR(pose.pitch_net_rad, pitch, 1e-9);
+    expect_exact(pose, truth);
     EXPECT_EQ(pose.inlier_rois, 13);
     for (int i : crossed) {
       EXPECT_EQ(pose.inlier[static_cast<size_t>(i)], 0) << i;

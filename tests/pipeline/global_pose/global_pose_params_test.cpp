@@ -45,11 +45,7 @@ TEST(GlobalPoseParams, ABadNestedValueNamesItsPrefixedKey) {
             "(yaw acceleration)");
   EXPECT_EQ(error_message([&] { GlobalPoseEstimator{c}; }), e);
 
-  struct Bad {
-    const char* start;
-    void (*spoil)(GlobalPoseEstimatorConfig&);
-  };
-  const Bad bad[] = {
+  const testing::SpoiltConfig<GlobalPoseEstimatorConfig> bad[] = {
       {"key 'pen_radius_m': 0 is outside > 0 m (",
        [](GlobalPoseEstimatorConfig& x) { x.pen_radius_m = 0; }},
       {"key 'history_s': -1 is outside >= 0 s (",
@@ -67,12 +63,8 @@ TEST(GlobalPoseParams, ABadNestedValueNamesItsPrefixedKey) {
       {"key 'dvl_spikes.max_spike_samples': -1 is outside >= 0 (",
        [](GlobalPoseEstimatorConfig& x) { x.dvl_spikes.max_spike_samples = -1; }},
   };
-  for (const Bad& b : bad) {
-    GlobalPoseEstimatorConfig spoilt;
-    b.spoil(spoilt);
-    const std::string message = config_error(spoilt);
-    EXPECT_TRUE(message.starts_with(std::string("global pose: ") + b.start)) << message;
-  }
+  testing::expect_refused(
+      bad, "global pose: ", [](const GlobalPoseEstimatorConfig& spoilt) { validate(spoilt); });
 }
 
 TEST(GlobalPoseParams, AFlatPanelFacingTheOriginIsRefused) {
