@@ -19,18 +19,7 @@ struct Sample {
   Eigen::Vector3d p;
   double w;
   size_t roi;  // index into the caller's span
-  // The ROI's own normal candidates (RoiNetPoint::normals_C); none for a point without them.
-  std::array<Eigen::Vector3d, 2> normals_C{};
-  bool has_normals = false;
 };
-
-// Whether the sample's own tilt (its normal candidate nearer `normal`) is within the angle
-// whose cosine is `min_cos` of the unit `normal`; a sample without normals always is.
-bool tilt_agrees(const Sample& q, const Eigen::Vector3d& normal, double min_cos) {
-  if (!q.has_normals) return true;
-  return std::max(std::abs(q.normals_C[0].dot(normal)), std::abs(q.normals_C[1].dot(normal))) >=
-         min_cos;
-}
 
 FftRelativePose invalid(size_t rois, int valid_rois, FftPoseStatus status, std::string reason) {
   return {status,           kNaN, kNaN, kNaN, valid_rois, 0, kNaN, std::vector<uint8_t>(rois, 0),
@@ -66,15 +55,32 @@ double residual(const Eigen::Matrix<double, K, 1>& c, const Eigen::Vector3d& p,
   return p.z() - c.dot(basis(p));
 }
 
+// Of a ROI's two normal candidates, the one nearer the given unit normal; nullopt for a point
+// without normals (not from roi_net_point).
+std::optional<Eigen::Vector3d> nearer_normal(const RoiNetPoint& roi,
+                                             const Eigen::Vector3d& normal) {
+  const auto& n = roi.normals_C;
+  const Eigen::Vector3d& m = std::abs(n[0].dot(normal)) >= std::abs(n[1].dot(normal)) ? n[0] : n[1];
+  if (!(m.z() > 0)) return std::nullopt;
+  return m;
+}
+
+// Whether the ROI's own tilt (nearer_normal) is within the angle whose cosine is `min_cos` of the
+// unit `normal`; a ROI without normals always is.
+bool tilt_agrees(const RoiNetPoint& roi, const Eigen::Vector3d& normal, double min_cos) {
+  const auto m = nearer_normal(roi, normal);
+  return !m || std::abs(m->dot(normal)) >= min_cos;
+}
+
 // The samples on the plane (c, a, b): within `rel` of their depth and, with min_cos > -1, tilted
 // like it (tilt_agrees).
-std::vector<int> inliers(const std::vector<Sample>& s, const Eigen::Vector3d& plane, double rel,
-                         double min_cos) {
+std::vector<int> inliers(const std::vector<Sample>& s, std::span<const RoiNetPoint> rois,
+                         const Eigen::Vector3d& plane, double rel, double min_cos) {
   const Eigen::Vector3d normal = net_plane_normal(plane(1), plane(2));
   std::vector<int> in;
   for (int i = 0; i < static_cast<int>(s.size()); ++i) {
     if (std::abs(residual<3>(plane, s[i].p, plane_basis)) <= rel * s[i].p.z() &&
-        tilt_agrees(s[i], normal, min_cos)) {
+        tilt_agrees(rois[s[i].roi], normal, min_cos)) {
       in.push_back(i);
     }
   }
@@ -86,7 +92,8 @@ std::vector<int> inliers(const std::vector<Sample>& s, const Eigen::Vector3d& pl
 // with min_cos > -1, is tilted like the plane (a rope, seam or fold crossing ROIs that lie near
 // the net's plane still shows another lattice orientation). 30 ROIs give 4060 triples, well
 // under a ms.
-std::vector<int> consensus(const std::vector<Sample>& s, double rel, double min_cos) {
+std::vector<int> consensus(const std::vector<Sample>& s, std::span<const RoiNetPoint> rois,
+                           double rel, double min_cos) {
   const int n = static_cast<int>(s.size());
   int best_count = 0;
   double best_cost = std::numeric_limits<double>::infinity();
@@ -105,7 +112,7 @@ std::vector<int> consensus(const std::vector<Sample>& s, double rel, double min_
         double cost = 0;
         for (const Sample& q : s) {
           const double r = std::abs(q.p.z() - a * q.p.x() - b * q.p.y() - c);
-          if (r <= rel * q.p.z() && tilt_agrees(q, plane_normal, min_cos)) {
+          if (r <= rel * q.p.z() && tilt_agrees(rois[q.roi], plane_normal, min_cos)) {
             ++count, cost += r / q.p.z();
           }
         }
@@ -118,17 +125,7 @@ std::vector<int> consensus(const std::vector<Sample>& s, double rel, double min_
     }
   }
   if (best_count == 0) return {};
-  return inliers(s, best_plane, rel, min_cos);
-}
-
-// Of a ROI's two normal candidates, the one nearer the given unit normal; nullopt for a point
-// without normals (not from roi_net_point).
-std::optional<Eigen::Vector3d> nearer_normal(const RoiNetPoint& roi,
-                                             const Eigen::Vector3d& normal) {
-  const auto& n = roi.normals_C;
-  const Eigen::Vector3d& m = std::abs(n[0].dot(normal)) >= std::abs(n[1].dot(normal)) ? n[0] : n[1];
-  if (!(m.z() > 0)) return std::nullopt;
-  return m;
+  return inliers(s, rois, best_plane, rel, min_cos);
 }
 
 // Plane slopes (a, b) fused with the inliers' per-ROI slopes; see RelativePoseFftParams.
@@ -232,8 +229,7 @@ FftRelativePose solve(std::span<const RoiNetPoint> rois, const RelativePoseFftPa
   for (size_t i = 0; i < rois.size(); ++i) {
     const RoiNetPoint& r = rois[i];
     if (!r.valid() || !(r.p_C.z() > 0)) continue;
-    const bool has_normals = r.normals_C[0].z() > 0 || r.normals_C[1].z() > 0;
-    s.push_back({r.p_C, std::max(r.quality, 1e-6), i, r.normals_C, has_normals});
+    s.push_back({r.p_C, std::max(r.quality, 1e-6), i});
   }
   const int valid = static_cast<int>(s.size());
   const int need = std::max(3, params.min_valid_rois);
@@ -242,14 +238,14 @@ FftRelativePose solve(std::span<const RoiNetPoint> rois, const RelativePoseFftPa
                    "only " + std::to_string(valid) + " of " + std::to_string(rois.size()) +
                        " ROIs show a net lattice (need " + std::to_string(need) + ")");
   }
-  std::vector<int> in = consensus(s, params.inlier_rel, min_cos);
+  std::vector<int> in = consensus(s, rois, params.inlier_rel, min_cos);
   if (static_cast<int>(in.size()) < need) {
     return invalid(rois.size(), valid, FftPoseStatus::kNoConsensus,
                    "no plane is consistent with " + std::to_string(need) + " of the " +
                        std::to_string(valid) + " net points");
   }
   Eigen::Vector3d plane = fit<3>(s, in, plane_basis);
-  in = inliers(s, plane, params.inlier_rel, min_cos);
+  in = inliers(s, rois, plane, params.inlier_rel, min_cos);
   if (static_cast<int>(in.size()) < need) {
     return invalid(rois.size(), valid, FftPoseStatus::kRefitLost,
                    "the refitted plane keeps fewer than " + std::to_string(need) + " net points");
