@@ -45,8 +45,11 @@ struct NetPointParams {
   double max_range_m = 20.0;
   bool use_centroid = true;  // place the point at the ROI's energy centroid (off: ROI centre)
   // A lattice whose energy centroid lies further than this share of the ROI size from its centre
-  // covers only part of the ROI (net edge, occlusion): its peak is skewed by the truncation.
-  double max_centroid_share = 0.05;
+  // covers only part of the ROI (net edge, occlusion): its peak is skewed by the truncation. A full
+  // net moves the centroid too: a rope or seam in the ROI (its contrast energy on one side) and an
+  // oblique view (the nearer side coarser and brighter) by 15-25 px of 300 on rendered frames, so
+  // the limit sits above that; 5 % refused most of those ROIs (docs/fft_detection.md).
+  double max_centroid_share = 0.075;
 };
 
 enum class RoiStatus { kValid, kNoLattice, kPartial, kTooFine, kTooOblique, kBadGeometry };
