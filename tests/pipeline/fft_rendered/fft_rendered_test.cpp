@@ -3,10 +3,14 @@
 // CPU backend, scored by `pensight evaluate`'s code. Full-length numbers: docs/fft_detection.md.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdio>
 #include <ostream>
 #include <string>
+#include <vector>
 
 #include "tests/support/rendered_run.h"
+#include "tests/support/test_seed.h"
 #include "tools/evaluation/evaluation.h"
 
 namespace pensight {
@@ -17,6 +21,15 @@ struct Case {
   double duration_s;     // 0: the whole scenario
   size_t min_estimated;  // measurable frames with an estimate: no pass on a handful
 };
+
+// Measured over seeds 1-3, 6-8 (docs/validation-log.md 2026-12-06), with a margin: ropes 93-105
+// of 121 frames with a pose, psi median 0.50-0.59 deg, 0 or 1 frame 52-57 % off (a rope's
+// spectrum read as a lattice at half the distance in most ROIs: open, issue 37); oblique frames
+// all with a pose, d_net median 1.6-2.3 %, max 3.2-4.6 %.
+constexpr size_t kMinRopesEstimated = 85;
+constexpr double kMaxRopesPsiMedian_deg = 0.65;
+constexpr size_t kMaxRopesGross = 2;
+constexpr double kMaxObliqueMedian = 0.03, kMaxObliqueMax = 0.06;
 
 void PrintTo(const Case& c, std::ostream* os) {
   *os << c.scenario;
@@ -54,6 +67,50 @@ INSTANTIATE_TEST_SUITE_P(Scenarios, FftRendered,
                          [](const auto& param_info) {
                            return std::string(param_info.param.scenario);
                          });
+
+// Issue 37's cluttered wall (scenarios/ropes_seams_fish.yaml, the whole 12 s): ropes along the
+// twines, seams and fish in view, the noise, marine snow and fouling drawn from the test's seed.
+// Bounds: the issue's for d_net; psi's median and the wrong frames from the measured tail.
+TEST(FftRendered, RopesSeamsAndFishInView) {
+  sim::Scenario s = testing::shipped_scenario("ropes_seams_fish.yaml");
+  s.seed = testing::fresh_seed();
+  const testing::RenderedRun run = testing::render_and_run(s);
+  const NetPoseAccuracy a = score_net_pose(run.dataset, run.rows, NetPoseSource::kFft);
+  std::printf("%s", describe(a).c_str());
+  ASSERT_EQ(a.measurable, static_cast<size_t>(s.num_frames()));
+  EXPECT_GE(a.measurable_estimated, kMinRopesEstimated);
+  EXPECT_LE(a.d_net_rel.median, 0.005);
+  EXPECT_LE(a.d_net_rel.p95, 0.02);
+  EXPECT_LE(a.psi_net_deg.median, kMaxRopesPsiMedian_deg);
+  EXPECT_LE(a.gross_errors, kMaxRopesGross);
+}
+
+// Looking along the net 35-51 deg off its normal (scenarios/oblique.yaml, 6 s): a pose on every
+// frame, distances within the measured tail. The evaluation's envelope stops at 35 deg, so the
+// frames beyond are scored here against the truth row by row.
+TEST(FftRendered, ObliqueViewsGiveAPose) {
+  sim::Scenario s = testing::shipped_scenario("oblique.yaml");
+  s.seed = testing::fresh_seed();
+  const testing::RenderedRun run = testing::render_and_run(s);
+  const std::vector<GroundTruthRow>& truth = run.dataset.groundtruth0->rows;
+  ASSERT_EQ(truth.size(), run.rows.size());
+  std::vector<double> errors;
+  size_t oblique = 0;
+  for (size_t i = 0; i < truth.size(); ++i) {
+    ASSERT_EQ(truth[i].timestamp_ns, run.rows[i].timestamp_ns);
+    if (std::abs(truth[i].psi_net_rad) < deg_to_rad(35.0)) continue;
+    ++oblique;
+    const double d = run.rows[i].d_net_fft_m;
+    if (std::isfinite(d)) errors.push_back(std::abs(d / truth[i].d_net_m - 1));
+  }
+  ASSERT_GE(oblique, 40u);
+  EXPECT_GE(static_cast<double>(errors.size()), 0.9 * static_cast<double>(oblique));
+  const ErrorStats e = error_stats(errors);
+  std::printf("oblique frames %zu, with a pose %zu, d_net rel. error median %.2f%% max %.2f%%\n",
+              oblique, errors.size(), 100 * e.median, 100 * e.max);
+  EXPECT_LE(e.median, kMaxObliqueMedian);
+  EXPECT_LE(e.max, kMaxObliqueMax);
+}
 
 }  // namespace
 }  // namespace pensight
