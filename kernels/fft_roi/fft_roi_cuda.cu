@@ -177,6 +177,9 @@ __device__ int2 fundamental(const PeakArgs& a, const Spec& s, int2 p) {
       if (v > best_v) best_v = v, best = make_int2(hx + dx, hy + dy);
     }
   if (!(best_v >= a.subharmonic * pp)) return p;
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx)
+      if (s.power(best.x + dx, best.y + dy) > best_v) return p;
   if (best.x < 0 || (best.x == 0 && best.y < 0)) best = make_int2(-best.x, -best.y);
   return best;
 }

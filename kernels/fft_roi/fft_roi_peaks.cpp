@@ -97,7 +97,10 @@ PENSIGHT_SIMD_CLONES float add_powers(const std::complex<float>* c, int len, flo
   return *std::max_element(top, top + 8);
 }
 
-// If the spectrum at half the peak's frequency is strong, the peak was a harmonic.
+// If the spectrum at half the peak's frequency holds a peak of its own (a local maximum) and is
+// strong, the peak was a harmonic. A rope or seam along the twines is a ridge through DC in the
+// same direction, stronger nearer DC: strong at half the frequency but, falling off outwards, no
+// maximum there, and the lattice stays where it is (read as its half, a 1 m net gave 0.46 m).
 Bin fundamental(const Spectrum& s, const Band& band, Bin p, float ratio) {
   const int hx = static_cast<int>(std::floor(static_cast<float>(p.kx) * 0.5f + 0.5f));
   const int hy = static_cast<int>(std::floor(static_cast<float>(p.ky) * 0.5f + 0.5f));
@@ -110,6 +113,9 @@ Bin fundamental(const Spectrum& s, const Band& band, Bin p, float ratio) {
     }
   }
   if (!(best.power >= ratio * p.power)) return p;
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx)
+      if (s.power(best.kx + dx, best.ky + dy) > best.power) return p;
   if (best.kx < 0 || (best.kx == 0 && best.ky < 0)) best.kx = -best.kx, best.ky = -best.ky;
   return best;
 }

@@ -98,6 +98,9 @@ ivec2 fundamental(ivec2 p) {
     }
   }
   if (!(best_v >= SUBHARMONIC * pp)) return p;
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx)
+      if (power(best.x + dx, best.y + dy) > best_v) return p;
   if (best.x < 0 || (best.x == 0 && best.y < 0)) best = -best;
   return best;
 }
