@@ -83,6 +83,14 @@ struct PeakParams {
 
 // Lowest frequency, in cycles per ROI, that the below-band rule looks at.
 inline constexpr int kMinCoarseCycles = 2;
+// A bin at half a peak's frequency is taken as its fundamental only where it is at least
+// kRidgeProminence times the strongest bin kRidgeOffset0/1 bins (along its larger axis) further out
+// and nearer in on its line through DC, beyond the Hann main lobe (2 bins). A rope's ridge through
+// DC is stronger nearer DC, and two ropes' fringes put bins as strong 4-5 bins away. A real net's
+// fundamental is broad: at 2 x, the fouled net of ../shared/real/solaqua_far lost its pose and on
+// rendered ropes 117 -> 120 of 121 frames had one (docs/validation-log.md).
+inline constexpr float kRidgeProminence = 1.0f;
+inline constexpr int kRidgeOffset0 = 4, kRidgeOffset1 = 5;
 
 // Per-ROI result (plain floats: the layout of the Vulkan and CUDA result buffers).
 struct RoiLattice {

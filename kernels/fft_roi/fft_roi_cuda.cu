@@ -165,6 +165,23 @@ __device__ bool beyond_band(const PeakArgs& a, int kx, int ky) {
   return r2 > a.r2_max && r2 <= float((a.n / 2) * (a.n / 2));
 }
 
+// radial_floor() in fft_roi_peaks.cpp.
+__device__ float radial_floor(const Spec& s, int2 b) {
+  const int ax = abs(b.x), ay = abs(b.y), r = max(ax, ay);
+  const int sx = b.x < 0 ? -1 : 1, sy = b.y < 0 ? -1 : 1;
+  float floor_v = 0.0f;
+  for (int k = 0; k < 2; ++k) {
+    const int offset = k == 0 ? kRidgeOffset0 : kRidgeOffset1;
+    for (int side = -1; side <= 1; side += 2) {
+      const int m = r + side * offset;
+      if (m < kMinCoarseCycles) continue;
+      const int x = (2 * ax * m + r) / (2 * r), y = (2 * ay * m + r) / (2 * r);
+      floor_v = fmaxf(floor_v, s.power(sx * x, sy * y));
+    }
+  }
+  return floor_v;
+}
+
 __device__ int2 fundamental(const PeakArgs& a, const Spec& s, int2 p) {
   const float pp = s.power(p.x, p.y);
   const int hx = int(floorf(p.x * 0.5f + 0.5f)), hy = int(floorf(p.y * 0.5f + 0.5f));
@@ -180,6 +197,7 @@ __device__ int2 fundamental(const PeakArgs& a, const Spec& s, int2 p) {
   for (int dy = -1; dy <= 1; ++dy)
     for (int dx = -1; dx <= 1; ++dx)
       if (s.power(best.x + dx, best.y + dy) > best_v) return p;
+  if (!(best_v >= kRidgeProminence * radial_floor(s, best))) return p;
   if (best.x < 0 || (best.x == 0 && best.y < 0)) best = make_int2(-best.x, -best.y);
   return best;
 }

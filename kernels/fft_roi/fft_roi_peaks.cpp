@@ -97,10 +97,27 @@ PENSIGHT_SIMD_CLONES float add_powers(const std::complex<float>* c, int len, flo
   return *std::max_element(top, top + 8);
 }
 
-// If the spectrum at half the peak's frequency holds a peak of its own (a local maximum) and is
-// strong, the peak was a harmonic. A rope or seam along the twines is a ridge through DC in the
-// same direction, stronger nearer DC: strong at half the frequency but, falling off outwards, no
-// maximum there, and the lattice stays where it is (read as its half, a 1 m net gave 0.46 m).
+// The strongest bin kRidgeOffset0/1 bins (along b's larger axis) further out and nearer in on the
+// line through DC and b, not nearer DC than kMinCoarseCycles there. Integer arithmetic on
+// magnitudes, so that every backend samples the same bins.
+float radial_floor(const Spectrum& s, const Bin& b) {
+  const int ax = std::abs(b.kx), ay = std::abs(b.ky), r = std::max(ax, ay);
+  const int sx = b.kx < 0 ? -1 : 1, sy = b.ky < 0 ? -1 : 1;
+  float floor = 0;
+  for (int offset : {kRidgeOffset0, kRidgeOffset1}) {
+    for (int m : {r - offset, r + offset}) {
+      if (m < kMinCoarseCycles) continue;
+      const int x = (2 * ax * m + r) / (2 * r), y = (2 * ay * m + r) / (2 * r);
+      floor = std::max(floor, s.power(sx * x, sy * y));
+    }
+  }
+  return floor;
+}
+
+// If the spectrum at half the peak's frequency holds a peak of its own (a local maximum at least
+// as strong as its radial floor) and is strong, the peak was a harmonic. A rope or seam
+// along the twines is a ridge through DC in the same direction, strong at half the frequency but
+// no peak there, and the lattice stays where it is (read as its half, a 1 m net gave 0.46 m).
 Bin fundamental(const Spectrum& s, const Band& band, Bin p, float ratio) {
   const int hx = static_cast<int>(std::floor(static_cast<float>(p.kx) * 0.5f + 0.5f));
   const int hy = static_cast<int>(std::floor(static_cast<float>(p.ky) * 0.5f + 0.5f));
@@ -116,6 +133,7 @@ Bin fundamental(const Spectrum& s, const Band& band, Bin p, float ratio) {
   for (int dy = -1; dy <= 1; ++dy)
     for (int dx = -1; dx <= 1; ++dx)
       if (s.power(best.kx + dx, best.ky + dy) > best.power) return p;
+  if (!(best.power >= kRidgeProminence * radial_floor(s, best))) return p;
   if (best.kx < 0 || (best.kx == 0 && best.ky < 0)) best.kx = -best.kx, best.ky = -best.ky;
   return best;
 }

@@ -38,7 +38,11 @@ std::vector<uint32_t> peak_constants(const FftRoiShape& s, const PeakParams& p) 
           p.subbin ? 1u : 0u,
           bits(p.beyond_band_ratio),
           bits(p.below_band_ratio),
-          u32(kMinCoarseCycles * kMinCoarseCycles)};
+          u32(kMinCoarseCycles * kMinCoarseCycles),
+          u32(kMinCoarseCycles),
+          bits(kRidgeProminence),
+          u32(kRidgeOffset0),
+          u32(kRidgeOffset1)};
 }
 
 }  // namespace

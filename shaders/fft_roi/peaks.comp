@@ -17,6 +17,10 @@ layout(constant_id = 6) const uint SUBBIN = 1;
 layout(constant_id = 7) const float BEYOND_BAND = 1.0;  // PeakParams::beyond_band_ratio
 layout(constant_id = 8) const float BELOW_BAND = 0.5;   // PeakParams::below_band_ratio
 layout(constant_id = 9) const int MIN_COARSE_R2 = 4;    // kMinCoarseCycles squared
+layout(constant_id = 10) const int MIN_COARSE = 2;      // kMinCoarseCycles
+layout(constant_id = 11) const float RIDGE_PROMINENCE = 4.0;  // kRidgeProminence
+layout(constant_id = 12) const int RIDGE_OFFSET0 = 4;   // kRidgeOffset0, kRidgeOffset1
+layout(constant_id = 13) const int RIDGE_OFFSET1 = 5;
 
 layout(std430, binding = 0) readonly buffer Spectrum { vec2 spectrum[]; };
 layout(std430, binding = 1) writeonly buffer Lattices { float lattices[]; };  // 8 floats per ROI
@@ -81,6 +85,24 @@ uint workgroup_argmax(float v, uint index) {
   return winner;
 }
 
+// radial_floor() in fft_roi_peaks.cpp: the strongest bin RIDGE_OFFSET0/1 bins (along the larger
+// axis) further out and nearer in on the line through DC and b.
+float radial_floor(ivec2 b) {
+  int ax = abs(b.x), ay = abs(b.y), r = max(ax, ay);
+  int sx = b.x < 0 ? -1 : 1, sy = b.y < 0 ? -1 : 1;
+  float floor_v = 0.0;
+  for (int k = 0; k < 2; ++k) {
+    int offset = k == 0 ? RIDGE_OFFSET0 : RIDGE_OFFSET1;
+    for (int side = -1; side <= 1; side += 2) {
+      int m = r + side * offset;
+      if (m < MIN_COARSE) continue;
+      int x = (2 * ax * m + r) / (2 * r), y = (2 * ay * m + r) / (2 * r);
+      floor_v = max(floor_v, power(sx * x, sy * y));
+    }
+  }
+  return floor_v;
+}
+
 ivec2 fundamental(ivec2 p) {
   float pp = power(p.x, p.y);
   int hx = int(floor(float(p.x) * 0.5 + 0.5));
@@ -101,6 +123,7 @@ ivec2 fundamental(ivec2 p) {
   for (int dy = -1; dy <= 1; ++dy)
     for (int dx = -1; dx <= 1; ++dx)
       if (power(best.x + dx, best.y + dy) > best_v) return p;
+  if (!(best_v >= RIDGE_PROMINENCE * radial_floor(best))) return p;
   if (best.x < 0 || (best.x == 0 && best.y < 0)) best = -best;
   return best;
 }
