@@ -1,6 +1,9 @@
 #include "core/camera.h"
 
 #include <cmath>
+#include <string>
+
+#include "core/error.h"
 
 namespace pensight {
 
@@ -42,6 +45,16 @@ PinholeCamera PinholeCamera::scaled(double scale) const {
   c.cx_px = (cx_px + 0.5) * scale - 0.5;
   c.cy_px = (cy_px + 0.5) * scale - 0.5;
   return c;
+}
+
+void check_image_size(int64_t width_px, int64_t height_px, int camera_width_px,
+                      int camera_height_px, std::string_view what, std::string_view image,
+                      std::string_view fix) {
+  if (width_px == camera_width_px && height_px == camera_height_px) return;
+  throw Error(std::string(what) + ": " + std::string(image) + " is " + std::to_string(width_px) +
+              "x" + std::to_string(height_px) + " but the camera is " +
+              std::to_string(camera_width_px) + "x" + std::to_string(camera_height_px) +
+              std::string(fix));
 }
 
 }  // namespace pensight

@@ -3,7 +3,9 @@
 // EuRoC/Kalibr cam0/sensor.yaml of ../shared/dataset-format.md. Camera frame C: OpenCV, x right,
 // y down, z along the optical axis. Pixel centres are at integer coordinates.
 #include <Eigen/Core>
+#include <cstdint>
 #include <optional>
+#include <string_view>
 
 #include "core/default_camera.h"
 
@@ -36,5 +38,17 @@ struct PinholeCamera {
   // Same camera for an image resized by `scale` (e.g. 320/720 for the depth network input).
   PinholeCamera scaled(double scale) const;
 };
+
+// Throws pensight::Error "<what>: <image> is WxH but the camera is WxH<fix>" where an image's size
+// (as read, 64-bit: a damaged header can claim any) is not the camera's; `image` names it
+// ("image", "depth image"), `fix` says what to give instead.
+void check_image_size(int64_t width_px, int64_t height_px, int camera_width_px,
+                      int camera_height_px, std::string_view what, std::string_view image = "image",
+                      std::string_view fix = "");
+inline void check_image_size(int64_t width_px, int64_t height_px, const PinholeCamera& camera,
+                             std::string_view what, std::string_view image = "image",
+                             std::string_view fix = "") {
+  check_image_size(width_px, height_px, camera.width_px, camera.height_px, what, image, fix);
+}
 
 }  // namespace pensight

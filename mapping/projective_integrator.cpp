@@ -167,11 +167,7 @@ IntegrationStats ProjectiveIntegrator::integrate_in_arena(OccupancyMap& map,
                                                           const ImageF32& depth_m,
                                                           const Eigen::Isometry3d& T_pen_camera) {
   IntegrationStats stats;
-  if (depth_m.width != camera_.width_px || depth_m.height != camera_.height_px) {
-    throw Error("projective integrator: depth image is " + std::to_string(depth_m.width) + "x" +
-                std::to_string(depth_m.height) + ", the camera's is " +
-                std::to_string(camera_.width_px) + "x" + std::to_string(camera_.height_px));
-  }
+  check_image_size(depth_m.width, depth_m.height, camera_, "projective integrator", "depth image");
   if (map.config().voxel_m != config_.voxel_m) {
     throw Error("projective integrator: the map's voxel is " +
                 std::to_string(map.config().voxel_m) + " m, the integrator's " +

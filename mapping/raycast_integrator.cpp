@@ -22,11 +22,7 @@ RaycastIntegrator::RaycastIntegrator(const PinholeCamera& camera, const MapConfi
 IntegrationStats RaycastIntegrator::integrate(OccupancyMap& map, const ImageF32& depth_m,
                                               const Eigen::Isometry3d& T_pen_camera) {
   IntegrationStats stats;
-  if (depth_m.width != camera_.width_px || depth_m.height != camera_.height_px) {
-    throw Error("raycast integrator: depth image is " + std::to_string(depth_m.width) + "x" +
-                std::to_string(depth_m.height) + ", the camera's is " +
-                std::to_string(camera_.width_px) + "x" + std::to_string(camera_.height_px));
-  }
+  check_image_size(depth_m.width, depth_m.height, camera_, "raycast integrator", "depth image");
   if (map.config().voxel_m != config_.voxel_m) {
     throw Error("raycast integrator: the map's voxel is " + std::to_string(map.config().voxel_m) +
                 " m, the integrator's " + std::to_string(config_.voxel_m) + " m");

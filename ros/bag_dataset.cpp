@@ -195,12 +195,8 @@ DvlCalibration dvl_calibration(rosbag::Bag& bag, const BagConversionOptions& o) 
 }
 
 void check_frame(const ImageU8& image, const PinholeCamera& cam, const std::string& topic) {
-  if (image.width != cam.width_px || image.height != cam.height_px) {
-    throw Error("topic '" + topic + "': image is " + std::to_string(image.width) + "x" +
-                std::to_string(image.height) + " but the camera is " +
-                std::to_string(cam.width_px) + "x" + std::to_string(cam.height_px) +
-                " (camera_info or --camera): give the calibration of this camera");
-  }
+  check_image_size(image.width, image.height, cam, "topic '" + topic + "'", "image",
+                   " (camera_info or --camera): give the calibration of this camera");
 }
 
 // The camera stream is strict (docs/reliability.md): every frame is kept, in time order.

@@ -119,13 +119,8 @@ ImageU8 grey_from_compressed_image(const std::string& format, std::span<const ui
     throw Error("topic '" + topic + "': a compressed image (format '" + format +
                 "') whose data is not a readable JPEG or PNG (a damaged message)");
   }
-  if (size->first != static_cast<uint32_t>(expect_width) ||
-      size->second != static_cast<uint32_t>(expect_height)) {
-    throw Error("topic '" + topic + "': image is " + std::to_string(size->first) + "x" +
-                std::to_string(size->second) + " but the camera is " +
-                std::to_string(expect_width) + "x" + std::to_string(expect_height) +
-                " (camera_info or --camera): give the calibration of this camera");
-  }
+  check_image_size(size->first, size->second, expect_width, expect_height, "topic '" + topic + "'",
+                   "image", " (camera_info or --camera): give the calibration of this camera");
   const cv::Mat raw(1, static_cast<int>(data.size()), CV_8UC1, const_cast<uint8_t*>(data.data()));
   cv::Mat m = cv::imdecode(raw, cv::IMREAD_UNCHANGED);
   if (m.empty() || m.cols != expect_width || m.rows != expect_height) {

@@ -239,14 +239,9 @@ class PensightNode {
                     "time: restart the node)");
       }
       CameraFrame frame{stamp_ns, decode(), nullptr};
-      if (frame.image.width != cam0_->camera.width_px ||
-          frame.image.height != cam0_->camera.height_px) {
-        throw Error("topic '" + topic + "': image is " + std::to_string(frame.image.width) + "x" +
-                    std::to_string(frame.image.height) + " but the camera is " +
-                    std::to_string(cam0_->camera.width_px) + "x" +
-                    std::to_string(cam0_->camera.height_px) +
-                    " (camera_info or ~camera_yaml): give this camera's calibration");
-      }
+      check_image_size(frame.image.width, frame.image.height, cam0_->camera,
+                       "topic '" + topic + "'", "image",
+                       " (camera_info or ~camera_yaml): give this camera's calibration");
       {
         std::lock_guard lock(latency_mutex_);
         received_[stamp_ns] = received;

@@ -88,11 +88,7 @@ std::ofstream DatasetWriter::open_csv(const fs::path& rel, const char* header) {
 void DatasetWriter::check_frame(const char* what, int64_t t, int64_t& last, int w, int h) const {
   if (t <= last) throw Error(std::string(what) + ": timestamps must increase");
   const PinholeCamera& cam = contents_.cam0.camera;
-  if (w != cam.width_px || h != cam.height_px) {
-    throw Error(std::string(what) + ": image is " + std::to_string(w) + "x" + std::to_string(h) +
-                " but the camera is " + std::to_string(cam.width_px) + "x" +
-                std::to_string(cam.height_px));
-  }
+  check_image_size(w, h, cam, what);
   last = t;
 }
 

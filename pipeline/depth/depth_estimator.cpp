@@ -260,11 +260,8 @@ std::string DepthEstimator::description() const {
 
 DenseDepth DepthEstimator::estimate(const ImageU8& image, std::span<const SparseDepth> priors) {
   Impl& m = *impl_;
-  if (image.width != m.camera.width_px || image.height != m.camera.height_px) {
-    throw Error("depth stage: the image is " + std::to_string(image.width) + "x" +
-                std::to_string(image.height) + " but the camera " +
-                std::to_string(m.camera.width_px) + "x" + std::to_string(m.camera.height_px));
-  }
+  check_image_size(image.width, image.height, m.camera, "depth stage", "image",
+                   " (the resolution of cam0/sensor.yaml)");
   DenseDepth out;
   if (priors.empty()) {
     out.reason = "no sparse depths (the FFT pose is NaN)";

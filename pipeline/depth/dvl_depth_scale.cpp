@@ -70,11 +70,7 @@ double DvlDepthScale::sample_log_ratio(const DvlSample& s, double dt_s,
 }
 
 DvlDepthScaleState DvlDepthScale::update(int64_t t_frame_ns, const ImageF32& depth_m) {
-  if (depth_m.width != camera_.width_px || depth_m.height != camera_.height_px) {
-    throw Error("DvlDepthScale::update: the depth image is " + std::to_string(depth_m.width) + "x" +
-                std::to_string(depth_m.height) + ", the camera's " +
-                std::to_string(camera_.width_px) + "x" + std::to_string(camera_.height_px));
-  }
+  check_image_size(depth_m.width, depth_m.height, camera_, "DvlDepthScale::update", "depth image");
   for (const DvlFramePairing::Paired& p : pairing_.take(t_frame_ns)) {
     const double lr = sample_log_ratio(p.sample, p.dt_s, depth_m);
     if (std::isfinite(lr)) window_.push_back({p.sample.timestamp_ns, lr});

@@ -212,11 +212,8 @@ const std::vector<kernels::RoiOrigin>& NetDetector::rois() const {
 
 NetDetection NetDetector::detect(const ImageU8& image, int64_t timestamp_ns) {
   Impl& m = *impl_;
-  if (image.width != m.camera.width_px || image.height != m.camera.height_px) {
-    throw Error("NetDetector: image is " + std::to_string(image.width) + "x" +
-                std::to_string(image.height) + " but the camera (sensor.yaml resolution) is " +
-                std::to_string(m.camera.width_px) + "x" + std::to_string(m.camera.height_px));
-  }
+  check_image_size(image.width, image.height, m.camera, "NetDetector", "image",
+                   " (the resolution of cam0/sensor.yaml)");
   NetDetection d;
   d.timestamp_ns = timestamp_ns;
   Stopwatch sw;
