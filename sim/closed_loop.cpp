@@ -161,7 +161,8 @@ ClosedLoopSummary run_closed_loop(const Scenario& s, const std::filesystem::path
     toc(summary.render_s);
     pipeline.push(CameraFrame{f.timestamp_ns, r.image, nullptr});
     // The dataset is written while perception runs on the pipeline's threads.
-    const GroundTruthRow truth = ground_truth_row(s, net, f, r.depth_m);
+    const GroundTruthRow truth =
+        ground_truth_row(s.net_changes.empty() ? s : s.with_net_at(f.t_s), net, f, r.depth_m);
     writer.add_frame(f.timestamp_ns, r.image);
     writer.add_groundtruth(truth, depth_mm_from_m(r.depth_m));
     toc(summary.write_s);

@@ -369,8 +369,8 @@ PenConfig parse_pen(const YamlMap& y) {
   return p;
 }
 
-NetConfig parse_net(const YamlMap& y) {
-  NetConfig n;
+// `base`: the net that keys absent here keep (a change starts from the net before it).
+NetConfig parse_net(const YamlMap& y, NetConfig n = {}) {
   read_params(y, kNetParams, n);
   const std::string type = y.string("mesh_type", to_string(n.mesh_type));
   const std::optional<MeshType> mesh_type = parse_mesh_type(type);
@@ -382,7 +382,8 @@ NetConfig parse_net(const YamlMap& y) {
   }
   if (n.knot_size_m >= 0.6 * n.bar_length_m)
     y.fail("knot_size_m", "must be less than 0.6 * mesh_m");
-  const std::string knot = y.string("knot_shape", "square");
+  const std::string knot =
+      y.string("knot_shape", n.knot_shape == KnotShape::kRound ? "round" : "square");
   if (knot == "square") {
     n.knot_shape = KnotShape::kSquare;
   } else if (knot == "round") {
@@ -449,6 +450,41 @@ LightConfig parse_light(const YamlMap& y) {
   }
   y.check_unknown_keys();
   return l;
+}
+
+const Param<NetChange> kNetChangeParams[] = {
+    {.key = "t_s",
+     .member = &NetChange::t_s,
+     .unit = "s",
+     .range = closed_range(0, 21600),
+     .help = "from this time on (since the start) the camera sees the change's net",
+     .required = true},
+};
+
+// Each change's `net:` table starts from the net before it, so it names only what changes.
+std::vector<NetChange> parse_net_changes(const YamlMap& y, const NetConfig& first) {
+  std::vector<NetChange> out;
+  const auto list = y.optional_map_list("net_changes");
+  if (!list) return out;
+  if (list->size() > kMaxNetChanges) y.fail("net_changes", "at most 64 changes");
+  const NetConfig* before = &first;
+  for (const YamlMap& m : *list) {
+    NetChange c;
+    read_params(m, kNetChangeParams, c);
+    if (!out.empty() && c.t_s <= out.back().t_s)
+      m.fail("t_s", "must increase from change to change");
+    if (c.t_s <= 0) m.fail("t_s", "must be after the start (the first net is `net:`)");
+    const YamlMap net = m.map("net");
+    if (net.has("mesh_m")) {
+      net.fail("mesh_m", "stays the first net's: the bar length is the scene's prior");
+    }
+    if (net.has("bulges")) net.fail("bulges", "stay the first net's: the wall keeps its shape");
+    c.net = parse_net(net, *before);
+    m.check_unknown_keys();
+    out.push_back(c);
+    before = &out.back().net;
+  }
+  return out;
 }
 
 std::vector<Fish> parse_fish(const YamlMap& y) {
@@ -574,6 +610,26 @@ int64_t Scenario::frame_time_ns(int frame) const {
          static_cast<int64_t>(std::llround(frame * 1e9 / camera.calibration.rate_hz));
 }
 
+size_t Scenario::net_index_at(double t_s) const {
+  // A change lands on the frame at its time, whatever the rounding of frame / rate_hz.
+  constexpr double kFrameTimeSlack_s = 1e-9;
+  size_t k = 0;
+  while (k < net_changes.size() && net_changes[k].t_s <= t_s + kFrameTimeSlack_s) ++k;
+  return k;
+}
+
+const NetConfig& Scenario::net_at(double t_s) const {
+  const size_t k = net_index_at(t_s);
+  return k == 0 ? net : net_changes[k - 1].net;
+}
+
+Scenario Scenario::with_net_at(double t_s) const {
+  Scenario s = *this;
+  s.net = net_at(t_s);
+  s.net_changes.clear();
+  return s;
+}
+
 SceneConfig Scenario::scene_config() const {
   SceneConfig scene{net.bar_length_m, pen.radius_m, std::nullopt, net.mesh_type,
                     deg_to_rad(net.opening_angle_deg)};
@@ -618,6 +674,7 @@ Scenario parse_scenario(const std::string& text, const std::string& file_name) {
     s.light.lamps = default_lamps();
   }
   s.fish = parse_fish(y);
+  s.net_changes = parse_net_changes(y, s.net);
   if (const auto m = y.optional_map("dvl")) s.dvl = parse_dvl(*m);
   if (const auto m = y.optional_map("pressure")) s.pressure = parse_pressure(*m);
   if (const auto m = y.optional_map("attitude")) s.attitude = parse_attitude(*m);
@@ -633,6 +690,11 @@ Scenario parse_scenario(const std::string& text, const std::string& file_name) {
     check_params<TopLevelKeys>(top, kTopLevelParams, y.file());
   }
   s.duration_s = top.duration_s;
+  if (!s.net_changes.empty() && s.net_changes.back().t_s > s.duration_s) {
+    y.fail("net_changes", "the last change (t_s " + std::to_string(s.net_changes.back().t_s) +
+                              ") comes after the run's end (duration_s " +
+                              std::to_string(s.duration_s) + ")");
+  }
   y.check_unknown_keys();
   validate(s);
   return s;
@@ -651,6 +713,7 @@ std::string scenario_param_rows() {
   rows += param_table_rows<LightConfig>(kLightParams, d.light, "light.");
   rows += param_table_rows<Lamp>(kLampParams, Lamp{}, "light.lamps[].");
   rows += param_table_rows<Fish>(kFishParams, Fish{}, "fish[].");
+  rows += param_table_rows<NetChange>(kNetChangeParams, NetChange{}, "net_changes[].");
   rows += param_table_rows<DvlConfig>(kDvlParams, d.dvl, "dvl.");
   rows += param_table_rows<DvlSpike>(kDvlSpikeParams, DvlSpike{}, "dvl.spikes[].");
   rows += param_table_rows<PressureConfig>(kPressureParams, d.pressure, "pressure.");

@@ -165,7 +165,15 @@ struct Waypoint {
   double heading_rad = 0, pitch_rad = 0, roll_rad = 0;
 };
 
-inline constexpr size_t kMaxBulges = 8, kMaxLamps = 4, kMaxFish = 8;
+inline constexpr size_t kMaxBulges = 8, kMaxLamps = 4, kMaxFish = 8, kMaxNetChanges = 64;
+
+// From t_s (since the start) on, the camera sees another net: a new panel, a diamond section, a
+// frame from another pen. The mesh changes (type, opening angle, twines, knots, fouling, ropes,
+// seams); the bar length, the scene's prior, and the wall's shape (bulges) stay.
+struct NetChange {
+  double t_s = 0;
+  NetConfig net;
+};
 
 struct Scenario {
   std::string name;  // file stem
@@ -179,6 +187,7 @@ struct Scenario {
   WaterConfig water;
   LightConfig light;
   std::vector<Fish> fish;
+  std::vector<NetChange> net_changes;  // sorted by time; `net` holds until the first
   DvlConfig dvl;
   PressureConfig pressure;
   AttitudeConfig attitude;
@@ -192,6 +201,13 @@ struct Scenario {
   int num_frames() const;
   int64_t frame_time_ns(int frame) const;
   SceneConfig scene_config() const;
+  // The net in view at t_s (since the start): `net`, or the latest change at or before t_s.
+  const NetConfig& net_at(double t_s) const;
+  // That net's place: 0 for `net`, k for net_changes[k - 1]; a renderer rebuilds when it moves.
+  size_t net_index_at(double t_s) const;
+  // This scenario with net_at(t_s) as its one net (no changes), for what renders or scores one
+  // frame.
+  Scenario with_net_at(double t_s) const;
 };
 
 // Parses and validates; throws pensight::Error naming the file and key for a typo, a missing
@@ -206,6 +222,8 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& file_na
 //  - duration_s, when absent the waypoints' span, is held to the same range;
 //  - camera.focus_distance_m: 0 or more than 2 fx * pixel_pitch_m; camera.exposure_time_s: at
 //    most 1 / rate_hz;
+//  - net_changes: times increase within (0, duration_s]; each change's net starts from the net
+//    before it and may not set mesh_m or bulges;
 //  - net.twine_width_m below 0.35 mesh_m, net.knot_size_m below 0.6 mesh_m, net.seam_spacing_m 0
 //    or at least 2 mesh_m, net.ropes.spacing_m 0 or at least 4 width_m;
 //  - trajectory.lawnmower: depth_to_m not above depth_from_m, at most 1000 rows; waypoint times

@@ -14,6 +14,7 @@
 #include "core/error.h"
 #include "core/units.h"
 #include "pipeline/dataset/dataset_reader.h"
+#include "sim/frame_state.h"
 #include "sim/generate.h"
 #include "sim/sensors.h"
 #include "sim/trajectory.h"
@@ -110,6 +111,41 @@ TEST_F(GenerateTest, SameSeedGivesIdenticalFiles) {
   const std::string mesh = read_all(dir_ / "a" / "groundtruth0" / "mesh.csv");
   EXPECT_EQ(std::count(mesh.begin(), mesh.end(), '\n'), 7);
   EXPECT_EQ(mesh.rfind("#timestamp [ns],mesh_type,opening_angle [deg],stretch\n", 0), 0u);
+}
+
+// net_changes: the frames from a change's time on are rendered with the new net and their mesh
+// truth is that net's.
+TEST_F(GenerateTest, AChangingNetIsRenderedAndTruthedFromItsFrameOn) {
+  Scenario s = small_sweep(1.0);
+  NetChange change;
+  change.t_s = 0.5;
+  change.net = s.net;
+  change.net.mesh_type = MeshType::kDiamond;
+  change.net.opening_angle_deg = 75;
+  s.net_changes = {change};
+  auto renderer = make_cpu_renderer(s, {});
+  generate_dataset(s, *renderer, dir_ / "changing");
+  const Dataset d = read_dataset(dir_ / "changing");
+  ASSERT_EQ(d.frames.size(), 11u);
+  const std::string mesh = read_all(dir_ / "changing" / "groundtruth0" / "mesh.csv");
+  const auto rows_with = [&](const std::string& word) {
+    size_t n = 0;
+    for (size_t at = mesh.find(word); at != std::string::npos; at = mesh.find(word, at + 1)) ++n;
+    return n;
+  };
+  EXPECT_EQ(rows_with(",square,"), 5u);    // frames 0-4
+  EXPECT_EQ(rows_with(",diamond,7"), 6u);  // frames 5-10
+  // Frame 5 is the change's net's; frame 4 the first net's.
+  for (const int frame : {4, 5}) {
+    SCOPED_TRACE(frame);
+    const FrameState f = frame_state(s, frame);
+    const ImageU8 written = d.load_frame(static_cast<size_t>(frame));
+    const ImageU8 in_view = make_cpu_renderer(s.with_net_at(f.t_s), {})->render(f).image;
+    const ImageU8 other =
+        make_cpu_renderer(s.with_net_at(frame == 5 ? 0.0 : 0.5), {})->render(f).image;
+    EXPECT_EQ(written.pixels, in_view.pixels);
+    EXPECT_NE(written.pixels, other.pixels);
+  }
 }
 
 class FailingRenderer : public FrameRenderer {

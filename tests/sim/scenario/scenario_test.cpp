@@ -35,8 +35,8 @@ const char* kMinimal =
     "    - {t_s: 2, net_distance_m: 1.5, depth_m: 3}\n";
 
 TEST(Scenario, ShippedScenariosLoad) {
-  for (const char* name :
-       {"sweep", "follow", "lawnmower", "lowlight", "turbid", "tank", "follow_drift", "diamond"}) {
+  for (const char* name : {"sweep", "follow", "lawnmower", "lowlight", "turbid", "tank",
+                           "follow_drift", "diamond", "changing_net"}) {
     SCOPED_TRACE(name);
     const Scenario s = load_scenario(source_dir() + "/scenarios/" + name + ".yaml");
     EXPECT_EQ(s.name, name);
@@ -113,6 +113,57 @@ TEST(Scenario, BadNetMeshValuesAreRefused) {
   };
   for (const auto& [yaml, message] : cases) {
     const std::string e = error_of(std::string(kMinimal) + "net: {mesh_m: 0.03, " + yaml + "}\n");
+    EXPECT_NE(e.find(message), std::string::npos) << yaml << ": " << e;
+  }
+}
+
+// A changing net: each change starts from the net before it, the net in view follows the time,
+// and what would make the scene's prior or the wall change is refused.
+TEST(Scenario, NetChangesParse) {
+  const Scenario s =
+      parse_scenario(std::string(kMinimal) +
+                         "net: {mesh_m: 0.03, twine_width_m: 0.004, knot_shape: round}\n"
+                         "net_changes:\n"
+                         "  - {t_s: 0.5, net: {mesh_type: diamond, opening_angle_deg: 75}}\n"
+                         "  - {t_s: 1.2, net: {opening_angle_deg: 110, fouling: 0.6}}\n",
+                     "ok.yaml");
+  ASSERT_EQ(s.net_changes.size(), 2u);
+  EXPECT_EQ(s.net_changes[0].net.mesh_type, MeshType::kDiamond);
+  EXPECT_EQ(s.net_changes[0].net.twine_width_m, 0.004);  // kept from `net`
+  EXPECT_EQ(s.net_changes[0].net.knot_shape, KnotShape::kRound);
+  EXPECT_EQ(s.net_changes[1].net.mesh_type, MeshType::kDiamond);  // kept from the first change
+  EXPECT_EQ(s.net_changes[1].net.opening_angle_deg, 110);
+  EXPECT_EQ(s.net_changes[1].net.bar_length_m, 0.03);
+  EXPECT_EQ(s.net_index_at(0.0), 0u);
+  EXPECT_EQ(s.net_index_at(0.4999), 0u);
+  EXPECT_EQ(s.net_index_at(0.5), 1u);
+  EXPECT_EQ(s.net_index_at(2.0), 2u);
+  EXPECT_EQ(s.net_at(0.7).opening_angle_deg, 75);
+  const Scenario one = s.with_net_at(1.5);
+  EXPECT_TRUE(one.net_changes.empty());
+  EXPECT_EQ(one.net.opening_angle_deg, 110);
+  // The scene's prior (scene.yaml) is the first net's.
+  EXPECT_EQ(s.scene_config().net_mesh_type, MeshType::kSquare);
+  // A change on a frame's time lands on that frame.
+  const Scenario sweep = load_scenario(source_dir() + "/scenarios/changing_net.yaml");
+  EXPECT_EQ(sweep.net_index_at(8 / sweep.camera.calibration.rate_hz), 1u);
+  EXPECT_EQ(sweep.net_index_at(7 / sweep.camera.calibration.rate_hz), 0u);
+}
+
+TEST(Scenario, BadNetChangesAreRefused) {
+  const std::pair<const char*, const char*> cases[] = {
+      {"  - {net: {opening_angle_deg: 80}}\n", "'net_changes[0].t_s': missing"},
+      {"  - {t_s: 0, net: {opening_angle_deg: 80}}\n", "'net_changes[0].t_s': must be after"},
+      {"  - {t_s: 1, net: {opening_angle_deg: 80}}\n  - {t_s: 0.5, net: {fouling: 0.1}}\n",
+       "'net_changes[1].t_s': must increase"},
+      {"  - {t_s: 3, net: {opening_angle_deg: 80}}\n", "'net_changes': the last change"},
+      {"  - {t_s: 1, net: {mesh_m: 0.02}}\n", "'net_changes[0].net.mesh_m': stays the first"},
+      {"  - {t_s: 1, net: {opening_angle_deg: 150}}\n",
+       "'net_changes[0].net.opening_angle_deg': 150 is outside 45 to 135 deg"},
+      {"  - {t_s: 1, net: {fouling: 0.1}, angle: 3}\n", "'net_changes[0].angle': unknown key"},
+  };
+  for (const auto& [yaml, message] : cases) {
+    const std::string e = error_of(std::string(kMinimal) + "net_changes:\n" + yaml);
     EXPECT_NE(e.find(message), std::string::npos) << yaml << ": " << e;
   }
 }
@@ -266,10 +317,11 @@ TEST(Scenario, ParamRowsNameEveryKeyWithItsSection) {
         "| `dvl.spikes[].duration_s` | 0.5 | s | > 0 |",
         "| `trajectory.waypoints[].t_s` | required | s | any |",
         "| `trajectory.lawnmower.row_spacing_m` | 0.5 | m | > 0 |",
+        "| `net_changes[].t_s` | required | s | 0 to 21600 |",
         "| `vehicle.pilot_gain` | 0.5 |  | (0, 1] |"}) {
     EXPECT_NE(rows.find(row), std::string::npos) << row << " not in\n" << rows;
   }
-  EXPECT_EQ(std::count(rows.begin(), rows.end(), '\n'), 99);
+  EXPECT_EQ(std::count(rows.begin(), rows.end(), '\n'), 100);
 }
 
 TEST(Scenario, DvlErrorsAndSpikesParse) {
