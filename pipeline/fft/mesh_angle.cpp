@@ -49,9 +49,12 @@ MeshAngleMeasurement measure_mesh_angle(std::span<const RoiNetPoint> rois,
     cells.push_back(c);
   }
   if (static_cast<int>(cells.size()) < params.min_rois) return out;
-  out.type = type ? *type
-                  : (median(bisector_offsets) < params.diamond_bisector_rad ? MeshType::kDiamond
-                                                                            : MeshType::kSquare);
+  const double bisector_offset = median(bisector_offsets);
+  const MeshType seen =
+      bisector_offset < params.diamond_bisector_rad ? MeshType::kDiamond : MeshType::kSquare;
+  const bool clear =
+      std::abs(bisector_offset - params.diamond_bisector_rad) >= params.type_evidence_margin_rad;
+  out.type = type && !clear ? *type : seen;
   const Eigen::Vector3d reference = out.type == MeshType::kDiamond ? up : (up + right).normalized();
   std::vector<double> angles;
   for (const Cell& c : cells) {

@@ -31,6 +31,10 @@ struct MeshAngleParams {
   // Bisector within this angle of the net's vertical or horizontal: a diamond mesh (a square
   // mesh's bisectors lie near 45 deg; the two meet at 22.5 deg).
   double diamond_bisector_rad = 0.3927;
+  // A frame whose median bisector lies this far or further from diamond_bisector_rad shows its
+  // type whatever the type given: a diamond's bisector within 14.5 deg of the vertical (roll
+  // included), a square's cell up to about 119 deg. Nearer, the given type decides.
+  double type_evidence_margin_rad = 0.14;  // 8 deg
 };
 
 struct MeshAngleMeasurement {
@@ -42,7 +46,10 @@ struct MeshAngleMeasurement {
 };
 
 // Precondition: normal_C is the net plane's unit normal in C. `use`: per ROI, 1 where the ROI
-// is on the plane (FftRelativePose::inlier). `type`: the mesh type when known (scene.yaml).
+// is on the plane (FftRelativePose::inlier). `type`: the mesh type expected (scene.yaml), a prior:
+// it decides where the bisectors do not, and a frame that clearly shows the other type (a diamond
+// section of a square net, another pen) is measured as what it shows. A square-type reference on a
+// diamond cell lies halfway between its two angles, so each ROI would pick either.
 // Fewer than min_rois usable ROIs: an invalid measurement. Cost: two ray casts per bar per ROI.
 MeshAngleMeasurement measure_mesh_angle(std::span<const RoiNetPoint> rois,
                                         std::span<const uint8_t> use,

@@ -130,6 +130,10 @@ const Param<MeshAngleParams> kMeshAngleParams[] = {
     {"diamond_bisector_rad", &MeshAngleParams::diamond_bisector_rad, "rad",
      closed_range(0, std::numbers::pi / 4),
      "bisector within this of the net's vertical or horizontal: a diamond mesh"},
+    {"type_evidence_margin_rad", &MeshAngleParams::type_evidence_margin_rad, "rad",
+     closed_range(0, std::numbers::pi / 4),
+     "median bisector this far from diamond_bisector_rad: the frame's own mesh type, whatever "
+     "scene.yaml says"},
 };
 
 // min_sigma_rad > 0 keeps the Kalman gain's denominator positive with a zero prior or process

@@ -136,6 +136,15 @@ TEST(MeshAngle, MeasuredAgainstThePlaneForBothMeshTypes) {
       EXPECT_EQ(m.type, n.type) << "trial " << trial;
       EXPECT_NEAR(m.opening_angle_rad, n.angle_rad, deg_to_rad(0.05)) << "trial " << trial;
     }
+    // The other type given (scene.yaml's net, a diamond section in view): a prior, overruled
+    // where the lattice's orientation is clear (any diamond here, rotated <= 5.7 deg; a square
+    // up to 105 deg).
+    const MeshType other = is_diamond ? MeshType::kSquare : MeshType::kDiamond;
+    const MeshAngleMeasurement m = measure_mesh_angle(points, use, n.normal(), cam, other);
+    if (is_diamond || n.angle_rad <= deg_to_rad(105)) {
+      EXPECT_EQ(m.type, n.type) << "trial " << trial;
+      EXPECT_NEAR(m.opening_angle_rad, n.angle_rad, deg_to_rad(0.05)) << "trial " << trial;
+    }
   }
   // Too few usable ROIs: no measurement.
   const auto points = grid(cam, {0, 0, 1}, std::numbers::pi / 2);
