@@ -35,10 +35,14 @@ int cmd_run(const Args& args) {
       ->capture_default_str();
   cli.add_option("--roi-rows", grid.rows, "ROI grid rows")->capture_default_str();
   cli.add_option("--roi-cols", grid.cols, "ROI grid columns")->capture_default_str();
-  cli.add_option("--roi-size", grid.roi_size_px, "ROI side in pixels")->capture_default_str();
+  cli.add_option("--roi-size", grid.roi_size_px,
+                 "ROI side in pixels (0: from the camera's focal length and the bar length, "
+                 "300 at fx 462 px and 30 mm; docs/fft_detection.md)")
+      ->capture_default_str();
   cli.add_option("--roi-border", grid.border_px, "margin kept free at the image edges, pixels")
       ->capture_default_str();
-  cli.add_option("--fft-size", options.detector.fft_size, "resampled ROI side (power of two)")
+  cli.add_option("--fft-size", options.detector.fft_size,
+                 "resampled ROI side (power of two; 0: the largest up to min(ROI, 256))")
       ->capture_default_str();
   cli.add_option("--cpu-threads", options.detector.cpu_threads, "CPU path threads (0: all)")
       ->capture_default_str();

@@ -35,19 +35,25 @@ constexpr int kN = 256;
 constexpr size_t kNN = static_cast<size_t>(kN) * kN;
 constexpr size_t kNC = static_cast<size_t>(kN) * (kN / 2 + 1);
 
-// A net-like frame: twine lattice with perspective-free 22 px period, slight rotation, noise.
-ImageU8 frame() {
-  ImageU8 img(720, 540);
+// A net-like frame: twine lattice with perspective-free period, slight rotation, noise; the
+// twine is 3 / 22 of the period.
+ImageU8 frame_of(int width, int height, double period_px) {
+  ImageU8 img(width, height);
   uint32_t state = 1;
-  for (int y = 0; y < 540; ++y) {
-    for (int x = 0; x < 720; ++x) {
+  const double twine_px = 3.0 / 22.0 * period_px;
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
       const double u = 0.996 * x + 0.087 * y, v = -0.087 * x + 0.996 * y;
-      const bool twine = std::fmod(u, 22.0) < 3 || std::fmod(v, 22.0) < 3;
+      const bool twine = std::fmod(u, period_px) < twine_px || std::fmod(v, period_px) < twine_px;
       state = state * 1664525u + 1013904223u;
       img.at(x, y) = static_cast<uint8_t>((twine ? 180 : 70) + (state >> 28));
     }
   }
   return img;
+}
+
+ImageU8 frame() {
+  return frame_of(720, 540, 22.0);
 }
 
 const std::vector<kernels::RoiOrigin>& grid() {
@@ -311,5 +317,39 @@ void BM_FftStagePlusPose_Cpu(benchmark::State& state) {
   state.counters["pose_ms"] = pose / iters;
 }
 BENCHMARK(BM_FftStagePlusPose_Cpu)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// Any camera (grid_plan.h): the same net through the reference field of view on larger frames
+// (fx and the lattice period scaled with the width), the ROI side and FFT size planned, 1 thread.
+// Args: width, height. The FFT's work is the reference's (30 ROIs of 256^2); resampling reads
+// each ROI's pixels, (800 / 300)^2 = 7.1x the reference's at 1920x1080, 28x at 3840x2160.
+void BM_FftStagePlusPose_FrameSize(benchmark::State& state) {
+  const int width = static_cast<int>(state.range(0)), height = static_cast<int>(state.range(1));
+  PinholeCamera camera;
+  camera.width_px = width;
+  camera.height_px = height;
+  camera.fx_px = camera.fy_px = 462.0 * width / 720.0;
+  camera.cx_px = (width - 1) / 2.0;
+  camera.cy_px = (height - 1) / 2.0;
+  Device device;
+  NetDetector detector(camera, {.backend = Backend::kCpu, .cpu_threads = 1}, device);
+  const ImageU8 img = frame_of(width, height, 22.0 * width / 720.0);
+  double fft = 0, pose = 0;
+  for (auto _ : state) {
+    const NetDetection d = detector.detect(img);
+    fft += d.fft_ms;
+    pose += d.pose_ms;
+    if (!d.pose.valid()) state.SkipWithError(d.pose.reason.c_str());
+  }
+  const auto iters = static_cast<double>(state.iterations());
+  state.counters["fft_ms"] = fft / iters;
+  state.counters["pose_ms"] = pose / iters;
+  state.counters["roi_px"] = detector.config().grid.roi_size_px;
+}
+BENCHMARK(BM_FftStagePlusPose_FrameSize)
+    ->Args({720, 540})
+    ->Args({1920, 1080})
+    ->Args({3840, 2160})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 }  // namespace

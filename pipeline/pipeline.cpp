@@ -450,7 +450,7 @@ const std::vector<kernels::RoiOrigin>& Pipeline::rois() const {
 }
 
 int Pipeline::roi_size_px() const {
-  return impl_->config.detector.grid.roi_size_px;
+  return impl_->detector.config().grid.roi_size_px;
 }
 
 std::string Pipeline::backend_description() const {

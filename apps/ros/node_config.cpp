@@ -46,7 +46,8 @@ const Param<NodeConfig> kNodeParams[] = {
 const Param<kernels::RoiGrid> kGridParams[] = {
     {"roi_rows", &kernels::RoiGrid::rows, "", at_least(1), "rows of the FFT's ROI grid"},
     {"roi_cols", &kernels::RoiGrid::cols, "", at_least(1), "columns of the FFT's ROI grid"},
-    {"roi_size_px", &kernels::RoiGrid::roi_size_px, "px", at_least(16), "ROI side in image pixels"},
+    {"roi_size_px", &kernels::RoiGrid::roi_size_px, "px", at_least(0),
+     "ROI side in image pixels, at least 16; 0: from fx and the bar length"},
 };
 
 const Param<NetDetectorConfig> kDetectorParams[] = {

@@ -34,6 +34,8 @@ inline constexpr double kFlatVariance = 1e-9;
 
 // The default ROI side: 6 ROIs span the default 720 px width, 5 the 540 px height (overlapping).
 inline constexpr int kDefaultRoiSize_px = 300;
+// The smallest ROI and FFT side: below, a ROI holds too few cells for a lattice peak.
+inline constexpr int kMinRoiSize_px = 16, kMinFftSize = 16;
 
 // rows x cols ROIs of roi_size_px; top-left corners spread evenly from border_px to the far edge
 // (the last column ends at width - 1, the last row at height - 1).

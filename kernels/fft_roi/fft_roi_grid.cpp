@@ -10,7 +10,7 @@ std::vector<RoiOrigin> roi_grid(int width, int height, const RoiGrid& g) {
     throw Error("roi_grid: rows and cols must be >= 1, got " + std::to_string(g.rows) + " x " +
                 std::to_string(g.cols));
   }
-  if (g.roi_size_px < 16 || g.border_px < 0 || g.border_px + g.roi_size_px > width ||
+  if (g.roi_size_px < kMinRoiSize_px || g.border_px < 0 || g.border_px + g.roi_size_px > width ||
       g.border_px + g.roi_size_px > height) {
     throw Error("roi_grid: ROIs of " + std::to_string(g.roi_size_px) + " px with a border of " +
                 std::to_string(g.border_px) + " px do not fit a " + std::to_string(width) + "x" +
@@ -32,13 +32,13 @@ std::vector<RoiOrigin> roi_grid(int width, int height, const RoiGrid& g) {
 }
 
 void validate(const FftRoiShape& s, FftSizes sizes) {
-  if (s.width <= 0 || s.height <= 0 || s.roi_size_px < 16 || s.roi_size_px > s.width ||
+  if (s.width <= 0 || s.height <= 0 || s.roi_size_px < kMinRoiSize_px || s.roi_size_px > s.width ||
       s.roi_size_px > s.height) {
     throw Error("fft_roi: ROI size " + std::to_string(s.roi_size_px) + " does not fit a " +
                 std::to_string(s.width) + "x" + std::to_string(s.height) + " image");
   }
   const bool pow2 = (s.fft_size & (s.fft_size - 1)) == 0;
-  if (s.fft_size < 16 || s.fft_size > s.roi_size_px || s.fft_size > 1024 ||
+  if (s.fft_size < kMinFftSize || s.fft_size > s.roi_size_px || s.fft_size > 1024 ||
       (sizes == FftSizes::kPowerOfTwo && !pow2)) {
     throw Error("fft_roi: FFT size " + std::to_string(s.fft_size) + " is unusable for ROIs of " +
                 std::to_string(s.roi_size_px) + " px; use " +

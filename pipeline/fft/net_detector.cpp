@@ -6,6 +6,7 @@
 #include "core/error.h"
 #include "core/threads.h"
 #include "core/timing.h"
+#include "pipeline/fft/grid_plan.h"
 #include "pipeline/fft/lattice_chirp.h"
 #include "pipeline/fft/net_detector_params.h"
 #include "runtime/vk_buffer.h"
@@ -183,16 +184,16 @@ NetDetector::NetDetector(const PinholeCamera& camera, const NetDetectorConfig& c
                          Device& device)
     : impl_(std::make_unique<Impl>()) {
   Impl& m = *impl_;
-  validate(config);
+  m.config = planned_detector_config(config, camera);
+  validate(m.config);
   m.camera = camera;
-  m.config = config;
-  m.mesh_filter = MeshAngleFilter(config.mesh_angle_rad, config.mesh_angle_filter);
-  m.rois = kernels::roi_grid(camera.width_px, camera.height_px, config.grid);
+  m.mesh_filter = MeshAngleFilter(m.config.mesh_angle_rad, m.config.mesh_angle_filter);
+  m.rois = kernels::roi_grid(camera.width_px, camera.height_px, m.config.grid);
   m.shape = {.width = camera.width_px,
              .height = camera.height_px,
-             .roi_size_px = config.grid.roi_size_px,
-             .fft_size = config.fft_size,
-             .window = config.window};
+             .roi_size_px = m.config.grid.roi_size_px,
+             .fft_size = m.config.fft_size,
+             .window = m.config.window};
   m.choose(device);
 }
 
@@ -208,6 +209,9 @@ std::string NetDetector::description() const {
 }
 const std::vector<kernels::RoiOrigin>& NetDetector::rois() const {
   return impl_->rois;
+}
+const NetDetectorConfig& NetDetector::config() const {
+  return impl_->config;
 }
 
 NetDetection NetDetector::detect(const ImageU8& image, int64_t timestamp_ns) {

@@ -22,8 +22,10 @@
 namespace pensight {
 
 struct NetDetectorConfig {
-  kernels::RoiGrid grid;  // default 5 x 6 ROIs of 300 px
-  int fft_size = 256;     // resampled ROI side
+  // 5 x 6 ROIs; roi_size_px 0 and fft_size 0: planned from the camera and the bar length
+  // (grid_plan.h; 300 and 256 px on the reference 720x540 camera).
+  kernels::RoiGrid grid{.rows = 5, .cols = 6, .roi_size_px = 0, .border_px = 0};
+  int fft_size = 0;  // resampled ROI side
   bool window = true;
   kernels::PeakParams peaks;
   NetPointParams points;
@@ -79,6 +81,8 @@ class NetDetector {
   Backend backend() const;          // the backend in use (never kAuto)
   std::string description() const;  // e.g. "cpu (FFTW, 2 threads)" or "vulkan (NVIDIA ...)"
   const std::vector<kernels::RoiOrigin>& rois() const;
+  // The configuration in use: the one given with the grid and FFT size planned (grid_plan.h).
+  const NetDetectorConfig& config() const;
 
   // Throws pensight::Error when the image size differs from the camera's. Frames are taken in
   // time order: the opening angle is smoothed across them.

@@ -24,9 +24,9 @@ constexpr double kRightAngle_rad = std::numbers::pi / 2;
 
 // fft_size's power of two and its bound by the ROI side are explicit rules in validate().
 const Param<NetDetectorConfig> kDetectorParams[] = {
-    {"fft_size", &NetDetectorConfig::fft_size, "px", closed_range(16, 1024),
-     "side the ROI is resampled to before its FFT (a power of two unless backend cpu; at most "
-     "grid.roi_size_px)"},
+    {"fft_size", &NetDetectorConfig::fft_size, "px", closed_range(0, 1024),
+     "side the ROI is resampled to before its FFT (a power of two unless backend cpu; 16 to "
+     "grid.roi_size_px); 0: planned, the largest power of two up to min(ROI, 256)"},
     {"window", &NetDetectorConfig::window, "", kAnyNumber, "separable Hann window on each ROI"},
     {"chirp_correction", &NetDetectorConfig::chirp_correction, "", kAnyNumber,
      "correct each ROI's lattice for its perspective chirp on the fitted plane and fit again"},
@@ -45,7 +45,9 @@ const Param<NetDetectorConfig> kDetectorParams[] = {
 const Param<kernels::RoiGrid> kGridParams[] = {
     {"rows", &kernels::RoiGrid::rows, "", range_at_least(1), "ROI rows"},
     {"cols", &kernels::RoiGrid::cols, "", range_at_least(1), "ROI columns"},
-    {"roi_size_px", &kernels::RoiGrid::roi_size_px, "px", range_at_least(16), "ROI side"},
+    {"roi_size_px", &kernels::RoiGrid::roi_size_px, "px", range_at_least(0),
+     "ROI side, at least 16; 0: planned from the camera's fx and the bar length (300 at fx 462 "
+     "and 30 mm)"},
     {"border_px", &kernels::RoiGrid::border_px, "px", kNonNegative,
      "margin kept free at the image edges"},
 };
@@ -176,8 +178,19 @@ void validate(const NetDetectorConfig& c) {
   check_params<MeshAngleParams>(c.mesh_angle, kMeshAngleParams, kDetectorWhere, "mesh_angle.");
   check_params<MeshAngleFilter::Params>(c.mesh_angle_filter, kMeshAngleFilterParams, kDetectorWhere,
                                         "mesh_angle_filter.");
+  // 0: planned (grid_plan.h).
+  if (c.grid.roi_size_px != 0 && c.grid.roi_size_px < kernels::kMinRoiSize_px) {
+    refuse_detector_config("grid.roi_size_px",
+                           format_param_value(c.grid.roi_size_px) +
+                               " px is below 16; give 16 or more, or 0 to plan it from the camera");
+  }
+  if (c.fft_size != 0 && c.fft_size < kernels::kMinFftSize) {
+    refuse_detector_config("fft_size", format_param_value(c.fft_size) +
+                                           " px is below 16; give 16 or more, or 0 to plan it");
+  }
+  if (c.fft_size == 0) return;
   const std::string fft_size = format_param_value(c.fft_size);
-  if (c.fft_size > c.grid.roi_size_px) {
+  if (c.grid.roi_size_px != 0 && c.fft_size > c.grid.roi_size_px) {
     refuse_detector_config("fft_size", fft_size + " px is above grid.roi_size_px (" +
                                            format_param_value(c.grid.roi_size_px) +
                                            " px): resampling only shrinks");

@@ -83,6 +83,7 @@ TEST(NetDetectorParams, ABadValueInAPartNamesItsPrefixedKey) {
 
 TEST(NetDetectorParams, CrossRulesNameTheKey) {
   NetDetectorConfig larger;
+  larger.grid.roi_size_px = 300;
   larger.fft_size = 512;  // above the 300 px ROI
   EXPECT_TRUE(error_of(larger).starts_with("net detector config: key 'fft_size': 512 px is above"))
       << error_of(larger);
@@ -92,10 +93,21 @@ TEST(NetDetectorParams, CrossRulesNameTheKey) {
   odd.backend = Backend::kCpu;
   EXPECT_EQ(error_of(odd), "");
   NetDetectorConfig no_band;
+  no_band.fft_size = 256;
   no_band.peaks.min_cycles = 120;  // the band ends at 0.9 * 128 = 115.2 cycles
   EXPECT_TRUE(error_of(no_band).starts_with(
       "net detector config: key 'peaks.min_cycles': 120 cycles leaves no"))
       << error_of(no_band);
+  // 0 plans the side (grid_plan.h); 1-15 are too small.
+  NetDetectorConfig tiny;
+  tiny.grid.roi_size_px = 8;
+  EXPECT_TRUE(error_of(tiny).starts_with(
+      "net detector config: key 'grid.roi_size_px': 8 px is below 16; give 16 or more, or 0"))
+      << error_of(tiny);
+  tiny.grid.roi_size_px = 0;
+  tiny.fft_size = 8;
+  EXPECT_TRUE(error_of(tiny).starts_with("net detector config: key 'fft_size': 8 px is below 16"))
+      << error_of(tiny);
 }
 
 TEST(NetDetectorParams, RowsListEveryPartUnderItsPrefix) {
@@ -103,10 +115,10 @@ TEST(NetDetectorParams, RowsListEveryPartUnderItsPrefix) {
   std::string rows("\n");  // each row then follows a line break
   rows += table;
   for (const char* row : {
-           "| `fft_size` | 256 | px | 16 to 1024 |",
+           "| `fft_size` | 0 | px | 0 to 1024 |",
            "| `window` | true |  | true, false |",
            "| `mesh_angle_rad` | none | rad | (0, 3.14159) |",
-           "| `grid.roi_size_px` | 300 | px | >= 16 |",
+           "| `grid.roi_size_px` | 0 | px | >= 0 |",
            "| `peaks.max_nyquist_share` | 0.9 |  | (0, 1] |",
            "| `points.min_quality` | 0.03 |  | 0 to 1 |",
            "| `pose.min_valid_rois` | 6 |  | >= 3 |",
