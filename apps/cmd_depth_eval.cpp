@@ -55,8 +55,8 @@ int cmd_depth_eval(const Args& args) {
     const std::filesystem::path file = model.empty() ? find_default_depth_model(dataset.cam0.camera)
                                                      : std::filesystem::path(model);
     if (file.empty()) {
-      throw Error("no depth model for " + dir +
-                  "'s camera aspect in models/ (compact_depth*.onnx); give one with --model");
+      throw Error("no depth model in models/ (compact_depth*.onnx) for " + dir +
+                  "; give one with --model");
     }
     DepthEstimator estimator(dataset.cam0.camera,
                              {.model = file,

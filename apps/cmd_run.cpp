@@ -63,8 +63,9 @@ int cmd_run(const Args& args) {
   std::string model, depth_backend = "auto", depth_cpu_inference = "auto";
   bool no_depth = false;
   cli.add_option("--model", model,
-                 "depth network (ONNX, models/README.md); default: the shipped one for the "
-                 "camera's aspect (models/compact_depth*.onnx), where it is found");
+                 "depth network (ONNX, models/README.md); default: the shipped one that sees "
+                 "most of the frame (models/compact_depth*.onnx; another aspect: the centred "
+                 "crop), where it is found");
   cli.add_flag("--no-depth", no_depth, "do not run the dense-depth stage");
   bool no_dvl_scale = false;
   cli.add_flag("--no-dvl-scale", no_dvl_scale,
@@ -128,8 +129,8 @@ int cmd_run(const Args& args) {
                                .cpu_threads = options.detector.cpu_threads};
     } else {
       log_info(
-          "no depth model for this camera's aspect in models/ (compact_depth*.onnx): the "
-          "dense-depth stage is off; give one with --model");
+          "no depth model in models/ (compact_depth*.onnx): the dense-depth stage is off; "
+          "give one with --model");
     }
   }
 #if PENSIGHT_HAS_MAPPING

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "kernels/nn/nn_onnx.h"
+#include "pipeline/depth/depth_input.h"
 
 namespace pensight::app {
 
@@ -25,16 +26,23 @@ std::filesystem::path find_default_depth_model(const PinholeCamera& camera) {
       }
     }
     std::sort(files.begin(), files.end());
+    fs::path best;
+    double best_share = -1;
     for (const fs::path& f : files) {
       try {
         const kernels::Graph g = kernels::import_onnx(f);
         if (g.inputs().empty() || g.value(g.inputs()[0]).shape.size() != 4) continue;
         const kernels::Dims& d = g.value(g.inputs()[0]).shape;
-        if (d[3] * camera.height_px == d[2] * camera.width_px) return fs::weakly_canonical(f, ec);
+        const NetworkView v = network_view(camera.width_px, camera.height_px,
+                                           static_cast<int>(d[3]), static_cast<int>(d[2]));
+        const double share = static_cast<double>(v.width_px) * v.height_px /
+                             (static_cast<double>(camera.width_px) * camera.height_px);
+        if (share > best_share) best = f, best_share = share;
       } catch (const std::exception&) {
         // Not a model this build reads: the next one may be; --model names one explicitly.
       }
     }
+    if (!best.empty()) return fs::weakly_canonical(best, ec);
   }
   return {};
 }

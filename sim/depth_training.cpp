@@ -193,7 +193,8 @@ DepthSample make_depth_sample(uint64_t seed, int width, int height) {
       out.depth_mm.at(x, y) = full_mm.at(sx, sy);
     }
   }
-  out.points = network_depths(detection.depths, cam.width_px, cam.height_px, width, height);
+  out.points = network_depths(
+      detection.depths, network_view(cam.width_px, cam.height_px, width, height), width, height);
   out.wall = {.curvature_per_m = net_curvature_per_m(scene),
               .focal_px = cam.scaled(static_cast<double>(width) / cam.width_px).fx_px};
   return out;

@@ -29,7 +29,7 @@ struct NodeConfig {
   bool has_dvl = true, has_pressure = true, has_imu = true;
   // ~roi_rows, ~roi_cols, ~roi_size_px, ~backend (auto|cpu|vulkan|cuda), ~cpu_threads.
   NetDetectorConfig detector;
-  // ~model: "auto" (a shipped compact_depth*.onnx for the camera's aspect, else no depth stage),
+  // ~model: "auto" (the shipped compact_depth*.onnx that sees most of the frame, else no depth),
   // "none", or an ONNX file; ~depth_backend (auto|cpu|vulkan), ~depth_cpu_inference
   // (auto|opencv|engine).
   std::string model = "auto";

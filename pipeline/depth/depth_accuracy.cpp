@@ -84,7 +84,7 @@ DepthAccuracy depth_accuracy(const Dataset& dataset, NetDetector& detector,
     const double b = std::tan(detection.pose.pitch_net_rad);
     const ImageU16 truth_mm = dataset.load_depth_mm(i);
     for (size_t p = 0; p < truth_mm.pixels.size(); ++p) {
-      if (truth_mm.pixels[p] == 0) continue;
+      if (truth_mm.pixels[p] == 0 || !std::isfinite(dense.depth_m.pixels[p])) continue;
       const double z_true = truth_mm.pixels[p] * 1e-3;
       const Eigen::Vector2f& r = rays.xy[p];
       network.add(dense.depth_m.pixels[p], z_true);

@@ -7,8 +7,9 @@
 // fitted in camera pixels with the scene's net curvature, net_curvature_per_m; the estimator is
 // expected to be configured with the same).
 // Only frames with an FFT pose count (the network runs on those); only pixels whose truth sees
-// the net (> 0). The relative pose from dense depth is compared with groundtruth0's d_net and
-// psi_net. Cost per frame: one detection, one network run, O(pixels) sums.
+// the net (> 0) and that the network's view covers (a camera of another aspect: its centred
+// crop, depth_input.h). The relative pose from dense depth is compared with groundtruth0's d_net
+// and psi_net. Cost per frame: one detection, one network run, O(pixels) sums.
 #include <cstddef>
 #include <string>
 

@@ -1,5 +1,7 @@
 #include "pipeline/depth/depth_estimator.h"
 
+#include <limits>
+
 #include <algorithm>
 #include <cmath>
 #include <opencv2/core.hpp>
@@ -109,6 +111,7 @@ struct VulkanNet {
 
 struct DepthEstimator::Impl {
   PinholeCamera camera;
+  NetworkView view;  // the part of the camera image the network sees
   DepthEstimatorConfig config;
   kernels::Graph graph;
   kernels::SparsePriorShape shape;
@@ -119,7 +122,7 @@ struct DepthEstimator::Impl {
   std::optional<cv::dnn::Net> opencv;
   std::unique_ptr<VulkanNet> vulkan;
   std::string device_name;
-  std::optional<PixelRays> rays;  // of the camera scaled to the network's grid
+  std::optional<PixelRays> rays;  // of the view scaled to the network's grid
   NetWallShape wall;              // for the prior surface, in the network's pixels
 
   // Network output (H x W, metres) for one frame.
@@ -181,14 +184,11 @@ DepthEstimator::DepthEstimator(const PinholeCamera& camera, const DepthEstimator
   const auto [w, h, prior_channels] = contract_shape(m.graph, file);
   m.shape = {w, h, config.sigma_px};
   m.prior_channels = prior_channels;
-  if (static_cast<int64_t>(w) * camera.height_px != static_cast<int64_t>(h) * camera.width_px) {
-    throw Error(file + " takes " + std::to_string(w) + "x" + std::to_string(h) +
-                " images, not of the camera's aspect (" + std::to_string(camera.width_px) + "x" +
-                std::to_string(camera.height_px) + "): export the model for this camera");
-  }
-  const PinholeCamera network_camera = camera.scaled(static_cast<double>(w) / camera.width_px);
-  m.rays.emplace(network_camera);
-  m.wall = {.curvature_per_m = config.net_curvature_per_m, .focal_px = network_camera.fx_px};
+  // A camera of another aspect: the network runs on the centred crop of its own aspect.
+  m.view = network_view(camera.width_px, camera.height_px, w, h);
+  const PinholeCamera seen = network_camera(camera, m.view, w, h);
+  m.rays.emplace(seen);
+  m.wall = {.curvature_per_m = config.net_curvature_per_m, .focal_px = seen.fx_px};
   m.threads = worker_threads(config.cpu_threads);
 
   auto make_opencv = [&]() -> bool {
@@ -269,9 +269,14 @@ DenseDepth DepthEstimator::estimate(const ImageU8& image, std::span<const Sparse
     return out;
   }
   Stopwatch sw;
-  const ImageU8 small = resize_area(image, m.shape.width, m.shape.height);
+  const ImageU8 small = network_image(image, m.view, m.shape.width, m.shape.height);
   const std::vector<SparseDepth> depths =
-      network_depths(priors, image.width, image.height, m.shape.width, m.shape.height);
+      network_depths(priors, m.view, m.shape.width, m.shape.height);
+  if (depths.empty()) {
+    out.reason = "no sparse depths in the network's view of the frame";
+    out.pose.reason = out.reason;
+    return out;
+  }
   const std::vector<kernels::SparsePoint> points = points_of(depths);
   kernels::validate(m.shape, points);
   std::vector<float> net = m.run(small, depths, points);
@@ -282,9 +287,11 @@ DenseDepth DepthEstimator::estimate(const ImageU8& image, std::span<const Sparse
   // The pose comes from the network's own grid (every pixel it estimated, none interpolated).
   ImageF32 small_depth(m.shape.width, m.shape.height);
   small_depth.pixels = std::move(net);
-  out.depth_m = ImageF32(image.width, image.height);
+  // Outside the view (a camera of another aspect): NaN, no depth.
+  out.depth_m = ImageF32(image.width, image.height, std::numeric_limits<float>::quiet_NaN());
   const cv::Mat src(small_depth.height, small_depth.width, CV_32F, small_depth.pixels.data());
-  cv::Mat dst(out.depth_m.height, out.depth_m.width, CV_32F, out.depth_m.pixels.data());
+  cv::Mat whole(out.depth_m.height, out.depth_m.width, CV_32F, out.depth_m.pixels.data());
+  cv::Mat dst = whole(cv::Rect(m.view.x0_px, m.view.y0_px, m.view.width_px, m.view.height_px));
   cv::resize(src, dst, dst.size(), 0, 0, cv::INTER_LINEAR);
   out.network_ms = sw.elapsed_ms();
   sw.restart();

@@ -61,7 +61,9 @@ void validate(const DepthEstimatorConfig& config);
 std::string depth_param_rows();
 
 struct DenseDepth {
-  ImageF32 depth_m;  // camera resolution; empty when `reason` is set
+  // Camera resolution; empty when `reason` is set. NaN outside the network's view (a camera of
+  // another aspect than the network's: network_view() in depth_input.h).
+  ImageF32 depth_m;
   DepthPlanePose pose;
   std::string reason;     // why this frame has no dense depth (no priors); empty when it has
   double network_ms = 0;  // priors + network + resize (wall clock)
