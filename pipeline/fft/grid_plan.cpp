@@ -11,6 +11,8 @@ namespace {
 
 constexpr double kReferenceRoi_px = 300, kReferenceFx_px = 462, kReferenceBar_m = 0.030;
 constexpr int kMinPlannedRoi_px = 32, kMaxPlannedFft = 256;
+// Smaller frames hold too few cells for the planned grid at any distance worth a pose.
+constexpr int kMinPlannedWidth_px = 160, kMinPlannedHeight_px = 120;
 
 int largest_power_of_two_at_most(int n) {
   int p = 1;
@@ -24,19 +26,35 @@ NetDetectorConfig planned_detector_config(const NetDetectorConfig& config,
                                           const PinholeCamera& camera) {
   NetDetectorConfig c = config;
   if (c.grid.roi_size_px == 0) {
+    const std::string frame =
+        std::to_string(camera.width_px) + "x" + std::to_string(camera.height_px) + " frame";
+    if (camera.width_px < kMinPlannedWidth_px || camera.height_px < kMinPlannedHeight_px) {
+      throw Error("net detector: a " + frame +
+                  " is below the 160x120 the ROI grid is planned "
+                  "for; use frames of 160x120 or more, or give the ROI side (--roi-size, "
+                  "grid.roi_size_px) for a smaller one");
+    }
     const int fit = std::min(camera.width_px, camera.height_px) - c.grid.border_px;
     if (fit < kernels::kMinRoiSize_px) {
-      throw Error("net detector: a " + std::to_string(camera.width_px) + "x" +
-                  std::to_string(camera.height_px) + " frame with a border of " +
+      throw Error("net detector: a " + frame + " with a border of " +
                   std::to_string(c.grid.border_px) + " px leaves no room for a ROI of " +
-                  std::to_string(kernels::kMinRoiSize_px) +
-                  " px; frames from 160x120 up work (a smaller border, or a larger frame)");
+                  std::to_string(kernels::kMinRoiSize_px) + " px; use a smaller border");
     }
     const double wanted =
         kReferenceRoi_px * (camera.fx_px / kReferenceFx_px) * (c.bar_length_m / kReferenceBar_m);
     const long rounded = std::isfinite(wanted) ? std::lround(wanted) : kMinPlannedRoi_px;
-    c.grid.roi_size_px =
-        static_cast<int>(std::clamp<long>(rounded, std::min(kMinPlannedRoi_px, fit), fit));
+    int roi = static_cast<int>(std::clamp<long>(rounded, std::min(kMinPlannedRoi_px, fit), fit));
+    // Below the FFT cap a power of two within 25 % of the side is taken as the side, so the FFT
+    // reads the ROI's own pixels instead of resampling them (a 3 px mesh keeps its 3 px).
+    if (roi < kMaxPlannedFft) {
+      const int below = largest_power_of_two_at_most(roi), above = 2 * below;
+      const int nearest = std::log2(static_cast<double>(roi) / below) < 0.5 ? below : above;
+      const double ratio = static_cast<double>(nearest) / roi;
+      if (ratio >= 0.8 && ratio <= 1.25 && nearest <= fit && nearest >= kernels::kMinRoiSize_px) {
+        roi = nearest;
+      }
+    }
+    c.grid.roi_size_px = roi;
   }
   if (c.fft_size == 0) {
     c.fft_size =

@@ -44,8 +44,10 @@ TEST(GridPlan, ROIsHoldTheReferenceCellsWithinTheFrame) {
   expect(plan(camera_of_size(720, 540)), 300, 256, "the reference");
   expect(plan(camera_of_size(1920, 1080)), 800, 256, "1080p, same field of view");
   expect(plan(camera_of_size(3840, 2160)), 1600, 256, "4K");
-  expect(plan(camera_of_size(320, 240)), 133, 128, "320x240");
-  expect(plan(camera_of_size(160, 120)), 67, 64, "the smallest frame");
+  // Below 256 px a power of two within 25 %: the FFT reads the ROI's own pixels.
+  expect(plan(camera_of_size(320, 240)), 128, 128, "320x240 (133 px wanted)");
+  expect(plan(camera_of_size(160, 120)), 64, 64, "the smallest frame (67 px wanted)");
+  expect(plan(camera_of_size(720, 540), 0.020), 200, 128, "20 mm bars: no power of two near");
   expect(plan(camera_of_size(720, 540), 0.040), 400, 256, "40 mm bars: cells 1.33x larger");
   // SOLAQUA's camera (../shared/real): 1280x720, fx 735, 27.5 mm bars.
   PinholeCamera solaqua = camera_of_size(1280, 720);
@@ -92,12 +94,25 @@ TEST(GridPlan, TheDetectorBuildsOnEveryFrameSizeAndRefusesTooSmallOnes) {
   EXPECT_NE(e.find("ROIs of 300 px with a border of 0 px do not fit a 320x240 image"),
             std::string::npos)
       << e;
-  // A frame too small for any ROI.
+  // Below 160x120 the grid is not planned: the error names the size and the fix; with the ROI
+  // side given such a frame is the user's choice.
   const std::string tiny = testing::error_message(
-      [&] { NetDetector(camera_of_size(12, 9), cpu, testing::test_device()); });
-  EXPECT_NE(tiny.find("a 12x9 frame with a border of 0 px leaves no room for a ROI of 16 px"),
+      [&] { NetDetector(camera_of_size(120, 90), cpu, testing::test_device()); });
+  EXPECT_NE(tiny.find("a 120x90 frame is below the 160x120 the ROI grid is planned for"),
             std::string::npos)
       << tiny;
+  NetDetectorConfig given = cpu;
+  given.grid.roi_size_px = 64;
+  EXPECT_EQ(NetDetector(camera_of_size(120, 90), given, testing::test_device()).config().fft_size,
+            64);
+  // A border that leaves no ROI.
+  NetDetectorConfig bordered = cpu;
+  bordered.grid.border_px = 110;
+  const std::string border = testing::error_message(
+      [&] { NetDetector(camera_of_size(160, 120), bordered, testing::test_device()); });
+  EXPECT_NE(border.find("a 160x120 frame with a border of 110 px leaves no room"),
+            std::string::npos)
+      << border;
 }
 
 }  // namespace

@@ -155,16 +155,15 @@ TEST(FftRendered, AChangingNetRecoversOnItsFirstFrame) {
   EXPECT_LE(first_e.max, kMaxChangingP95);
 }
 
-// Issue 45's cameras: the sweep's first 4 s (turned away, then the net at 1.2-0.8 m with the
+// Issue 45's cameras: the sweep's first 4 s (turned away, then the net at 0.5-2.65 m with the
 // heading swinging) at the reference field of view on frames from 320x180 to 3840x2160, with the
 // ROI side and FFT size planned from the camera (grid_plan.h): a pose on >= 95 % of the
-// measurable frames, none on the frames without a net, the issue's medians.
+// measurable frames, none on the frames without a net, d_net median <= 0.5 % and psi median <=
+// 0.5 deg. Measured (docs/validation-log.md 2026-12-06): 29 of 29 frames on every size and seed,
+// d_net medians 0.07-0.30 %, psi medians 0.22-0.33 deg; at 320x180 the far frames' bars are
+// 2.3-3 px.
 struct CameraSize {
   int width, height;
-  double max_d_net_median;  // 1 % where the far frames' cells fall below 6 px, else 0.5 %
-  // 320x180: 27-29 of 29 frames over seeds 1-12 (the far, turned frames' cells are 2.5-3 px);
-  // the issue's 95 % is the other sizes' bound.
-  double min_share_with_pose;
 };
 
 void PrintTo(const CameraSize& c, std::ostream* os) {
@@ -188,21 +187,20 @@ TEST_P(FftRenderedCamera, APoseFromAnyFrameSize) {
   const NetPoseAccuracy a = score_net_pose(run.dataset, run.rows, NetPoseSource::kFft);
   std::printf("%dx%d: %s", c.width, c.height, describe(a).c_str());
   ASSERT_GE(a.measurable, 20u);
-  EXPECT_GE(static_cast<double>(a.measurable_estimated),
-            c.min_share_with_pose * static_cast<double>(a.measurable));
-  EXPECT_LE(a.d_net_rel.median, c.max_d_net_median);
+  EXPECT_GE(static_cast<double>(a.measurable_estimated), 0.95 * static_cast<double>(a.measurable));
+  EXPECT_LE(a.d_net_rel.median, 0.005);
   EXPECT_LE(a.psi_net_deg.median, 0.5);
   EXPECT_EQ(a.gross_errors, 0u);
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    Sizes, FftRenderedCamera,
-    ::testing::Values(CameraSize{320, 180, 0.01, 0.9}, CameraSize{640, 480, 0.005, 0.95},
-                      CameraSize{1280, 720, 0.005, 0.95}, CameraSize{1920, 1080, 0.005, 0.95},
-                      CameraSize{3840, 2160, 0.005, 0.95}),
-    [](const auto& param_info) {
-      return std::to_string(param_info.param.width) + "x" + std::to_string(param_info.param.height);
-    });
+INSTANTIATE_TEST_SUITE_P(Sizes, FftRenderedCamera,
+                         ::testing::Values(CameraSize{320, 180}, CameraSize{640, 480},
+                                           CameraSize{1280, 720}, CameraSize{1920, 1080},
+                                           CameraSize{3840, 2160}),
+                         [](const auto& param_info) {
+                           return std::to_string(param_info.param.width) + "x" +
+                                  std::to_string(param_info.param.height);
+                         });
 
 }  // namespace
 }  // namespace pensight
