@@ -195,6 +195,11 @@ NetDetector::NetDetector(const PinholeCamera& camera, const NetDetectorConfig& c
              .fft_size = m.config.fft_size,
              .window = m.config.window};
   m.choose(device);
+  // The planned grid is part of what a user needs to read a run (grid_plan.h).
+  m.description += ", " + std::to_string(m.config.grid.rows) + "x" +
+                   std::to_string(m.config.grid.cols) + " ROIs of " +
+                   std::to_string(m.config.grid.roi_size_px) + " px, FFT " +
+                   std::to_string(m.config.fft_size);
 }
 
 NetDetector::~NetDetector() = default;

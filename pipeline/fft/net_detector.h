@@ -78,8 +78,9 @@ class NetDetector {
   NetDetector(NetDetector&&) noexcept;
   NetDetector& operator=(NetDetector&&) noexcept;
 
-  Backend backend() const;          // the backend in use (never kAuto)
-  std::string description() const;  // e.g. "cpu (FFTW, 2 threads)" or "vulkan (NVIDIA ...)"
+  Backend backend() const;  // the backend in use (never kAuto)
+  // e.g. "cpu (FFTW, 2 threads), 5x6 ROIs of 300 px, FFT 256" or "vulkan (NVIDIA ...), ..."
+  std::string description() const;
   const std::vector<kernels::RoiOrigin>& rois() const;
   // The configuration in use: the one given with the grid and FFT size planned (grid_plan.h).
   const NetDetectorConfig& config() const;
