@@ -29,10 +29,12 @@ NetDetectorConfig planned_detector_config(const NetDetectorConfig& config,
     const std::string frame =
         std::to_string(camera.width_px) + "x" + std::to_string(camera.height_px) + " frame";
     if (camera.width_px < kMinPlannedWidth_px || camera.height_px < kMinPlannedHeight_px) {
-      throw Error("net detector: a " + frame +
-                  " is below the 160x120 the ROI grid is planned "
-                  "for; use frames of 160x120 or more, or give the ROI side (--roi-size, "
-                  "grid.roi_size_px) for a smaller one");
+      const std::string least =
+          std::to_string(kMinPlannedWidth_px) + "x" + std::to_string(kMinPlannedHeight_px);
+      throw Error("net detector: a " + frame + " is below the " + least +
+                  " the ROI grid is planned for; use frames of " + least +
+                  " or more, or give the ROI side (--roi-size, grid.roi_size_px) for a smaller "
+                  "one");
     }
     const int fit = std::min(camera.width_px, camera.height_px) - c.grid.border_px;
     if (fit < kernels::kMinRoiSize_px) {
