@@ -296,15 +296,9 @@ void BM_FftStage_Vulkan(benchmark::State& state) {
 }
 BENCHMARK(BM_FftStage_Vulkan)->Unit(benchmark::kMillisecond)->UseRealTime();
 
-// The CPU budget: FFT stage + per-ROI geometry + relative pose, per 720x540 frame.
-void BM_FftStagePlusPose_Cpu(benchmark::State& state) {
-  Device device;
-  NetDetector detector(PinholeCamera{},
-                       {.backend = Backend::kCpu, .cpu_threads = static_cast<int>(state.range(0))},
-                       device);
-  const ImageU8 img = frame();
+// The detector on `img` once per iteration; the FFT and pose parts' mean times as counters.
+void detect_every_iteration(benchmark::State& state, NetDetector& detector, const ImageU8& img) {
   double fft = 0, pose = 0;
-  const double cpu0 = process_cpu_ms();
   for (auto _ : state) {
     const NetDetection d = detector.detect(img);
     fft += d.fft_ms;
@@ -312,9 +306,19 @@ void BM_FftStagePlusPose_Cpu(benchmark::State& state) {
     if (!d.pose.valid()) state.SkipWithError(d.pose.reason.c_str());
   }
   const auto iters = static_cast<double>(state.iterations());
-  state.counters["cpu_ms"] = (process_cpu_ms() - cpu0) / iters;
   state.counters["fft_ms"] = fft / iters;
   state.counters["pose_ms"] = pose / iters;
+}
+
+// The CPU budget: FFT stage + per-ROI geometry + relative pose, per 720x540 frame.
+void BM_FftStagePlusPose_Cpu(benchmark::State& state) {
+  Device device;
+  NetDetector detector(PinholeCamera{},
+                       {.backend = Backend::kCpu, .cpu_threads = static_cast<int>(state.range(0))},
+                       device);
+  const double cpu0 = process_cpu_ms();
+  detect_every_iteration(state, detector, frame());
+  state.counters["cpu_ms"] = (process_cpu_ms() - cpu0) / static_cast<double>(state.iterations());
 }
 BENCHMARK(BM_FftStagePlusPose_Cpu)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
@@ -332,17 +336,7 @@ void BM_FftStagePlusPose_FrameSize(benchmark::State& state) {
   camera.cy_px = (height - 1) / 2.0;
   Device device;
   NetDetector detector(camera, {.backend = Backend::kCpu, .cpu_threads = 1}, device);
-  const ImageU8 img = frame_of(width, height, 22.0 * width / 720.0);
-  double fft = 0, pose = 0;
-  for (auto _ : state) {
-    const NetDetection d = detector.detect(img);
-    fft += d.fft_ms;
-    pose += d.pose_ms;
-    if (!d.pose.valid()) state.SkipWithError(d.pose.reason.c_str());
-  }
-  const auto iters = static_cast<double>(state.iterations());
-  state.counters["fft_ms"] = fft / iters;
-  state.counters["pose_ms"] = pose / iters;
+  detect_every_iteration(state, detector, frame_of(width, height, 22.0 * width / 720.0));
   state.counters["roi_px"] = detector.config().grid.roi_size_px;
 }
 BENCHMARK(BM_FftStagePlusPose_FrameSize)

@@ -28,13 +28,8 @@ struct Case {
   double abs_rel, d_net_rel, psi_rad;  // bounds
 };
 
-class DenseDepthRendered : public ::testing::TestWithParam<Case> {};
-
-TEST_P(DenseDepthRendered, ShippedModelWithinBounds) {
-  const Case c = GetParam();
-  const testing::RenderedDataset rendered(
-      testing::shipped_scenario(std::string(c.scenario) + ".yaml", 1.0));
-  const Dataset& d = rendered.dataset();
+// The shipped model's accuracy on every 2nd frame of `d` (the FFT stage on the CPU for priors).
+DepthAccuracy shipped_model_accuracy(const Dataset& d) {
   NetDetector detector(d.cam0.camera, detector_config(d.scene, {.backend = Backend::kCpu}),
                        testing::test_device());
   const std::filesystem::path model =
@@ -42,7 +37,16 @@ TEST_P(DenseDepthRendered, ShippedModelWithinBounds) {
   DepthEstimator estimator(d.cam0.camera,
                            {.model = model, .net_curvature_per_m = net_curvature_per_m(d.scene)},
                            testing::test_device());
-  const DepthAccuracy a = depth_accuracy(d, detector, estimator, 2);
+  return depth_accuracy(d, detector, estimator, 2);
+}
+
+class DenseDepthRendered : public ::testing::TestWithParam<Case> {};
+
+TEST_P(DenseDepthRendered, ShippedModelWithinBounds) {
+  const Case c = GetParam();
+  const testing::RenderedDataset rendered(
+      testing::shipped_scenario(std::string(c.scenario) + ".yaml", 1.0));
+  const DepthAccuracy a = shipped_model_accuracy(rendered.dataset());
   SCOPED_TRACE(::testing::Message()
                << c.scenario << ": AbsRel " << a.network.abs_rel << " (S1 " << a.s1.abs_rel
                << ", plane " << a.fft_plane.abs_rel << "), delta1 " << a.network.delta1
@@ -139,15 +143,7 @@ TEST(DenseDepthRenderedAspect, A720x576CameraGetsDepthOnItsCentredCrop) {
   k.cy_px = 287.5;
   sim::validate(s);
   const testing::RenderedDataset rendered(s);
-  const Dataset& d = rendered.dataset();
-  NetDetector detector(d.cam0.camera, detector_config(d.scene, {.backend = Backend::kCpu}),
-                       testing::test_device());
-  const std::filesystem::path model =
-      std::filesystem::path(std::getenv("PENSIGHT_SOURCE_DIR")) / "models/compact_depth.onnx";
-  DepthEstimator estimator(d.cam0.camera,
-                           {.model = model, .net_curvature_per_m = net_curvature_per_m(d.scene)},
-                           testing::test_device());
-  const DepthAccuracy a = depth_accuracy(d, detector, estimator, 2);
+  const DepthAccuracy a = shipped_model_accuracy(rendered.dataset());
   SCOPED_TRACE(::testing::Message() << "AbsRel " << a.network.abs_rel << " (S1 " << a.s1.abs_rel
                                     << "), delta1 " << a.network.delta1 << ", d_net "
                                     << a.d_net_median_rel << ", psi " << a.psi_median_rad);
