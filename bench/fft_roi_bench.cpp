@@ -328,14 +328,9 @@ BENCHMARK(BM_FftStagePlusPose_Cpu)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond
 // each ROI's pixels, (800 / 300)^2 = 7.1x the reference's at 1920x1080, 28x at 3840x2160.
 void BM_FftStagePlusPose_FrameSize(benchmark::State& state) {
   const int width = static_cast<int>(state.range(0)), height = static_cast<int>(state.range(1));
-  PinholeCamera camera;
-  camera.width_px = width;
-  camera.height_px = height;
-  camera.fx_px = camera.fy_px = 462.0 * width / 720.0;
-  camera.cx_px = (width - 1) / 2.0;
-  camera.cy_px = (height - 1) / 2.0;
   Device device;
-  NetDetector detector(camera, {.backend = Backend::kCpu, .cpu_threads = 1}, device);
+  NetDetector detector(default_field_of_view(width, height),
+                       {.backend = Backend::kCpu, .cpu_threads = 1}, device);
   detect_every_iteration(state, detector, frame_of(width, height, 22.0 * width / 720.0));
   state.counters["roi_px"] = detector.config().grid.roi_size_px;
 }

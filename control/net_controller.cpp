@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "control/stick_map.h"
+#include "core/pose_trust.h"
 #include "core/units.h"
 
 namespace pensight::control {
@@ -44,11 +45,15 @@ NetController::NetController(ControlConfig config)
       yaw_(config_.gains.yaw, {config_.limits.yaw_rate_radps}),
       strategy_in_use_(config_.strategy) {}
 
-void NetController::on_pose(int64_t t_ns, double d_net_m, double psi_net_rad) {
+void NetController::on_pose(int64_t t_ns, double d_net_m, double psi_net_rad, double quality) {
   if (!std::isfinite(d_net_m) || !std::isfinite(psi_net_rad) || d_net_m <= 0) return;
+  // Blended only with a pose the loops are still acting on; after a timeout the pose is taken.
+  const bool current =
+      has_pose_ && seconds_between(pose_ns_, t_ns) <= config_.safety.pose_timeout_s;
+  const double w = current ? pose_trust(quality) : 1.0;
   pose_ns_ = t_ns;
-  d_net_m_ = d_net_m;
-  psi_net_rad_ = psi_net_rad;
+  d_net_m_ += w * (d_net_m - d_net_m_);
+  psi_net_rad_ = wrap_angle(psi_net_rad_ + w * wrap_angle(psi_net_rad - psi_net_rad_));
   has_pose_ = true;
   pose_fresh_ = true;
 }

@@ -54,8 +54,12 @@ class NetController {
   // Throws pensight::Error (validate()) for a bad config.
   explicit NetController(ControlConfig config);
 
-  // The relative pose of a frame; NaN d_net or psi_net: the frame had none.
-  void on_pose(int64_t t_ns, double d_net_m, double psi_net_rad);
+  // The relative pose of a frame and its quality (FftRelativePose::quality; 1 where none is
+  // known); NaN d_net or psi_net: the frame had none. Within pose_timeout_s of the last pose, the
+  // net estimate the loops act on moves pose_trust(quality) of the way to the pose
+  // (core/pose_trust.h): a pose from a few ROIs, an oblique view or ROIs that disagree steers less
+  // than one from the whole net.
+  void on_pose(int64_t t_ns, double d_net_m, double psi_net_rad, double quality = 1.0);
   // The DVL's velocity in the body frame (FRD); a non-finite sample is ignored (a dropout), one
   // far from the observer's velocity dropped (a spike) unless the next agrees with it.
   void on_dvl(int64_t t_ns, const Eigen::Vector3d& velocity_body_mps);

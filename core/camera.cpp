@@ -47,6 +47,16 @@ PinholeCamera PinholeCamera::scaled(double scale) const {
   return c;
 }
 
+PinholeCamera default_field_of_view(int width_px, int height_px) {
+  PinholeCamera c;
+  c.width_px = width_px;
+  c.height_px = height_px;
+  c.fx_px = c.fy_px = kDefaultFocalLength_px * width_px / kDefaultImageWidth_px;
+  c.cx_px = (width_px - 1) / 2.0;
+  c.cy_px = (height_px - 1) / 2.0;
+  return c;
+}
+
 void check_image_size(int64_t width_px, int64_t height_px, int camera_width_px,
                       int camera_height_px, std::string_view what, std::string_view image,
                       std::string_view fix) {

@@ -39,6 +39,11 @@ struct PinholeCamera {
   PinholeCamera scaled(double scale) const;
 };
 
+// The default camera's field of view (kDefaultFocalLength_px at kDefaultImageWidth_px wide) on a
+// frame of another size: fx = fy scaled with the width, principal point at the centre, no
+// distortion. The same scene seen by a camera with more or fewer pixels.
+PinholeCamera default_field_of_view(int width_px, int height_px);
+
 // Throws pensight::Error "<what>: <image> is WxH but the camera is WxH<fix>" where an image's size
 // (as read, 64-bit: a damaged header can claim any) is not the camera's; `image` names it
 // ("image", "depth image"), `fix` says what to give instead.

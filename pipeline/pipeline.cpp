@@ -82,6 +82,7 @@ global_pose::NetObservation net_observation(const NetDetection& d) {
   if (d.pose.valid()) {
     obs.d_net_m = d.pose.d_net_m;
     obs.psi_net_rad = d.pose.psi_net_rad;
+    obs.pose_quality = d.pose.quality;
   }
   obs.texture = d.texture;
   return obs;

@@ -183,7 +183,7 @@ ClosedLoopSummary run_closed_loop(const Scenario& s, const std::filesystem::path
       step.d_net_est_m = pose.d_net_m;
       step.psi_net_est_rad = pose.psi_net_rad;
     }
-    controller.on_pose(f.timestamp_ns, step.d_net_est_m, step.psi_net_est_rad);
+    controller.on_pose(f.timestamp_ns, step.d_net_est_m, step.psi_net_est_rad, pose.quality);
     step.command = controller.update(f.timestamp_ns);
     vehicle::ManualCommand command;
     command.x = step.command.x;

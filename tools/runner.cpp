@@ -149,6 +149,7 @@ class RunWriter {
       row.valid_rois = diag.valid_rois = pose.valid_rois;
       diag.inlier_rois = pose.inlier_rois;
       diag.plane_rms_m = pose.rms_residual_m;
+      diag.fft_quality = pose.quality;
       diag.fft_reason = pose.reason;
       diag.mesh_angle_deg = rad_to_deg(r.detection.mesh_angle_rad);
       diag.mesh_type = to_string(r.detection.mesh_type);

@@ -15,7 +15,8 @@ DiagnosticsCsvWriter::DiagnosticsCsvWriter(const std::filesystem::path& file)
          "dvl_plane_d [m],dvl_plane_psi [rad]";
   for (const char* s : kDiagnosticsSensors) out << "," << s << "_accepted," << s << "_rejected";
   out << ",mesh_type,reduced_rois,depth_scale,dvl_depth_ratio,depth_psi_offset [rad],"
-         "depth_pitch_offset [rad],dvl_depth_psi_diff [rad],dvl_depth_pitch_diff [rad]\n";
+         "depth_pitch_offset [rad],dvl_depth_psi_diff [rad],dvl_depth_pitch_diff "
+         "[rad],fft_quality\n";
 }
 
 DiagnosticsCsvWriter::~DiagnosticsCsvWriter() = default;
@@ -35,7 +36,8 @@ void DiagnosticsCsvWriter::write(const DiagnosticsRow& r) {
   out << "," << r.mesh_type << "," << r.reduced_rois << "," << format_number(r.depth_scale) << ","
       << format_number(r.dvl_depth_ratio) << "," << format_number(r.depth_psi_offset_rad) << ","
       << format_number(r.depth_pitch_offset_rad) << "," << format_number(r.dvl_depth_psi_diff_rad)
-      << "," << format_number(r.dvl_depth_pitch_diff_rad) << "\n";
+      << "," << format_number(r.dvl_depth_pitch_diff_rad) << "," << format_number(r.fft_quality)
+      << "\n";
 }
 
 void DiagnosticsCsvWriter::finish() {

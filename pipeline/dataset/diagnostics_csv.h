@@ -13,7 +13,8 @@
 //   the DVL's measure of the net's tilt when engaged, else 0; nan without dense depth),
 //   dvl_depth_psi_diff [rad], dvl_depth_pitch_diff [rad] (the DVL's measure itself, the window
 //   median of the DVL plane's angle minus the dense depth's; nan until it has enough samples;
-//   dvl_net_tilt.h)
+//   dvl_net_tilt.h), fft_quality (the FFT pose's quality in [0, 1], 0 without a pose;
+//   relative_pose_fft.h)
 // fft_reason is empty when the FFT pose is valid; commas in it are written as ';'. The sensor
 // columns count the samples applied (accepted or re-locked) and refused (gated out or invalid)
 // since the previous row. Written whole like estimates.csv.
@@ -46,6 +47,7 @@ struct DiagnosticsRow {
   double depth_scale = kNaN, dvl_depth_ratio = kNaN;
   double depth_psi_offset_rad = kNaN, depth_pitch_offset_rad = kNaN;
   double dvl_depth_psi_diff_rad = kNaN, dvl_depth_pitch_diff_rad = kNaN;
+  double fft_quality = 0;
 };
 
 class AtomicFile;

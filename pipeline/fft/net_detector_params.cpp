@@ -94,6 +94,8 @@ const Param<RelativePoseFftParams> kPoseParams[] = {
      "plane residual over depth that still counts as on the net"},
     {"min_paraboloid_rois", &RelativePoseFftParams::min_paraboloid_rois, "", range_at_least(6),
      "fewer inliers: d_net from the plane (a paraboloid has 6 coefficients)"},
+    {"full_support_rois", &RelativePoseFftParams::full_support_rois, "", range_at_least(3),
+     "inlier ROIs at which the pose's quality is no longer lowered for support"},
     {"max_obliquity_rad", &RelativePoseFftParams::max_obliquity_rad, "rad",
      range_above_zero_to(kRightAngle_rad),
      "psi or pitch beyond this, either sign: no pose (net too oblique)"},

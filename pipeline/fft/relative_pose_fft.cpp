@@ -172,27 +172,37 @@ void fuse_roi_tilt(Eigen::Vector3d& plane, const std::vector<Sample>& s, const s
   plane(0) = offset / total;
 }
 
-// Why the fused plane cannot give a trustworthy d_net (see RelativePoseFftParams), or kValid.
-std::pair<FftPoseStatus, std::string> implausible(const Eigen::Vector3d& plane,
-                                                  const std::vector<Sample>& s,
-                                                  const std::vector<int>& in,
-                                                  std::span<const RoiNetPoint> rois,
-                                                  const RelativePoseFftParams& params) {
+// The fused plane's checks (see RelativePoseFftParams): the extrapolation lever and the median
+// disagreement of the inliers' own tilts (0 when not checked), and the reason when either is
+// beyond its limit.
+struct PlaneChecks {
+  FftPoseStatus status = FftPoseStatus::kValid;
+  std::string reason;
+  double lever = 0;
+  double tilt_disagreement_rad = 0;
+};
+
+PlaneChecks check_plane(const Eigen::Vector3d& plane, const std::vector<Sample>& s,
+                        const std::vector<int>& in, std::span<const RoiNetPoint> rois,
+                        const RelativePoseFftParams& params) {
+  PlaneChecks c;
   const double gain_x = 1 + plane(1) * plane(1), gain_y = 1 + plane(2) * plane(2);  // 1/cos^2
-  double lever = std::numeric_limits<double>::infinity();
+  c.lever = std::numeric_limits<double>::infinity();
   for (int i : in) {
     const Eigen::Vector3d& p = s[i].p;
-    lever = std::min(lever, (std::abs(p.x()) * gain_x + std::abs(p.y()) * gain_y) / p.z());
+    c.lever = std::min(c.lever, (std::abs(p.x()) * gain_x + std::abs(p.y()) * gain_y) / p.z());
   }
-  if (lever > params.max_extrapolation_lever) {
+  if (c.lever > params.max_extrapolation_lever) {
     char text[160];
     std::snprintf(text, sizeof text,
                   "net points too far from the optical axis for this obliquity (lever %.2f, "
                   "limit %.2f): d_net would be extrapolated",
-                  lever, params.max_extrapolation_lever);
-    return {FftPoseStatus::kExtrapolated, text};
+                  c.lever, params.max_extrapolation_lever);
+    c.status = FftPoseStatus::kExtrapolated;
+    c.reason = text;
+    return c;
   }
-  if (!params.check_tilts) return {FftPoseStatus::kValid, ""};
+  if (!params.check_tilts) return c;
   const Eigen::Vector3d normal = net_plane_normal(plane(1), plane(2));
   std::vector<double> angles;
   for (int i : in) {
@@ -200,18 +210,25 @@ std::pair<FftPoseStatus, std::string> implausible(const Eigen::Vector3d& plane,
       angles.push_back(std::acos(std::min(1.0, std::abs(m->dot(normal)))));
     }
   }
-  if (angles.empty()) return {FftPoseStatus::kValid, ""};
+  if (angles.empty()) return c;
   const auto mid = angles.begin() + static_cast<std::ptrdiff_t>(angles.size() / 2);
   std::nth_element(angles.begin(), mid, angles.end());
+  c.tilt_disagreement_rad = *mid;
   if (*mid > params.max_tilt_disagreement_rad) {
     char text[160];
     std::snprintf(text, sizeof text,
                   "the ROIs' own tilts disagree with the fitted plane (median %.0f deg, limit "
                   "%.0f): a lattice harmonic?",
                   rad_to_deg(*mid), rad_to_deg(params.max_tilt_disagreement_rad));
-    return {FftPoseStatus::kTiltsDisagree, text};
+    c.status = FftPoseStatus::kTiltsDisagree;
+    c.reason = text;
   }
-  return {FftPoseStatus::kValid, ""};
+  return c;
+}
+
+// 1 - value / limit, in [0, 1]: how far a check stayed from refusing the frame.
+double margin(double value, double limit) {
+  return std::clamp(1.0 - value / limit, 0.0, 1.0);
 }
 
 }  // namespace
@@ -261,9 +278,9 @@ FftRelativePose solve(std::span<const RoiNetPoint> rois, const RelativePoseFftPa
                        " deg; limit " +
                        std::to_string(std::lround(rad_to_deg(params.max_obliquity_rad))) + ")");
   }
-  if (auto [status, why] = implausible(plane, s, in, rois, params);
-      status != FftPoseStatus::kValid) {
-    return invalid(rois.size(), valid, status, std::move(why));
+  PlaneChecks checks = check_plane(plane, s, in, rois, params);
+  if (checks.status != FftPoseStatus::kValid) {
+    return invalid(rois.size(), valid, checks.status, std::move(checks.reason));
   }
   FftRelativePose pose{FftPoseStatus::kValid,
                        plane(0),
@@ -295,6 +312,12 @@ FftRelativePose solve(std::span<const RoiNetPoint> rois, const RelativePoseFftPa
     for (int i : in) sq += std::pow(residual<3>(plane, s[i].p, plane_basis), 2);
   }
   pose.rms_residual_m = std::sqrt(sq / static_cast<double>(in.size()));
+  const double inliers = static_cast<double>(in.size());
+  pose.quality = std::min(1.0, inliers / params.full_support_rois) * (inliers / valid) *
+                 margin(std::max(std::abs(psi), std::abs(pitch)), params.max_obliquity_rad) *
+                 margin(checks.lever, params.max_extrapolation_lever) *
+                 margin(checks.tilt_disagreement_rad, params.max_tilt_disagreement_rad) *
+                 margin(pose.rms_residual_m, params.inlier_rel * pose.d_net_m);
   return pose;
 }
 

@@ -24,6 +24,8 @@ struct RelativePoseFftParams {
   int min_valid_rois = 6;
   double inlier_rel = 0.05;      // plane residual / depth that still counts as on the net
   int min_paraboloid_rois = 12;  // fewer inliers: d_net from the plane
+  // FftRelativePose::quality scales with the inlier count up to this many.
+  int full_support_rois = 12;
   // |psi| or |pitch| beyond 57 deg: NaN, "net too oblique". |psi| reads 2-3 deg low at 50-60 deg
   // and more beyond, so this is a true ~60 deg; estimates of 58-60 deg came from nets at up to
   // 67 deg with d_net 13-21 % off, those up to 58 deg within 9 %.
@@ -77,6 +79,12 @@ struct FftRelativePose {
   // Per input ROI (empty without a pose): 1 when its net point lies on the fitted surface but its
   // own lattice is tilted otherwise (a rope, seam or fold across the ROI), so it was left out.
   std::vector<uint8_t> other_tilt;
+  // How far the pose stayed from being refused, in [0, 1] (0 without a pose): the product of the
+  // inliers' support (their count over full_support_rois, at most 1), their share of the valid
+  // ROIs, and each check's margin 1 - value / limit (obliquity, extrapolation lever, the inliers'
+  // tilt disagreement, the fit's rms residual over inlier_rel x d_net). Downstream stages weigh
+  // the pose by pose_trust() of it (core/pose_trust.h).
+  double quality = 0;
   bool valid() const { return status == FftPoseStatus::kValid; }
 };
 

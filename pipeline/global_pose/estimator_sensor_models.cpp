@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "core/log.h"
+#include "core/pose_trust.h"
 #include "core/units.h"
 
 #include "pipeline/global_pose/estimator_detail.h"
@@ -208,10 +209,11 @@ void GlobalPoseEstimator::apply_camera(const NetObservation& obs) {
         net_relative_pose(T_pen_body(x, roll, pitch) * cfg_.T_body_camera, wall_);
     return Eigen::Vector2d(p.d_net_m, wrap_angle(p.psi_net_rad + x(kFixHeadingBias)));
   };
-  gated_update<2>(
-      kVisionRel, cr, Eigen::Vector2d(obs.d_net_m, obs.psi_net_rad), model,
-      diag<2>(Eigen::Vector2d(cfg_.noise.d_net_frac * obs.d_net_m, cfg_.noise.psi_net_rad)),
-      {false, true}, kVisionStates);
+  const double sigma_scale = 1.0 / std::sqrt(pose_trust(obs.pose_quality));
+  gated_update<2>(kVisionRel, cr, Eigen::Vector2d(obs.d_net_m, obs.psi_net_rad), model,
+                  diag<2>(sigma_scale * Eigen::Vector2d(cfg_.noise.d_net_frac * obs.d_net_m,
+                                                        cfg_.noise.psi_net_rad)),
+                  {false, true}, kVisionStates);
 }
 
 std::optional<Eigen::Vector3d> GlobalPoseEstimator::centre_ray_point(const StateVector& x,

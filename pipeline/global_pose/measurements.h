@@ -15,13 +15,15 @@ namespace pensight::global_pose {
 
 // One camera frame's output of the FFT net detector: 3D net points in C (one per ROI, NaN where
 // a ROI found no net) with their qualities (> 0; empty = all 1), and the net-relative pose
-// (NaN when not available), and the net texture odometry's step (net_texture.h).
+// (NaN when not available) with its quality (FftRelativePose::quality; its variance is divided by
+// pose_trust of it), and the net texture odometry's step (net_texture.h).
 struct NetObservation {
   int64_t t_ns = 0;
   std::vector<Eigen::Vector3d> points_C;
   std::vector<double> quality;
   double d_net_m = kNaN;
   double psi_net_rad = kNaN;
+  double pose_quality = 1.0;
   TextureStep texture;  // the centre ray's net point's move since an earlier frame
 };
 

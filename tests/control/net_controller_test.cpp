@@ -152,6 +152,36 @@ TEST(NetController, LostPerceptionHoldsThenBacksOffAndRecovers) {
   EXPECT_TRUE(saw_backoff);
 }
 
+// The surge speed reference of the step after a 2 cm jump in the pose (below the speed limit),
+// given with `quality`: before it, 3 s of poses at the reference distance (1 s of tracking), then
+// `gap_s` without one.
+double surge_after_a_jump(double quality, double gap_s) {
+  NetController ctl(hold(1.0, VelocityStrategy::kDvlFeedback));
+  int64_t t_ns = 0;
+  for (; t_ns < 3'000'000'000; t_ns += 100'000'000) {
+    ctl.on_pose(t_ns, 1.0, 0.0);
+    ctl.on_dvl(t_ns, Eigen::Vector3d::Zero());
+    ctl.update(t_ns);
+  }
+  t_ns += static_cast<int64_t>(gap_s * 1e9);
+  ctl.on_pose(t_ns, 1.02, 0.0, quality);
+  ctl.on_dvl(t_ns, Eigen::Vector3d::Zero());
+  const ControlOutput out = ctl.update(t_ns);
+  EXPECT_EQ(out.state, ControlState::kTracking);
+  return out.u_ref_mps;
+}
+
+// A pose of low quality moves the distance the loops act on by pose_trust() of the jump (0.1 at
+// quality 0.05), so it steers a tenth as much; after a timeout there is nothing to blend with and
+// it is taken whole.
+TEST(NetController, ALowQualityPoseSteersLess) {
+  const double trusted = surge_after_a_jump(1.0, 0);
+  ASSERT_GT(trusted, 0.01);
+  EXPECT_NEAR(surge_after_a_jump(0.05, 0), 0.1 * trusted, 0.02 * trusted);
+  EXPECT_NEAR(surge_after_a_jump(0.25, 0), 0.5 * trusted, 0.02 * trusted);
+  EXPECT_EQ(surge_after_a_jump(0.05, 1.0), surge_after_a_jump(1.0, 1.0));
+}
+
 TEST(NetController, DvlDropoutFallsBackToTheOpenLoop) {
   ControlConfig c = hold(0.5, VelocityStrategy::kDvlFeedback);
   c.legs[0].sway_speed_mps = 0.1;

@@ -15,17 +15,6 @@
 namespace pensight {
 namespace {
 
-// The reference field of view (fx = 462 at 720 px wide) at another size.
-PinholeCamera camera_of_size(int width, int height) {
-  PinholeCamera c;
-  c.width_px = width;
-  c.height_px = height;
-  c.fx_px = c.fy_px = 462.0 * width / 720.0;
-  c.cx_px = (width - 1) / 2.0;
-  c.cy_px = (height - 1) / 2.0;
-  return c;
-}
-
 struct Planned {
   int roi_px, fft;
 };
@@ -41,20 +30,21 @@ TEST(GridPlan, ROIsHoldTheReferenceCellsWithinTheFrame) {
     EXPECT_EQ(p.roi_px, roi_px) << what;
     EXPECT_EQ(p.fft, fft) << what;
   };
-  expect(plan(camera_of_size(720, 540)), 300, 256, "the reference");
-  expect(plan(camera_of_size(1920, 1080)), 800, 256, "1080p, same field of view");
-  expect(plan(camera_of_size(3840, 2160)), 1600, 256, "4K");
+  expect(plan(default_field_of_view(720, 540)), 300, 256, "the reference");
+  expect(plan(default_field_of_view(1920, 1080)), 800, 256, "1080p, same field of view");
+  expect(plan(default_field_of_view(3840, 2160)), 1600, 256, "4K");
   // Below 256 px a power of two within 25 %: the FFT reads the ROI's own pixels.
-  expect(plan(camera_of_size(320, 240)), 128, 128, "320x240 (133 px wanted)");
-  expect(plan(camera_of_size(160, 120)), 64, 64, "the smallest frame (67 px wanted)");
-  expect(plan(camera_of_size(720, 540), 0.020), 200, 128, "20 mm bars: no power of two near");
-  expect(plan(camera_of_size(720, 540), 0.040), 400, 256, "40 mm bars: cells 1.33x larger");
+  expect(plan(default_field_of_view(320, 240)), 128, 128, "320x240 (133 px wanted)");
+  expect(plan(default_field_of_view(160, 120)), 64, 64, "the smallest frame (67 px wanted)");
+  expect(plan(default_field_of_view(720, 540), 0.020), 200, 128,
+         "20 mm bars: no power of two near");
+  expect(plan(default_field_of_view(720, 540), 0.040), 400, 256, "40 mm bars: cells 1.33x larger");
   // SOLAQUA's camera (../shared/real): 1280x720, fx 735, 27.5 mm bars.
-  PinholeCamera solaqua = camera_of_size(1280, 720);
+  PinholeCamera solaqua = default_field_of_view(1280, 720);
   solaqua.fx_px = solaqua.fy_px = 735;
   expect(plan(solaqua, 0.0275), 438, 256, "solaqua");
   // A long lens on a small frame: the ROI stops at the frame's smaller side less the border.
-  PinholeCamera tele = camera_of_size(640, 360);
+  PinholeCamera tele = default_field_of_view(640, 360);
   tele.fx_px = tele.fy_px = 1500;
   expect(plan(tele), 360, 256, "telephoto");
   NetDetectorConfig bordered;
@@ -63,9 +53,9 @@ TEST(GridPlan, ROIsHoldTheReferenceCellsWithinTheFrame) {
   // Values given stay; a planned ROI below 256 px gets its own power of two.
   NetDetectorConfig given;
   given.grid.roi_size_px = 200;
-  expect(plan(camera_of_size(720, 540), 0.030, given), 200, 128, "ROI given");
+  expect(plan(default_field_of_view(720, 540), 0.030, given), 200, 128, "ROI given");
   given.fft_size = 64;
-  expect(plan(camera_of_size(720, 540), 0.030, given), 200, 64, "both given");
+  expect(plan(default_field_of_view(720, 540), 0.030, given), 200, 64, "both given");
 }
 
 TEST(GridPlan, TheDetectorBuildsOnEveryFrameSizeAndRefusesTooSmallOnes) {
@@ -81,7 +71,7 @@ TEST(GridPlan, TheDetectorBuildsOnEveryFrameSizeAndRefusesTooSmallOnes) {
                              {1920, 1080},
                              {3840, 2160}}) {
     SCOPED_TRACE(std::to_string(w) + "x" + std::to_string(h));
-    const NetDetector d(camera_of_size(w, h), cpu, testing::test_device());
+    const NetDetector d(default_field_of_view(w, h), cpu, testing::test_device());
     EXPECT_EQ(d.rois().size(), 30u);
     EXPECT_LE(d.config().grid.roi_size_px, h);
     EXPECT_EQ(d.config().fft_size & (d.config().fft_size - 1), 0);
@@ -90,26 +80,27 @@ TEST(GridPlan, TheDetectorBuildsOnEveryFrameSizeAndRefusesTooSmallOnes) {
   NetDetectorConfig large = cpu;
   large.grid.roi_size_px = 300;
   const std::string e = testing::error_message(
-      [&] { NetDetector(camera_of_size(320, 240), large, testing::test_device()); });
+      [&] { NetDetector(default_field_of_view(320, 240), large, testing::test_device()); });
   EXPECT_NE(e.find("ROIs of 300 px with a border of 0 px do not fit a 320x240 image"),
             std::string::npos)
       << e;
   // Below 160x120 the grid is not planned: the error names the size and the fix; with the ROI
   // side given such a frame is the user's choice.
   const std::string tiny = testing::error_message(
-      [&] { NetDetector(camera_of_size(120, 90), cpu, testing::test_device()); });
+      [&] { NetDetector(default_field_of_view(120, 90), cpu, testing::test_device()); });
   EXPECT_NE(tiny.find("a 120x90 frame is below the 160x120 the ROI grid is planned for"),
             std::string::npos)
       << tiny;
   NetDetectorConfig given = cpu;
   given.grid.roi_size_px = 64;
-  EXPECT_EQ(NetDetector(camera_of_size(120, 90), given, testing::test_device()).config().fft_size,
-            64);
+  EXPECT_EQ(
+      NetDetector(default_field_of_view(120, 90), given, testing::test_device()).config().fft_size,
+      64);
   // A border that leaves no ROI.
   NetDetectorConfig bordered = cpu;
   bordered.grid.border_px = 110;
   const std::string border = testing::error_message(
-      [&] { NetDetector(camera_of_size(160, 120), bordered, testing::test_device()); });
+      [&] { NetDetector(default_field_of_view(160, 120), bordered, testing::test_device()); });
   EXPECT_NE(border.find("a 160x120 frame with a border of 110 px leaves no room"),
             std::string::npos)
       << border;

@@ -221,6 +221,44 @@ TEST(RelativePoseFft, TooFewValidRoisGiveNanAndAReason) {
   EXPECT_FALSE(relative_pose_fft({}).valid());
 }
 
+// The quality is the product of the support, the agreeing share and each check's margin: near 1
+// for a whole frontal net, lowered by exactly the share of ROIs left out, by the ROIs missing
+// below full support and by the obliquity; 0 without a pose.
+TEST(RelativePoseFft, QualityFallsWithEachWayThePoseIsWeaker) {
+  std::mt19937_64 rng(testing::fresh_seed());
+  std::uniform_real_distribution<double> d(0.5, 2.5), small(-0.05, 0.05);
+  const NetPlane frontal{small(rng), small(rng), d(rng)};
+  const FftRelativePose whole = relative_pose_fft(points_on(frontal));
+  ASSERT_TRUE(whole.valid()) << whole.reason;
+  EXPECT_GT(whole.quality, 0.8);  // the lever of the ROIs nearest the axis: 0.11 of 0.7
+  EXPECT_LE(whole.quality, 1.0);
+
+  auto outliers = points_on(frontal);  // 10 of 30 at half the range: a lattice harmonic
+  for (int i : {0, 4, 7, 11, 13, 17, 20, 23, 26, 29}) outliers[static_cast<size_t>(i)].p_C *= 0.5;
+  const FftRelativePose agreeing = relative_pose_fft(outliers);
+  ASSERT_EQ(agreeing.inlier_rois, 20);
+  EXPECT_NEAR(agreeing.quality, whole.quality * 20 / 30, 1e-6);
+
+  auto few = points_on(frontal);  // the net in 8 ROIs about the image centre
+  for (size_t i = 0; i < few.size(); ++i) {
+    const size_t row = i / 6, col = i % 6;
+    if (row < 1 || row > 2 || col < 1 || col > 4) few[i].status = RoiStatus::kNoLattice;
+  }
+  const FftRelativePose partial = relative_pose_fft(few);
+  ASSERT_EQ(partial.inlier_rois, 8);
+  EXPECT_LT(partial.quality, whole.quality * 8 / 12 + 0.05);
+
+  const NetPlane oblique{0.8, 0, frontal.d_m};  // 46 deg: margin 1 - 0.8 / 0.995 = 0.2
+  const FftRelativePose steep = relative_pose_fft(points_on(oblique));
+  ASSERT_TRUE(steep.valid()) << steep.reason;
+  EXPECT_LT(steep.quality, 0.21);
+  EXPECT_GT(steep.quality, 0.05);
+
+  auto none = points_on(frontal);
+  for (size_t i = 5; i < none.size(); ++i) none[i].status = RoiStatus::kNoLattice;
+  EXPECT_EQ(relative_pose_fft(none).quality, 0);
+}
+
 // Scattered points with no common plane (e.g. fish, bubbles): no consistent subset. By chance
 // 12 of 30 random depths can lie on a plane (3 draws in 2000 gave a pose), so 100 draws are
 // made and at most 5 may give one (p < 1e-7 at that rate).

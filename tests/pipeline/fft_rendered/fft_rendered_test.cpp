@@ -176,12 +176,7 @@ TEST_P(FftRenderedCamera, APoseFromAnyFrameSize) {
   const CameraSize c = GetParam();
   sim::Scenario s = testing::shipped_scenario("sweep.yaml", 4.0);
   s.seed = testing::fresh_seed();
-  PinholeCamera& k = s.camera.calibration.camera;
-  k.width_px = c.width;
-  k.height_px = c.height;
-  k.fx_px = k.fy_px = 462.0 * c.width / 720.0;
-  k.cx_px = (c.width - 1) / 2.0;
-  k.cy_px = (c.height - 1) / 2.0;
+  s.camera.calibration.camera = default_field_of_view(c.width, c.height);
   sim::validate(s);
   const testing::RenderedRun run = testing::render_and_run(s);
   const NetPoseAccuracy a = score_net_pose(run.dataset, run.rows, NetPoseSource::kFft);

@@ -756,6 +756,29 @@ TEST(GlobalPoseEstimator, PartialNetFixDoesNotInitialise) {
   EXPECT_GT(n.r_m.front(), 0.5);
 }
 
+// The FFT pose's quality scales its weight (core/pose_trust.h): a d_net reading 8 % long on every
+// frame pulls r_g much less when its quality says the pose is weak (trust 0.1: ten times the
+// variance) than when it says it is a whole frontal net.
+TEST(GlobalPoseEstimator, AWeakFftPosePullsLess) {
+  const sim::Sequence seq = fresh_sequence(20);
+  const auto median_r_error = [&](double d_net_scale, double quality) {
+    sim::Sequence s = seq;
+    for (NetObservation& obs : s.camera) {
+      obs.d_net_m *= d_net_scale;
+      obs.pose_quality = quality;
+    }
+    GlobalPoseEstimator est(estimator_config(12.0));
+    return sim::median(run_estimator(s, est).r_m);
+  };
+  const double unbiased = median_r_error(1.0, 1.0);
+  const double strong = median_r_error(1.08, 1.0) - unbiased;
+  const double weak = median_r_error(1.08, 0.05) - unbiased;
+  std::printf("r_g error added by d_net 8 %% long: median %.4f m at quality 1, %.4f m at 0.05\n",
+              strong, weak);
+  EXPECT_GT(strong, 0.002);  // 3.6 mm and more on 60 seeds; weak at most 0.4 mm
+  EXPECT_LT(weak, 0.3 * strong);
+}
+
 // Frames 1-3 have all points moved 1.5 m along the optical axis (frame 0 sees nothing): a full,
 // self-consistent, wrong circle that passes the fix-only rule. Without the DVL plane to contradict
 // it the filter starts there, gates the good fixes out, and after reinit_after_rejected_fixes

@@ -205,8 +205,8 @@ TEST(Pipeline, RunWritesDiagnosticsAndTiming) {
   const RunSummary summary = run_dataset(d, out, options, test_device());
   const std::vector<EstimateRow> rows = read_estimates_csv(out / "estimates.csv");
   // 8 leading columns, an accepted and a rejected one per sensor, mesh_type, reduced_rois,
-  // depth_scale, dvl_depth_ratio and the four of the DVL's tilt.
-  const size_t columns = 8 + 2 * kDiagnosticsSensors.size() + 8;
+  // depth_scale, dvl_depth_ratio, the four of the DVL's tilt and fft_quality.
+  const size_t columns = 8 + 2 * kDiagnosticsSensors.size() + 9;
   const CsvTable diag(out / kDiagnosticsFile, columns, columns);
   ASSERT_EQ(diag.rows(), d.frames.size());
   int nan_frames = 0;
@@ -215,8 +215,13 @@ TEST(Pipeline, RunWritesDiagnosticsAndTiming) {
     EXPECT_EQ(diag.integer(i, 1), rows[i].valid_rois);
     const bool has_pose = std::isfinite(rows[i].d_net_fft_m);
     EXPECT_EQ(diag.text(i, 4).empty(), has_pose) << i << ": " << diag.text(i, 4);
+    const double quality = diag.number(i, columns - 1);
     if (has_pose) {
       EXPECT_GE(diag.integer(i, 2), 6);
+      EXPECT_GT(quality, 0) << i;
+      EXPECT_LE(quality, 1) << i;
+    } else {
+      EXPECT_EQ(quality, 0) << i;
     }
     nan_frames += !has_pose;
     // One pressure sample per frame at 10 Hz: each row counts it.
