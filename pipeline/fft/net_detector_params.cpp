@@ -106,6 +106,10 @@ const Param<RelativePoseFftParams> kPoseParams[] = {
     {"max_tilt_disagreement_rad", &RelativePoseFftParams::max_tilt_disagreement_rad, "rad",
      range_above_zero_to(kRightAngle_rad),
      "largest median angle between the inliers' own normals and the plane's (else no pose)"},
+    {"min_fold_angle_rad", &RelativePoseFftParams::min_fold_angle_rad, "rad",
+     range_above_zero_to(kRightAngle_rad),
+     "ROIs off the plane on a second plane tilted at least this much: a fold, the pose from the "
+     "panel the optical axis meets"},
     {"max_roi_tilt_rad", &RelativePoseFftParams::max_roi_tilt_rad, "rad",
      range_above_zero_to(kRightAngle_rad),
      "largest angle between a ROI's own normal and the plane it supports"},

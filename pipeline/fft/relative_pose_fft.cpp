@@ -172,6 +172,233 @@ void fuse_roi_tilt(Eigen::Vector3d& plane, const std::vector<Sample>& s, const s
   plane(0) = offset / total;
 }
 
+// The z-depth where the ray through normalised image point (xn, yn) meets the plane (c, a, b);
+// infinity where it does not (parallel, or behind the camera).
+double ray_depth(const Eigen::Vector3d& plane, double xn, double yn) {
+  const double den = 1 - plane(1) * xn - plane(2) * yn;
+  const double z = plane(0) / den;
+  return den > 0 && z > 0 ? z : std::numeric_limits<double>::infinity();
+}
+
+// The median angle between the inliers' own normals and the plane's; 0 when none has normals.
+double median_tilt_disagreement(const Eigen::Vector3d& plane, const std::vector<Sample>& s,
+                                const std::vector<int>& in, std::span<const RoiNetPoint> rois) {
+  const Eigen::Vector3d normal = net_plane_normal(plane(1), plane(2));
+  std::vector<double> angles;
+  for (int i : in) {
+    if (const auto m = nearer_normal(rois[s[i].roi], normal)) {
+      angles.push_back(std::acos(std::min(1.0, std::abs(m->dot(normal)))));
+    }
+  }
+  if (angles.empty()) return 0;
+  const auto mid = angles.begin() + static_cast<std::ptrdiff_t>(angles.size() / 2);
+  std::nth_element(angles.begin(), mid, angles.end());
+  return *mid;
+}
+
+// Which side of the fold line of planes a and b (where the ray meets both at the same depth) the
+// normalised image point (xn, yn) lies on: the sign of depth_b - depth_a there, times c_a c_b.
+double fold_side(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double xn, double yn) {
+  return a(0) * (1 - b(1) * xn - b(2) * yn) - b(0) * (1 - a(1) * xn - a(2) * yn);
+}
+
+// The smallest relative depth gap between a set's points and the other plane along their rays.
+double closest_gap(const std::vector<Sample>& s, const std::vector<int>& set,
+                   const Eigen::Vector3d& other) {
+  double gap = std::numeric_limits<double>::infinity();
+  for (int i : set) {
+    const Eigen::Vector3d& p = s[i].p;
+    gap = std::min(gap, std::abs(ray_depth(other, p.x() / p.z(), p.y() / p.z()) - p.z()) / p.z());
+  }
+  return gap;
+}
+
+// Whether the two sets lie on either side of their planes' fold line, each touching it (a point
+// of each within 4 x rel of the other plane's depth: a ROI centre 0.17 of the focal length from a
+// 28 deg fold at 1.5 m is 11 % off the other panel): two panels meeting. Two planes always meet
+// somewhere; a fish or a harmonic's plane does not meet the net where its ROIs are.
+bool meet_in_a_fold(const std::vector<Sample>& s, const std::vector<int>& in_a,
+                    const Eigen::Vector3d& a, const std::vector<int>& in_b,
+                    const Eigen::Vector3d& b, double rel) {
+  const auto side_of = [&](const std::vector<int>& set) {
+    int positive = 0;
+    for (int i : set)
+      positive += fold_side(a, b, s[i].p.x() / s[i].p.z(), s[i].p.y() / s[i].p.z()) > 0;
+    return positive;
+  };
+  const int a_positive = side_of(in_a), b_positive = side_of(in_b);
+  const int na = static_cast<int>(in_a.size()), nb = static_cast<int>(in_b.size());
+  const bool separated =
+      (a_positive == na && b_positive == 0) || (a_positive == 0 && b_positive == nb);
+  return separated && closest_gap(s, in_a, b) <= 4 * rel && closest_gap(s, in_b, a) <= 4 * rel;
+}
+
+struct Fold {
+  Eigen::Vector3d plane;  // the second plane
+  std::vector<int> in;    // its inliers (indices into the samples)
+};
+
+// The samples split in two by their own tilts (each ROI's normal candidate nearer the plane's, as
+// slopes): two-means, started from the split across the slopes' principal direction. Two panels
+// whose kink is under twice max_roi_tilt_rad both agree with the plane between them; their
+// tilts still form two clusters. Empty sets where a sample has no normal.
+std::pair<std::vector<int>, std::vector<int>> split_by_tilt(const std::vector<Sample>& s,
+                                                            std::span<const RoiNetPoint> rois,
+                                                            const Eigen::Vector3d& plane,
+                                                            const std::vector<int>& set) {
+  const Eigen::Vector3d normal = net_plane_normal(plane(1), plane(2));
+  std::vector<Eigen::Vector2d> slope;
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  for (int i : set) {
+    const auto m = nearer_normal(rois[s[i].roi], normal);
+    if (!m) return {};
+    slope.emplace_back(-m->x() / m->z(), -m->y() / m->z());
+    mean += slope.back();
+  }
+  if (slope.empty()) return {};
+  mean /= static_cast<double>(slope.size());
+  Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
+  for (const Eigen::Vector2d& v : slope) scatter += (v - mean) * (v - mean).transpose();
+  const Eigen::Vector2d axis =
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(scatter).eigenvectors().col(1);
+  std::vector<uint8_t> second(slope.size());
+  for (size_t k = 0; k < slope.size(); ++k) second[k] = (slope[k] - mean).dot(axis) < 0;
+  for (int round = 0; round < 5; ++round) {
+    Eigen::Vector2d centre[2] = {Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero()};
+    double count[2] = {0, 0};
+    for (size_t k = 0; k < slope.size(); ++k) centre[second[k]] += slope[k], ++count[second[k]];
+    if (count[0] == 0 || count[1] == 0) break;
+    centre[0] /= count[0];
+    centre[1] /= count[1];
+    for (size_t k = 0; k < slope.size(); ++k) {
+      second[k] = (slope[k] - centre[1]).squaredNorm() < (slope[k] - centre[0]).squaredNorm();
+    }
+  }
+  std::pair<std::vector<int>, std::vector<int>> sets;
+  for (size_t k = 0; k < slope.size(); ++k)
+    (second[k] ? sets.second : sets.first).push_back(set[k]);
+  return sets;
+}
+
+// Two panels explain their ROIs at most this share of the rms residual of one smooth surface
+// through them all (the paraboloid, or the plane below min_paraboloid_rois), or they are one
+// surface: a pen wall's curvature turns the normal by 7-11 deg across the view at 1.5-2.5 m and
+// splits into two planes as well as a fold does, but the paraboloid follows it.
+constexpr double kFoldResidualShare = 0.5;
+
+double rms_about(const std::vector<Sample>& s, const std::vector<int>& set,
+                 const Eigen::Vector3d& plane) {
+  double sq = 0;
+  for (int i : set) sq += std::pow(residual<3>(plane, s[i].p, plane_basis), 2);
+  return sq;
+}
+
+bool two_panels_fit_better(const std::vector<Sample>& s, const std::vector<int>& in_a,
+                           const Eigen::Vector3d& a, const std::vector<int>& in_b,
+                           const Eigen::Vector3d& b, const RelativePoseFftParams& params) {
+  std::vector<int> both = in_a;
+  both.insert(both.end(), in_b.begin(), in_b.end());
+  const double n = static_cast<double>(both.size());
+  const double two = std::sqrt((rms_about(s, in_a, a) + rms_about(s, in_b, b)) / n);
+  double one = 0;
+  if (static_cast<int>(both.size()) >= params.min_paraboloid_rois) {
+    const auto q = fit<6>(s, both, paraboloid_basis);
+    for (int i : both) one += std::pow(residual<6>(q, s[i].p, paraboloid_basis), 2);
+  } else {
+    one = rms_about(s, both, fit<3>(s, both, plane_basis));
+  }
+  return two <= kFoldResidualShare * std::sqrt(one / n);
+}
+
+// Two panels among all the samples, split by their tilts (split_by_tilt), each half's consensus
+// plane taking the samples on it, with find_fold's tests and two_panels_fit_better.
+struct TwoPanels {
+  Eigen::Vector3d plane;  // the first panel's
+  std::vector<int> in;    // its ROIs
+  Fold fold;              // the second panel
+};
+
+std::optional<TwoPanels> fold_within(const std::vector<Sample>& s,
+                                     std::span<const RoiNetPoint> rois,
+                                     const Eigen::Vector3d& plane,
+                                     const RelativePoseFftParams& params, double min_cos,
+                                     int need) {
+  std::vector<int> all(s.size());
+  for (size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
+  const auto [a, b] = split_by_tilt(s, rois, plane, all);
+  // Each half's own consensus plane: a fish or a harmonic among them is left out.
+  const auto half_plane = [&](const std::vector<int>& half) -> std::optional<Eigen::Vector3d> {
+    if (static_cast<int>(half.size()) < need) return std::nullopt;
+    std::vector<Sample> sub;
+    for (int i : half) sub.push_back(s[static_cast<size_t>(i)]);
+    const std::vector<int> sub_in = consensus(sub, rois, params.inlier_rel, min_cos);
+    if (static_cast<int>(sub_in.size()) < need) return std::nullopt;
+    return fit<3>(sub, sub_in, plane_basis);
+  };
+  const auto plane_a = half_plane(a), plane_b = half_plane(b);
+  if (!plane_a || !plane_b) return std::nullopt;
+  TwoPanels two{*plane_a, {}, {*plane_b, {}}};
+  // Each sample to the panel it lies on and is tilted like, the nearer where both.
+  const Eigen::Vector3d normal_a = net_plane_normal(two.plane(1), two.plane(2)),
+                        normal_b = net_plane_normal(two.fold.plane(1), two.fold.plane(2));
+  for (int i = 0; i < static_cast<int>(s.size()); ++i) {
+    const double limit = params.inlier_rel * s[i].p.z();
+    const double ra = std::abs(residual<3>(two.plane, s[i].p, plane_basis)),
+                 rb = std::abs(residual<3>(two.fold.plane, s[i].p, plane_basis));
+    const bool on_a = ra <= limit && tilt_agrees(rois[s[i].roi], normal_a, min_cos),
+               on_b = rb <= limit && tilt_agrees(rois[s[i].roi], normal_b, min_cos);
+    if (on_a && (!on_b || ra <= rb)) {
+      two.in.push_back(i);
+    } else if (on_b) {
+      two.fold.in.push_back(i);
+    }
+  }
+  if (static_cast<int>(two.in.size()) < need || static_cast<int>(two.fold.in.size()) < need) {
+    return std::nullopt;
+  }
+  two.plane = fit<3>(s, two.in, plane_basis);
+  two.fold.plane = fit<3>(s, two.fold.in, plane_basis);
+  const double cos_angle = net_plane_normal(two.plane(1), two.plane(2))
+                               .dot(net_plane_normal(two.fold.plane(1), two.fold.plane(2)));
+  if (cos_angle > std::cos(params.min_fold_angle_rad)) return std::nullopt;
+  if (!meet_in_a_fold(s, two.in, two.plane, two.fold.in, two.fold.plane, params.inlier_rel) ||
+      !two_panels_fit_better(s, two.in, two.plane, two.fold.in, two.fold.plane, params)) {
+    return std::nullopt;
+  }
+  return two;
+}
+
+// A second plane through the ROIs off `plane` (not in `in`) that meets it in a fold (two panels,
+// a seam): as many ROIs as a pose needs, tilted at least min_fold_angle_rad from the first, the
+// two sets on either side of the fold line and touching it (meet_in_a_fold).
+std::optional<Fold> find_fold(const std::vector<Sample>& s, std::span<const RoiNetPoint> rois,
+                              const Eigen::Vector3d& plane, const std::vector<int>& in,
+                              const RelativePoseFftParams& params, double min_cos, int need) {
+  std::vector<uint8_t> taken(s.size(), 0);
+  for (int i : in) taken[static_cast<size_t>(i)] = 1;
+  std::vector<Sample> rest;
+  std::vector<int> rest_index;
+  for (int i = 0; i < static_cast<int>(s.size()); ++i) {
+    if (taken[static_cast<size_t>(i)]) continue;
+    rest.push_back(s[static_cast<size_t>(i)]);
+    rest_index.push_back(i);
+  }
+  if (static_cast<int>(rest.size()) < need) return std::nullopt;
+  const std::vector<int> rest_in = consensus(rest, rois, params.inlier_rel, min_cos);
+  if (static_cast<int>(rest_in.size()) < need) return std::nullopt;
+  Fold fold;
+  for (int i : rest_in) fold.in.push_back(rest_index[static_cast<size_t>(i)]);
+  fold.plane = fit<3>(s, fold.in, plane_basis);
+  const double cos_angle =
+      net_plane_normal(plane(1), plane(2)).dot(net_plane_normal(fold.plane(1), fold.plane(2)));
+  if (cos_angle > std::cos(params.min_fold_angle_rad)) return std::nullopt;
+  if (!meet_in_a_fold(s, in, plane, fold.in, fold.plane, params.inlier_rel) ||
+      !two_panels_fit_better(s, in, plane, fold.in, fold.plane, params)) {
+    return std::nullopt;
+  }
+  return fold;
+}
+
 // The fused plane's checks (see RelativePoseFftParams): the extrapolation lever and the median
 // disagreement of the inliers' own tilts (0 when not checked), and the reason when either is
 // beyond its limit.
@@ -203,23 +430,14 @@ PlaneChecks check_plane(const Eigen::Vector3d& plane, const std::vector<Sample>&
     return c;
   }
   if (!params.check_tilts) return c;
-  const Eigen::Vector3d normal = net_plane_normal(plane(1), plane(2));
-  std::vector<double> angles;
-  for (int i : in) {
-    if (const auto m = nearer_normal(rois[s[i].roi], normal)) {
-      angles.push_back(std::acos(std::min(1.0, std::abs(m->dot(normal)))));
-    }
-  }
-  if (angles.empty()) return c;
-  const auto mid = angles.begin() + static_cast<std::ptrdiff_t>(angles.size() / 2);
-  std::nth_element(angles.begin(), mid, angles.end());
-  c.tilt_disagreement_rad = *mid;
-  if (*mid > params.max_tilt_disagreement_rad) {
+  c.tilt_disagreement_rad = median_tilt_disagreement(plane, s, in, rois);
+  if (c.tilt_disagreement_rad > params.max_tilt_disagreement_rad) {
     char text[160];
     std::snprintf(text, sizeof text,
                   "the ROIs' own tilts disagree with the fitted plane (median %.0f deg, limit "
                   "%.0f): a lattice harmonic?",
-                  rad_to_deg(*mid), rad_to_deg(params.max_tilt_disagreement_rad));
+                  rad_to_deg(c.tilt_disagreement_rad),
+                  rad_to_deg(params.max_tilt_disagreement_rad));
     c.status = FftPoseStatus::kTiltsDisagree;
     c.reason = text;
   }
@@ -268,6 +486,30 @@ FftRelativePose solve(std::span<const RoiNetPoint> rois, const RelativePoseFftPa
                    "the refitted plane keeps fewer than " + std::to_string(need) + " net points");
   }
   plane = fit<3>(s, in, plane_basis);
+  // A fold: the pose is the panel's the optical axis meets, the other panel's ROIs named.
+  std::vector<int> second;
+  std::optional<Fold> fold;
+  // Two panels whose kink is under twice max_roi_tilt_rad both agree with the plane between them
+  // (fold_within); a sharper kink leaves the other panel's ROIs off this plane (find_fold).
+  if (params.check_tilts) {
+    if (auto two = fold_within(s, rois, plane, params, min_cos, need)) {
+      plane = two->plane;
+      in = std::move(two->in);
+      fold = std::move(two->fold);
+    }
+  }
+  if (!fold) fold = find_fold(s, rois, plane, in, params, min_cos, need);
+  if (fold) {
+    second = fold->in;
+    // The optical axis on the second panel's side of the fold line: the pose is that panel's.
+    const int i = fold->in.front();
+    const double roi_side =
+        fold_side(plane, fold->plane, s[i].p.x() / s[i].p.z(), s[i].p.y() / s[i].p.z());
+    if (roi_side * fold_side(plane, fold->plane, 0, 0) > 0) {
+      std::swap(second, in);
+      plane = fold->plane;
+    }
+  }
   if (params.fuse_roi_tilt) fuse_roi_tilt(plane, s, in, rois);
 
   const auto [psi, pitch] = net_angles_from_plane_C(plane(1), plane(2));
@@ -292,9 +534,12 @@ FftRelativePose solve(std::span<const RoiNetPoint> rois, const RelativePoseFftPa
                        std::vector<uint8_t>(rois.size(), 0),
                        {}};
   for (int i : in) pose.inlier[s[i].roi] = 1;
+  pose.tilt_disagreement_rad = checks.tilt_disagreement_rad;
+  pose.second_panel.assign(rois.size(), 0);
+  for (int i : second) pose.second_panel[s[i].roi] = 1;
   pose.other_tilt.assign(rois.size(), 0);
   for (const Sample& q : s) {
-    if (!pose.inlier[q.roi] &&
+    if (!pose.inlier[q.roi] && !pose.second_panel[q.roi] &&
         std::abs(residual<3>(plane, q.p, plane_basis)) <= params.inlier_rel * q.p.z()) {
       pose.other_tilt[q.roi] = 1;
     }

@@ -45,6 +45,11 @@ struct RelativePoseFftParams {
   // rope, seam, fold or fish across the ROI); the pose comes from the ROIs that agree, and from
   // the points alone when too few do.
   double max_roi_tilt_rad = 0.28;  // 16 deg
+  // ROIs off the fitted plane that fit a second one tilted at least this much from it, meeting it
+  // in a fold (two panels, a seam), as many as a pose needs: the pose is that of the panel the
+  // optical axis meets, the other panel's ROIs are named (FftRelativePose::second_panel). Below
+  // 5 deg the two panels' depths differ by less than inlier_rel over the frame, one plane.
+  double min_fold_angle_rad = 0.087;  // 5 deg
   // Off for a plane from the points alone (the tilts then do not count): the net's opening
   // angle is measured against it before the ROIs' tilts can be trusted (mesh_angle.h).
   bool check_tilts = true;
@@ -79,12 +84,17 @@ struct FftRelativePose {
   // Per input ROI (empty without a pose): 1 when its net point lies on the fitted surface but its
   // own lattice is tilted otherwise (a rope, seam or fold across the ROI), so it was left out.
   std::vector<uint8_t> other_tilt;
+  // Per input ROI (empty without a pose): 1 on the other panel of a fold (min_fold_angle_rad),
+  // left out of the pose, which is the panel's the optical axis meets.
+  std::vector<uint8_t> second_panel;
   // How far the pose stayed from being refused, in [0, 1] (0 without a pose): the product of the
   // inliers' support (their count over full_support_rois, at most 1), their share of the valid
   // ROIs, and each check's margin 1 - value / limit (obliquity, extrapolation lever, the inliers'
   // tilt disagreement, the fit's rms residual over inlier_rel x d_net). Downstream stages weigh
   // the pose by pose_trust() of it (core/pose_trust.h).
   double quality = 0;
+  // The median angle between the inliers' own normals and the plane's (0 where not checked).
+  double tilt_disagreement_rad = kNaN;
   bool valid() const { return status == FftPoseStatus::kValid; }
 };
 

@@ -18,17 +18,20 @@ namespace pensight {
 namespace {
 
 // A ROI's part in the frame's pose, which its colour shows (BGR).
-enum class RoiState { kInlier, kOtherTilt, kOutlier, kNoLattice };
-const std::array<cv::Scalar, 4> kStateColour = {cv::Scalar(60, 210, 60), cv::Scalar(235, 120, 235),
-                                                cv::Scalar(0, 165, 255), cv::Scalar(70, 70, 235)};
-const std::array<const char*, 4> kStateLabel = {
-    "inlier of the pose", "on the net, tilted otherwise (rope, seam, fold): left out",
+enum class RoiState { kInlier, kSecondPanel, kOtherTilt, kOutlier, kNoLattice };
+const std::array<cv::Scalar, 5> kStateColour = {cv::Scalar(60, 210, 60), cv::Scalar(230, 200, 40),
+                                                cv::Scalar(235, 120, 235), cv::Scalar(0, 165, 255),
+                                                cv::Scalar(70, 70, 235)};
+const std::array<const char*, 5> kStateLabel = {
+    "inlier of the pose", "the other panel of a fold: left out",
+    "on the net, tilted otherwise (rope, seam, fold): left out",
     "valid, off the net's surface: left out", "no usable lattice"};
 
 RoiState state_of(const NetDetection& detection, size_t i) {
   if (!detection.points[i].valid()) return RoiState::kNoLattice;
   const FftRelativePose& pose = detection.pose;
   if (i < pose.inlier.size() && pose.inlier[i]) return RoiState::kInlier;
+  if (i < pose.second_panel.size() && pose.second_panel[i]) return RoiState::kSecondPanel;
   if (i < pose.other_tilt.size() && pose.other_tilt[i]) return RoiState::kOtherTilt;
   return RoiState::kOutlier;
 }

@@ -121,6 +121,44 @@ TEST(RelativePoseFft, APoseFromTheRoisThatAgreeWhenMostAreTiltedOtherwise) {
   }
 }
 
+// Two panels meeting in a vertical fold (a ridge towards the camera or a valley), the fold line
+// between the ROI columns: the pose is the panel's the optical axis meets, whichever has more
+// ROIs, and the other panel's ROIs are named.
+TEST(RelativePoseFft, AFoldGivesThePoseOfThePanelOnTheAxis) {
+  std::mt19937_64 rng(testing::fresh_seed());
+  std::uniform_real_distribution<double> ang(-0.3, 0.3), kink(0.2, 0.5), d(0.6, 2.5),
+      near_axis(-0.08, 0.08), beside(0.1, 0.26);
+  for (int trial = 0; trial < 40; ++trial) {
+    const bool valley = trial % 2 == 0;
+    // The fold line at normalised x = xf; the panel P on the axis side, Q beyond.
+    const double xf = (trial / 2) % 2 == 0 ? near_axis(rng) : beside(rng) * (ang(rng) > 0 ? 1 : -1);
+    const double psi_p = ang(rng), d_p = d(rng);
+    // Beyond a valley's fold (pointing away from the camera) Q comes nearer than P would be;
+    // beyond a ridge's (pointing at it) it falls away.
+    const double side = xf > 0 ? 1 : -1;
+    const double psi_q = psi_p + (valley ? -1 : 1) * side * kink(rng);
+    const double tp = std::tan(psi_p), tq = std::tan(psi_q);
+    // Both planes through the fold line's point at depth z_f on the ray xf: z = d + t X.
+    const double z_f = d_p / (1 - tp * xf), d_q = z_f - tq * xf * z_f;
+    auto pts = grid_points([&](const Eigen::Vector3d& r) {
+      const double zp = d_p / (1 - tp * r.x()), zq = d_q / (1 - tq * r.x());
+      return (r.x() - xf) * side < 0 ? zp : zq;
+    });
+    const FftRelativePose pose = relative_pose_fft(pts);
+    ASSERT_TRUE(pose.valid()) << trial << ": " << pose.reason;
+    EXPECT_NEAR(pose.d_net_m, d_p, 1e-3 * d_p) << trial;
+    EXPECT_NEAR(pose.psi_net_rad, psi_p, 2e-3) << trial;
+    int second = 0;
+    for (size_t i = 0; i < pts.size(); ++i) {
+      const double x = pts[i].p_C.x() / pts[i].p_C.z();
+      const bool on_q = (x - xf) * side > 0;
+      if (on_q) second += pose.second_panel[i];
+      EXPECT_EQ(pose.inlier[i], on_q ? 0 : 1) << trial << " ROI " << i;
+    }
+    EXPECT_GT(second, 0) << trial;
+  }
+}
+
 // A pen wall of radius 12 m seen from inside bends towards the camera at the sides; the
 // paraboloid keeps d_net on the optical axis where a plane would put it too close.
 TEST(RelativePoseFft, ParaboloidFollowsACurvedWall) {
