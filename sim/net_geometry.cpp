@@ -1,5 +1,6 @@
 #include "sim/net_geometry.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -41,7 +42,8 @@ double NetGeometry::displacement(double along_m, double depth_m) const {
   double sum = 0;
   for (const Bulge& b : net_.bulges) {
     const double da = wrapped_along_offset(along_m, b.along_m, c), dz = depth_m - b.depth_m;
-    sum += b.amplitude_m * std::exp(-(da * da + dz * dz) / (2 * b.radius_m * b.radius_m));
+    sum += b.fold ? b.amplitude_m * std::max(0.0, 1 - std::abs(da) / b.radius_m)
+                  : b.amplitude_m * std::exp(-(da * da + dz * dz) / (2 * b.radius_m * b.radius_m));
   }
   return sum;
 }
@@ -52,6 +54,10 @@ Eigen::Vector2d NetGeometry::displacement_gradient(double along_m, double depth_
   for (const Bulge& b : net_.bulges) {
     const double da = wrapped_along_offset(along_m, b.along_m, c), dz = depth_m - b.depth_m,
                  s2 = b.radius_m * b.radius_m;
+    if (b.fold) {
+      if (std::abs(da) < b.radius_m) g.x() -= (da > 0 ? 1 : -1) * b.amplitude_m / b.radius_m;
+      continue;
+    }
     const double e = b.amplitude_m * std::exp(-(da * da + dz * dz) / (2 * s2));
     g += Eigen::Vector2d(-da / s2 * e, -dz / s2 * e);
   }

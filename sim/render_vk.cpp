@@ -142,7 +142,10 @@ std::vector<uint32_t> specialization(const Scenario& s, const RenderOptions& o) 
                              bits(net_visible_range_m(w))};
   for (size_t i = 0; i < kMaxBulges; ++i) {
     const Bulge b = i < net.bulges.size() ? net.bulges[i] : Bulge{};
-    for (double x : {b.along_m, b.depth_m, b.amplitude_m, b.radius_m}) v.push_back(bits(x));
+    // A fold's half width is sent negative (render.comp's displacement()).
+    for (double x : {b.along_m, b.depth_m, b.amplitude_m, b.fold ? -b.radius_m : b.radius_m}) {
+      v.push_back(bits(x));
+    }
   }
   const std::vector<LampPose> lamps = lamps_in_camera(s);
   for (size_t i = 0; i < kMaxLamps; ++i) {

@@ -132,7 +132,11 @@ const Param<Bulge> kBulgeParams[] = {
      .required = true},
     {"amplitude_m", &Bulge::amplitude_m, "m", closed_range(-5, 5),
      "Gaussian dent, > 0 pushes the net into the pen"},
-    {"radius_m", &Bulge::radius_m, "m", kPositive, "the dent's standard deviation"},
+    {"radius_m", &Bulge::radius_m, "m", kPositive,
+     "the dent's standard deviation; a fold's half width"},
+    {"fold", &Bulge::fold, "", kAnyNumber,
+     "a vertical fold at along_m instead of a dent (depth_m unused; slope amplitude_m / radius_m "
+     "at most 0.5)"},
 };
 
 const Param<WaterConfig> kWaterParams[] = {
@@ -406,6 +410,9 @@ NetConfig parse_net(const YamlMap& y, NetConfig n = {}) {
     for (const YamlMap& b : *list) {
       Bulge g;
       read_params(b, kBulgeParams, g);
+      if (g.fold && std::abs(g.amplitude_m) > kMaxFoldSlope * g.radius_m) {
+        b.fail("amplitude_m", "a fold's slope amplitude_m / radius_m must be at most 0.5");
+      }
       b.check_unknown_keys();
       n.bulges.push_back(g);
     }

@@ -18,10 +18,17 @@ namespace pensight::sim {
 enum class NetShape { kCylinder, kPlane };
 
 // A smooth Gaussian dent of the net, pushed towards the pen's centre (amplitude > 0) as a current
-// does; `along_m` is the arc length along the net, `depth_m` the depth of its centre.
+// does; `along_m` is the arc length along the net, `depth_m` the depth of its centre. A fold
+// instead: two panels meeting in a vertical line at along_m, amplitude_m in from the wall there
+// (< 0: out), back on the wall radius_m to either side, at every depth: a tent of three folds.
 struct Bulge {
   double along_m = 0, depth_m = 0, amplitude_m = 0, radius_m = 1;
+  bool fold = false;
 };
+
+// A fold's slope |amplitude_m| / radius_m at most this: the bulged surface's fixed-point
+// intersection (net_geometry.h) converges within its steps up to slopes of about 0.5.
+inline constexpr double kMaxFoldSlope = 0.5;
 
 struct PenConfig {
   NetShape shape = NetShape::kCylinder;

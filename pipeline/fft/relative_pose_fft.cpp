@@ -215,21 +215,30 @@ double closest_gap(const std::vector<Sample>& s, const std::vector<int>& set,
 
 // Whether the two sets lie on either side of their planes' fold line, each touching it (a point
 // of each within 4 x rel of the other plane's depth: a ROI centre 0.17 of the focal length from a
-// 28 deg fold at 1.5 m is 11 % off the other panel): two panels meeting. Two planes always meet
-// somewhere; a fish or a harmonic's plane does not meet the net where its ROIs are.
+// 28 deg fold at 1.5 m is 11 % off the other panel): two panels meeting. A point within rel of
+// the other plane lies by the fold line and may be on either side. Two planes
+// always meet somewhere; a fish or a harmonic's plane does not meet the net where its ROIs are.
 bool meet_in_a_fold(const std::vector<Sample>& s, const std::vector<int>& in_a,
                     const Eigen::Vector3d& a, const std::vector<int>& in_b,
                     const Eigen::Vector3d& b, double rel) {
-  const auto side_of = [&](const std::vector<int>& set) {
-    int positive = 0;
-    for (int i : set)
-      positive += fold_side(a, b, s[i].p.x() / s[i].p.z(), s[i].p.y() / s[i].p.z()) > 0;
-    return positive;
+  // Counts the set's points clearly on the positive and negative side of the fold line.
+  const auto sides = [&](const std::vector<int>& set, const Eigen::Vector3d& other) {
+    std::pair<int, int> n{0, 0};
+    for (int i : set) {
+      const Eigen::Vector3d& p = s[i].p;
+      const double xn = p.x() / p.z(), yn = p.y() / p.z();
+      if (std::abs(ray_depth(other, xn, yn) - p.z()) <= rel * p.z()) continue;
+      (fold_side(a, b, xn, yn) > 0 ? n.first : n.second) += 1;
+    }
+    return n;
   };
-  const int a_positive = side_of(in_a), b_positive = side_of(in_b);
-  const int na = static_cast<int>(in_a.size()), nb = static_cast<int>(in_b.size());
-  const bool separated =
-      (a_positive == na && b_positive == 0) || (a_positive == 0 && b_positive == nb);
+  const auto [a_pos, a_neg] = sides(in_a, b);
+  const auto [b_pos, b_neg] = sides(in_b, a);
+  // Each set on its side, but for one in eight of its clear points (a ROI across the fold whose
+  // lattice mixes both panels' reads a range between them).
+  const auto on_side = [](int here, int there) { return here > 0 && 8 * there <= here + there; };
+  const bool separated = (on_side(a_pos, a_neg) && on_side(b_neg, b_pos)) ||
+                         (on_side(a_neg, a_pos) && on_side(b_pos, b_neg));
   return separated && closest_gap(s, in_a, b) <= 4 * rel && closest_gap(s, in_b, a) <= 4 * rel;
 }
 

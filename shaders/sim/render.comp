@@ -298,12 +298,14 @@ float wrap_along(float da) {
   return has(kFeaturePlane) ? da : da - circumference() * round(da / circumference());
 }
 
+// A bulge with w < 0 is a fold of half width -w (sim/scenario.h Bulge::fold).
 float displacement(float along, float z) {
   float s = 0.0;
   for (uint i = 0u; i < NUM_BULGES; ++i) {
     vec4 b = BULGE(i);
     float da = wrap_along(along - b.x), dz = z - b.y;
-    s += b.z * exp(-(da * da + dz * dz) / (2.0 * b.w * b.w));
+    s += b.w < 0.0 ? b.z * max(0.0, 1.0 + abs(da) / b.w)
+                   : b.z * exp(-(da * da + dz * dz) / (2.0 * b.w * b.w));
   }
   return s;
 }
@@ -313,6 +315,10 @@ vec2 displacement_gradient(float along, float z) {
   for (uint i = 0u; i < NUM_BULGES; ++i) {
     vec4 b = BULGE(i);
     float da = wrap_along(along - b.x), dz = z - b.y, s2 = b.w * b.w;
+    if (b.w < 0.0) {
+      if (abs(da) < -b.w) g.x += sign(da) * b.z / b.w;
+      continue;
+    }
     float e = b.z * exp(-(da * da + dz * dz) / (2.0 * s2));
     g += vec2(-da / s2 * e, -dz / s2 * e);
   }

@@ -59,6 +59,28 @@ TEST(NetLattice, BulgeAcrossTheSeamIsContinuous) {
   EXPECT_GT(net.displacement(-half + 0.3, 4.0), 0.05);
 }
 
+// A fold (ridge or valley): the displacement is a tent of amplitude_m over radius_m to either
+// side at every depth, its gradient the tent's slope, either sign (the ground truth's normal
+// comes from it).
+TEST(NetLattice, AFoldIsATentAndItsGradientItsSlope) {
+  PenConfig pen;
+  for (const double amplitude : {0.35, -0.35}) {
+    NetConfig cfg;
+    cfg.bulges = {{1.0, 4.0, amplitude, 1.5, true}};
+    const NetGeometry net(pen, cfg);
+    EXPECT_NEAR(net.displacement(1.0, 9.0), amplitude, 1e-12);
+    EXPECT_NEAR(net.displacement(1.75, 4.0), amplitude / 2, 1e-12);
+    EXPECT_EQ(net.displacement(2.6, 4.0), 0.0);
+    for (const double along : {0.3, 0.9, 1.2, 2.2}) {
+      const double h = 1e-6;
+      const double slope =
+          (net.displacement(along + h, 4.0) - net.displacement(along - h, 4.0)) / (2 * h);
+      EXPECT_NEAR(net.displacement_gradient(along, 4.0).x(), slope, 1e-6) << amplitude;
+      EXPECT_EQ(net.displacement_gradient(along, 4.0).y(), 0.0);
+    }
+  }
+}
+
 // Column positions of the vertical twines: local maxima of the column means, to a sub-pixel.
 std::vector<double> twine_columns(const ImageU8& img, double period_px) {
   std::vector<double> mean(static_cast<size_t>(img.width), 0.0);

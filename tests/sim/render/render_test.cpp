@@ -99,14 +99,14 @@ TEST_F(VulkanTest, RenderMatchesCpuTurnedAway) {
   expect_match(ctx(), testing::one_pose({.net_distance_m = 1.3, .heading_rad = 2.8}));
 }
 
-TEST_F(VulkanTest, RenderMatchesCpuWithBulgesFishSnowAndDistortion) {
+TEST_F(VulkanTest, RenderMatchesCpuWithBulgesAFoldFishSnowAndDistortion) {
   const std::string extra =
       "fish:\n  - {net_distance_m: 0.4, depth_m: 4.0, speed_mps: 0, along_m: 0.1}\n"
       "water: {marine_snow: 0.3}\n";
   Scenario s = testing::one_pose({.net_distance_m = 1.2}, 180, 135,
                                  "{shape: cylinder, radius_m: 12, depth_m: 15}", extra,
                                  ", distortion: [-0.2, 0.05, 0.001, -0.001]");
-  s.net.bulges = {{0.2, 4.1, 0.3, 0.6}, {-0.5, 3.5, -0.1, 0.4}};
+  s.net.bulges = {{0.2, 4.1, 0.3, 0.6}, {-0.5, 3.5, -0.1, 0.4}, {0.3, 4.0, -0.2, 0.6, true}};
   s.net.mesh_type = MeshType::kDiamond;
   ASSERT_GT(snow_spots(s, frame_state(s, 0)).size(), 3u);
   expect_match(ctx(), s);

@@ -36,7 +36,7 @@ const char* kMinimal =
 
 TEST(Scenario, ShippedScenariosLoad) {
   for (const char* name : {"sweep", "follow", "lawnmower", "lowlight", "turbid", "tank",
-                           "follow_drift", "diamond", "changing_net"}) {
+                           "follow_drift", "diamond", "changing_net", "fold"}) {
     SCOPED_TRACE(name);
     const Scenario s = load_scenario(source_dir() + "/scenarios/" + name + ".yaml");
     EXPECT_EQ(s.name, name);
@@ -296,6 +296,21 @@ TEST(Scenario, MissingRequiredKeyIsRefused) {
       "not above depth_from_m)");
 }
 
+// A fold is read with its flag; one steeper than the intersection converges for is refused.
+TEST(Scenario, FoldsParseAndASteepFoldIsRefused) {
+  const Scenario s = parse_scenario(std::string(kMinimal) +
+                                        "net: {bulges: [{along_m: 1, depth_m: 4, amplitude_m: "
+                                        "0.3, radius_m: 1.5, fold: true}]}\n",
+                                    "fold.yaml");
+  ASSERT_EQ(s.net.bulges.size(), 1u);
+  EXPECT_TRUE(s.net.bulges[0].fold);
+  EXPECT_EQ(s.net.bulges[0].amplitude_m, 0.3);
+  EXPECT_EQ(error_of(std::string(kMinimal) + "net: {bulges: [{along_m: 1, depth_m: 4, "
+                                             "amplitude_m: -0.8, radius_m: 1.5, fold: true}]}\n"),
+            "bad.yaml: key 'net.bulges[0].amplitude_m': a fold's slope amplitude_m / radius_m "
+            "must be at most 0.5");
+}
+
 // A key written without a value keeps its default, as before the keys were read from tables.
 TEST(Scenario, KeyWithoutValueKeepsItsDefault) {
   const Scenario s = parse_scenario(std::string(kMinimal) + "pen: {radius_m: }\nseed:\n", "n.yaml");
@@ -321,7 +336,7 @@ TEST(Scenario, ParamRowsNameEveryKeyWithItsSection) {
         "| `vehicle.pilot_gain` | 0.5 |  | (0, 1] |"}) {
     EXPECT_NE(rows.find(row), std::string::npos) << row << " not in\n" << rows;
   }
-  EXPECT_EQ(std::count(rows.begin(), rows.end(), '\n'), 100);
+  EXPECT_EQ(std::count(rows.begin(), rows.end(), '\n'), 101);
 }
 
 TEST(Scenario, DvlErrorsAndSpikesParse) {
