@@ -22,8 +22,13 @@ double f32(const uint8_t* p) {
   return f;
 }
 
+constexpr size_t kCommonSize = 12, kSecondsAt = 4, kMicrosecondsAt = 8;
 constexpr size_t kStatusAt = 12, kDistanceAt = 48, kVelocityAt = 96, kTrackMinSize = 108;
 constexpr int kFirstValidBit = 9;
+// AHRS: 17 float32 from the data block's offset, the depth the 18th.
+constexpr size_t kAhrsFloats = 18, kAhrsDepthAt = 68;
+constexpr size_t kTemperatureAt = 28, kPressureAt = 32, kAltitudeAt = 36, kQualityAt = 40,
+                 kAltimeterMinSize = 42;
 
 }  // namespace
 
@@ -82,6 +87,14 @@ std::vector<NucleusPacket> NucleusStream::feed(std::span<const uint8_t> bytes) {
   return out;
 }
 
+std::optional<NucleusTime> nucleus_time(const NucleusPacket& packet) {
+  if (packet.payload.size() < kCommonSize) return std::nullopt;
+  const uint8_t* p = packet.payload.data();
+  return NucleusTime{static_cast<int64_t>(u32(p + kSecondsAt)) * 1'000'000'000 +
+                         static_cast<int64_t>(u32(p + kMicrosecondsAt)) * 1'000,
+                     (p[2] & 1u) != 0};
+}
+
 std::optional<NucleusTrack> decode_nucleus_track(const NucleusPacket& packet) {
   if (packet.record_id != kNucleusBottomTrack && packet.record_id != kNucleusWaterTrack) {
     return std::nullopt;
@@ -89,6 +102,7 @@ std::optional<NucleusTrack> decode_nucleus_track(const NucleusPacket& packet) {
   if (packet.payload.size() < kTrackMinSize) return std::nullopt;
   const uint8_t* p = packet.payload.data();
   NucleusTrack t;
+  t.time = *nucleus_time(packet);
   t.bottom = packet.record_id == kNucleusBottomTrack;
   t.status = u32(p + kStatusAt);
   for (size_t i = 0; i < 3; ++i) {
@@ -97,6 +111,36 @@ std::optional<NucleusTrack> decode_nucleus_track(const NucleusPacket& packet) {
     t.beam_distance_m[i] = f32(p + kDistanceAt + 4 * i);
   }
   return t;
+}
+
+std::optional<NucleusAhrs> decode_nucleus_ahrs(const NucleusPacket& packet) {
+  if (packet.record_id != kNucleusAhrs || packet.payload.size() < kCommonSize) return std::nullopt;
+  const uint8_t* p = packet.payload.data();
+  const size_t at = p[1];
+  if (at < kCommonSize || packet.payload.size() < at + 4 * kAhrsFloats) return std::nullopt;
+  NucleusAhrs a;
+  a.time = *nucleus_time(packet);
+  a.roll_deg = f32(p + at);
+  a.pitch_deg = f32(p + at + 4);
+  a.heading_deg = f32(p + at + 8);
+  for (size_t i = 0; i < 4; ++i) a.quaternion_wxyz[i] = f32(p + at + 12 + 4 * i);
+  a.depth_m = f32(p + at + kAhrsDepthAt);
+  return a;
+}
+
+std::optional<NucleusAltimeter> decode_nucleus_altimeter(const NucleusPacket& packet) {
+  if (packet.record_id != kNucleusAltimeter || packet.payload.size() < kAltimeterMinSize) {
+    return std::nullopt;
+  }
+  const uint8_t* p = packet.payload.data();
+  NucleusAltimeter a;
+  a.time = *nucleus_time(packet);
+  a.status = u32(p + kStatusAt);
+  a.temperature_c = f32(p + kTemperatureAt);
+  a.pressure_dbar = f32(p + kPressureAt);
+  a.distance_m = f32(p + kAltitudeAt);
+  a.quality = u16(p + kQualityAt);
+  return a;
 }
 
 }  // namespace pensight::drivers

@@ -1,7 +1,7 @@
 // Nortek Nucleus 1000 bytes as they arrive from its TCP data port or serial line (NucleusStream):
-// any bytes in any chunking. The first byte picks the chunk size. Every payload must be within the
-// size limit, and the packets' and the skipped bytes never more than the input; anything else
-// aborts.
+// any bytes in any chunking, every packet decoded as each record it may be. The first byte picks
+// the chunk size. Every payload must be within the size limit, and the packets' and the skipped
+// bytes never more than the input; anything else aborts.
 #include <algorithm>
 #include <cstdlib>
 #include <span>
@@ -20,7 +20,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
          stream.feed(bytes.subspan(at, std::min(chunk, bytes.size() - at)))) {
       if (p.payload.size() > kNucleusMaxPayload) std::abort();
       packet_bytes += kNucleusHeaderSize + p.payload.size();
+      nucleus_time(p);
       decode_nucleus_track(p);
+      decode_nucleus_ahrs(p);
+      decode_nucleus_altimeter(p);
     }
   }
   if (packet_bytes + stream.counters().skipped_bytes > bytes.size()) std::abort();

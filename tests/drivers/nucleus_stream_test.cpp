@@ -71,6 +71,49 @@ TEST(NucleusStream, NortekRecordingInAnyChunking) {
   }
 }
 
+// The AHRS and altimeter records and every record's clock on Nortek's recording: each AHRS
+// quaternion a unit one, its angles within their ranges, the clock never going back within a
+// record type, every altimeter record decoded.
+TEST(NucleusStream, AhrsAltimeterAndClockOfNortekRecording) {
+  NucleusStream stream;
+  const std::vector<uint8_t> bytes = recording();
+  std::vector<NucleusAhrs> ahrs;
+  std::vector<NucleusAltimeter> altimeter;
+  std::map<uint8_t, int64_t> last_ns;
+  size_t went_back = 0, posix = 0, packets = 0;
+  for (const NucleusPacket& p : stream.feed(bytes)) {
+    const auto time = nucleus_time(p);
+    ASSERT_TRUE(time.has_value());
+    ++packets;
+    posix += time->posix;
+    if (last_ns.count(p.record_id) && time->device_ns < last_ns[p.record_id]) ++went_back;
+    last_ns[p.record_id] = time->device_ns;
+    if (const auto a = decode_nucleus_ahrs(p)) ahrs.push_back(*a);
+    if (const auto a = decode_nucleus_altimeter(p)) altimeter.push_back(*a);
+  }
+  EXPECT_EQ(went_back, 0u);
+  ASSERT_EQ(ahrs.size(), 1915u);
+  ASSERT_EQ(altimeter.size(), 96u);
+  for (const NucleusAhrs& a : ahrs) {
+    double norm2 = 0;
+    for (const double q : a.quaternion_wxyz) norm2 += q * q;
+    EXPECT_NEAR(norm2, 1.0, 1e-3);
+    EXPECT_LE(std::abs(a.roll_deg), 180.0);
+    EXPECT_LE(std::abs(a.pitch_deg), 90.0);
+    EXPECT_GE(a.heading_deg, 0.0);
+    EXPECT_LT(a.heading_deg, 360.0);
+    EXPECT_TRUE(std::isfinite(a.depth_m));
+  }
+  const double span_s =
+      static_cast<double>(ahrs.back().time.device_ns - ahrs.front().time.device_ns) * 1e-9;
+  std::printf(
+      "AHRS %zu over %.1f s (%.1f Hz), first roll %.2f pitch %.2f heading %.2f deg depth %.3f m; "
+      "altimeter %zu, first %.3f m quality %u valid %d; %zu of %zu clocks POSIX\n",
+      ahrs.size(), span_s, static_cast<double>(ahrs.size() - 1) / span_s, ahrs[0].roll_deg,
+      ahrs[0].pitch_deg, ahrs[0].heading_deg, ahrs[0].depth_m, altimeter.size(),
+      altimeter[0].distance_m, altimeter[0].quality, altimeter[0].valid(), posix, packets);
+}
+
 TEST(NucleusStream, ChecksumOfOddAndEvenLengths) {
   EXPECT_EQ(nucleus_checksum({}), 0xB58C);
   const uint8_t even[] = {0x01, 0x02, 0x03, 0x04};
