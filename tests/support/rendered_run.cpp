@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <stdexcept>
@@ -16,10 +17,13 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// One folder per process and test; a parameterised test's name ("Name/0") names a file, not a
+// subfolder, which would be left behind empty when the folder is removed.
 fs::path fresh_folder() {
+  std::string name = ::testing::UnitTest::GetInstance()->current_test_info()->name();
+  std::replace(name.begin(), name.end(), '/', '_');
   const fs::path dir =
-      fs::temp_directory_path() / ("pensight_rendered_" + std::to_string(::getpid()) + "_" +
-                                   ::testing::UnitTest::GetInstance()->current_test_info()->name());
+      fs::temp_directory_path() / ("pensight_rendered_" + std::to_string(::getpid()) + "_" + name);
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;
