@@ -213,10 +213,14 @@ double closest_gap(const std::vector<Sample>& s, const std::vector<int>& set,
   return gap;
 }
 
+// A point within this share of inlier_rel of the other panel's depth lies by the fold line and
+// counts on neither side: a ROI straddling it reads a depth between the two panels.
+constexpr double kFoldLineShare = 0.25;
+
 // Whether the two sets lie on either side of their planes' fold line, each touching it (a point
 // of each within 4 x rel of the other plane's depth: a ROI centre 0.17 of the focal length from a
-// 28 deg fold at 1.5 m is 11 % off the other panel): two panels meeting. A point within rel of
-// the other plane lies by the fold line and may be on either side. Two planes
+// 28 deg fold at 1.5 m is 11 % off the other panel): two panels meeting. A point by the fold line
+// (kFoldLineShare) may be on either side. Two planes
 // always meet somewhere; a fish or a harmonic's plane does not meet the net where its ROIs are.
 bool meet_in_a_fold(const std::vector<Sample>& s, const std::vector<int>& in_a,
                     const Eigen::Vector3d& a, const std::vector<int>& in_b,
@@ -227,7 +231,7 @@ bool meet_in_a_fold(const std::vector<Sample>& s, const std::vector<int>& in_a,
     for (int i : set) {
       const Eigen::Vector3d& p = s[i].p;
       const double xn = p.x() / p.z(), yn = p.y() / p.z();
-      if (std::abs(ray_depth(other, xn, yn) - p.z()) <= rel * p.z()) continue;
+      if (std::abs(ray_depth(other, xn, yn) - p.z()) <= kFoldLineShare * rel * p.z()) continue;
       (fold_side(a, b, xn, yn) > 0 ? n.first : n.second) += 1;
     }
     return n;
