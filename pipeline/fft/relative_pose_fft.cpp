@@ -220,8 +220,8 @@ constexpr double kFoldLineShare = 0.25;
 // Whether the two sets lie on either side of their planes' fold line, each touching it (a point
 // of each within 4 x rel of the other plane's depth: a ROI centre 0.17 of the focal length from a
 // 28 deg fold at 1.5 m is 11 % off the other panel): two panels meeting. A point by the fold line
-// (kFoldLineShare) may be on either side. Two planes
-// always meet somewhere; a fish or a harmonic's plane does not meet the net where its ROIs are.
+// (kFoldLineShare) may be on either side. Two planes always meet somewhere; a fish or a
+// harmonic's plane does not meet the net where its ROIs are.
 bool meet_in_a_fold(const std::vector<Sample>& s, const std::vector<int>& in_a,
                     const Eigen::Vector3d& a, const std::vector<int>& in_b,
                     const Eigen::Vector3d& b, double rel) {
@@ -250,6 +250,16 @@ struct Fold {
   Eigen::Vector3d plane;  // the second plane
   std::vector<int> in;    // its inliers (indices into the samples)
 };
+
+// The consensus among a subset of the samples (consensus()), as indices into all of them.
+std::vector<int> consensus_among(const std::vector<Sample>& s, const std::vector<int>& subset,
+                                 std::span<const RoiNetPoint> rois, double rel, double min_cos) {
+  std::vector<Sample> sub;
+  for (int i : subset) sub.push_back(s[static_cast<size_t>(i)]);
+  std::vector<int> in = consensus(sub, rois, rel, min_cos);
+  for (int& i : in) i = subset[static_cast<size_t>(i)];
+  return in;
+}
 
 // The samples split in two by their own tilts (each ROI's normal candidate nearer the plane's, as
 // slopes): two-means, started from the split across the slopes' principal direction. Two panels
@@ -299,10 +309,13 @@ std::pair<std::vector<int>, std::vector<int>> split_by_tilt(const std::vector<Sa
 // splits into two planes as well as a fold does, but the paraboloid follows it.
 constexpr double kFoldResidualShare = 0.5;
 
-double rms_about(const std::vector<Sample>& s, const std::vector<int>& set,
-                 const Eigen::Vector3d& plane) {
+// The sum of the set's squared residuals about the plane or paraboloid c.
+template <int K>
+double squared_residuals(const std::vector<Sample>& s, const std::vector<int>& set,
+                         const Eigen::Matrix<double, K, 1>& c,
+                         Eigen::Matrix<double, K, 1> (*basis)(const Eigen::Vector3d&)) {
   double sq = 0;
-  for (int i : set) sq += std::pow(residual<3>(plane, s[i].p, plane_basis), 2);
+  for (int i : set) sq += std::pow(residual<K>(c, s[i].p, basis), 2);
   return sq;
 }
 
@@ -312,24 +325,34 @@ bool two_panels_fit_better(const std::vector<Sample>& s, const std::vector<int>&
   std::vector<int> both = in_a;
   both.insert(both.end(), in_b.begin(), in_b.end());
   const double n = static_cast<double>(both.size());
-  const double two = std::sqrt((rms_about(s, in_a, a) + rms_about(s, in_b, b)) / n);
-  double one = 0;
-  if (static_cast<int>(both.size()) >= params.min_paraboloid_rois) {
-    const auto q = fit<6>(s, both, paraboloid_basis);
-    for (int i : both) one += std::pow(residual<6>(q, s[i].p, paraboloid_basis), 2);
-  } else {
-    one = rms_about(s, both, fit<3>(s, both, plane_basis));
-  }
-  return two <= kFoldResidualShare * std::sqrt(one / n);
+  const double two =
+      squared_residuals<3>(s, in_a, a, plane_basis) + squared_residuals<3>(s, in_b, b, plane_basis);
+  const double one =
+      static_cast<int>(both.size()) >= params.min_paraboloid_rois
+          ? squared_residuals<6>(s, both, fit<6>(s, both, paraboloid_basis), paraboloid_basis)
+          : squared_residuals<3>(s, both, fit<3>(s, both, plane_basis), plane_basis);
+  return std::sqrt(two / n) <= kFoldResidualShare * std::sqrt(one / n);
 }
 
 // Two panels among all the samples, split by their tilts (split_by_tilt), each half's consensus
-// plane taking the samples on it, with find_fold's tests and two_panels_fit_better.
+// plane taking the samples on it, that are a fold (is_fold).
 struct TwoPanels {
   Eigen::Vector3d plane;  // the first panel's
   std::vector<int> in;    // its ROIs
   Fold fold;              // the second panel
 };
+
+// Whether planes a and b through the two sets are two panels meeting in a fold: at least
+// min_fold_angle_rad apart, meeting where their ROIs are (meet_in_a_fold), and fitting them
+// better than one smooth surface (two_panels_fit_better).
+bool is_fold(const std::vector<Sample>& s, const std::vector<int>& in_a, const Eigen::Vector3d& a,
+             const std::vector<int>& in_b, const Eigen::Vector3d& b,
+             const RelativePoseFftParams& params) {
+  const double cos_angle = net_plane_normal(a(1), a(2)).dot(net_plane_normal(b(1), b(2)));
+  return cos_angle <= std::cos(params.min_fold_angle_rad) &&
+         meet_in_a_fold(s, in_a, a, in_b, b, params.inlier_rel) &&
+         two_panels_fit_better(s, in_a, a, in_b, b, params);
+}
 
 std::optional<TwoPanels> fold_within(const std::vector<Sample>& s,
                                      std::span<const RoiNetPoint> rois,
@@ -342,11 +365,9 @@ std::optional<TwoPanels> fold_within(const std::vector<Sample>& s,
   // Each half's own consensus plane: a fish or a harmonic among them is left out.
   const auto half_plane = [&](const std::vector<int>& half) -> std::optional<Eigen::Vector3d> {
     if (static_cast<int>(half.size()) < need) return std::nullopt;
-    std::vector<Sample> sub;
-    for (int i : half) sub.push_back(s[static_cast<size_t>(i)]);
-    const std::vector<int> sub_in = consensus(sub, rois, params.inlier_rel, min_cos);
-    if (static_cast<int>(sub_in.size()) < need) return std::nullopt;
-    return fit<3>(sub, sub_in, plane_basis);
+    const std::vector<int> in = consensus_among(s, half, rois, params.inlier_rel, min_cos);
+    if (static_cast<int>(in.size()) < need) return std::nullopt;
+    return fit<3>(s, in, plane_basis);
   };
   const auto plane_a = half_plane(a), plane_b = half_plane(b);
   if (!plane_a || !plane_b) return std::nullopt;
@@ -371,44 +392,27 @@ std::optional<TwoPanels> fold_within(const std::vector<Sample>& s,
   }
   two.plane = fit<3>(s, two.in, plane_basis);
   two.fold.plane = fit<3>(s, two.fold.in, plane_basis);
-  const double cos_angle = net_plane_normal(two.plane(1), two.plane(2))
-                               .dot(net_plane_normal(two.fold.plane(1), two.fold.plane(2)));
-  if (cos_angle > std::cos(params.min_fold_angle_rad)) return std::nullopt;
-  if (!meet_in_a_fold(s, two.in, two.plane, two.fold.in, two.fold.plane, params.inlier_rel) ||
-      !two_panels_fit_better(s, two.in, two.plane, two.fold.in, two.fold.plane, params)) {
-    return std::nullopt;
-  }
+  if (!is_fold(s, two.in, two.plane, two.fold.in, two.fold.plane, params)) return std::nullopt;
   return two;
 }
 
-// A second plane through the ROIs off `plane` (not in `in`) that meets it in a fold (two panels,
-// a seam): as many ROIs as a pose needs, tilted at least min_fold_angle_rad from the first, the
-// two sets on either side of the fold line and touching it (meet_in_a_fold).
+// A second plane through the ROIs off `plane` (not in `in`), as many as a pose needs, that meets
+// it in a fold (two panels, a seam; is_fold).
 std::optional<Fold> find_fold(const std::vector<Sample>& s, std::span<const RoiNetPoint> rois,
                               const Eigen::Vector3d& plane, const std::vector<int>& in,
                               const RelativePoseFftParams& params, double min_cos, int need) {
   std::vector<uint8_t> taken(s.size(), 0);
   for (int i : in) taken[static_cast<size_t>(i)] = 1;
-  std::vector<Sample> rest;
-  std::vector<int> rest_index;
+  std::vector<int> rest;
   for (int i = 0; i < static_cast<int>(s.size()); ++i) {
-    if (taken[static_cast<size_t>(i)]) continue;
-    rest.push_back(s[static_cast<size_t>(i)]);
-    rest_index.push_back(i);
+    if (!taken[static_cast<size_t>(i)]) rest.push_back(i);
   }
   if (static_cast<int>(rest.size()) < need) return std::nullopt;
-  const std::vector<int> rest_in = consensus(rest, rois, params.inlier_rel, min_cos);
-  if (static_cast<int>(rest_in.size()) < need) return std::nullopt;
   Fold fold;
-  for (int i : rest_in) fold.in.push_back(rest_index[static_cast<size_t>(i)]);
+  fold.in = consensus_among(s, rest, rois, params.inlier_rel, min_cos);
+  if (static_cast<int>(fold.in.size()) < need) return std::nullopt;
   fold.plane = fit<3>(s, fold.in, plane_basis);
-  const double cos_angle =
-      net_plane_normal(plane(1), plane(2)).dot(net_plane_normal(fold.plane(1), fold.plane(2)));
-  if (cos_angle > std::cos(params.min_fold_angle_rad)) return std::nullopt;
-  if (!meet_in_a_fold(s, in, plane, fold.in, fold.plane, params.inlier_rel) ||
-      !two_panels_fit_better(s, in, plane, fold.in, fold.plane, params)) {
-    return std::nullopt;
-  }
+  if (!is_fold(s, in, plane, fold.in, fold.plane, params)) return std::nullopt;
   return fold;
 }
 
@@ -547,7 +551,6 @@ FftRelativePose solve(std::span<const RoiNetPoint> rois, const RelativePoseFftPa
                        std::vector<uint8_t>(rois.size(), 0),
                        {}};
   for (int i : in) pose.inlier[s[i].roi] = 1;
-  pose.tilt_disagreement_rad = checks.tilt_disagreement_rad;
   pose.second_panel.assign(rois.size(), 0);
   for (int i : second) pose.second_panel[s[i].roi] = 1;
   pose.other_tilt.assign(rois.size(), 0);
@@ -557,17 +560,13 @@ FftRelativePose solve(std::span<const RoiNetPoint> rois, const RelativePoseFftPa
       pose.other_tilt[q.roi] = 1;
     }
   }
-  double sq = 0;
+  double sq = squared_residuals<3>(s, in, plane, plane_basis);
   if (static_cast<int>(in.size()) >= params.min_paraboloid_rois) {
     const auto q = fit<6>(s, in, paraboloid_basis);
     if (std::abs(q(0) - plane(0)) <= params.max_curvature_share * plane(0)) {
       pose.d_net_m = q(0);
-      for (int i : in) sq += std::pow(residual<6>(q, s[i].p, paraboloid_basis), 2);
-    } else {
-      for (int i : in) sq += std::pow(residual<3>(plane, s[i].p, plane_basis), 2);
+      sq = squared_residuals<6>(s, in, q, paraboloid_basis);
     }
-  } else {
-    for (int i : in) sq += std::pow(residual<3>(plane, s[i].p, plane_basis), 2);
   }
   pose.rms_residual_m = std::sqrt(sq / static_cast<double>(in.size()));
   const double inliers = static_cast<double>(in.size());

@@ -93,8 +93,6 @@ struct FftRelativePose {
   // tilt disagreement, the fit's rms residual over inlier_rel x d_net). Downstream stages weigh
   // the pose by pose_trust() of it (core/pose_trust.h).
   double quality = 0;
-  // The median angle between the inliers' own normals and the plane's (0 where not checked).
-  double tilt_disagreement_rad = kNaN;
   bool valid() const { return status == FftPoseStatus::kValid; }
 };
 
