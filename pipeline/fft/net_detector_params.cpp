@@ -75,6 +75,11 @@ const Param<kernels::PeakParams> kPeakParams[] = {
 const Param<NetPointParams> kPointParams[] = {
     {"min_quality", &NetPointParams::min_quality, "", closed_range(0, 1),
      "least share of the ROI's spectral energy in the lattice peaks"},
+    {"near_cycles", &NetPointParams::near_cycles, "cycles", kNonNegative,
+     "a lattice with a base vector under this many periods across the ROI needs "
+     "near_min_quality (illumination gradients leak there)"},
+    {"near_min_quality", &NetPointParams::near_min_quality, "", closed_range(0, 1),
+     "least share of the spectral energy in the peaks of a lattice under near_cycles"},
     {"min_period_px", &NetPointParams::min_period_px, "px", kNonNegative,
      "finer lattices are below what the resampled ROI can carry"},
     {"max_tilt_rad", &NetPointParams::max_tilt_rad, "rad", range_above_zero_to(kRightAngle_rad),

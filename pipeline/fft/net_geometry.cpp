@@ -93,6 +93,10 @@ RoiNetPoint roi_net_point(const kernels::RoiLattice& lattice, kernels::RoiOrigin
   if (params.use_centroid)
     out.centre_px += Eigen::Vector2d(lattice.centroid_dx, lattice.centroid_dy);
   if (!(lattice.quality >= params.min_quality)) return out;
+  const double cycles =
+      static_cast<double>(roi_size_px) *
+      std::min<double>(std::hypot(lattice.f1x, lattice.f1y), std::hypot(lattice.f2x, lattice.f2y));
+  if (cycles < params.near_cycles && !(lattice.quality >= params.near_min_quality)) return out;
   if (std::hypot(lattice.centroid_dx, lattice.centroid_dy) >
       params.max_centroid_share * roi_size_px) {
     out.status = RoiStatus::kPartial;

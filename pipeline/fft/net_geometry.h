@@ -39,7 +39,14 @@ struct MeshModel {
 };
 
 struct NetPointParams {
-  double min_quality = 0.03;   // share of spectral energy in the lattice peaks
+  double min_quality = 0.03;  // share of spectral energy in the lattice peaks
+  // Illumination gradients (a light cone, backscatter) leak through the window into the band's
+  // lowest frequencies, and there open water reaches min_quality (0.038 at 5 cycles, a 0.16 m net
+  // read in a frame with no net). A net that near fills the ROI with thick, bright twines: rendered
+  // and real lattices under 8 cycles hold >= 0.12 of the energy. So a lattice with a base vector
+  // under near_cycles needs near_min_quality.
+  double near_cycles = 8.0;
+  double near_min_quality = 0.06;
   double min_period_px = 2.5;  // finer lattices are below what the resampled ROI can carry
   double max_tilt_rad = 1.22;  // 70 deg: beyond, the foreshortened period is unreliable
   double max_range_m = 20.0;

@@ -129,5 +129,24 @@ TEST(NetGeometry, RejectsWeakFineAndDegenerateLattices) {
   EXPECT_THROW(roi_net_point({0.05f, 0, 0, 0.05f, 0.3f, 50}, o, 300, cam, {0.0}), Error);
 }
 
+// Open water's illumination gradient leaks a weak "lattice" into the band's lowest frequencies
+// (quality 0.038 at 5.3 cycles on a rendered frame with no net): under near_cycles it needs
+// near_min_quality, while the same share at 15 cycles is a lattice, as is a near net's own share.
+TEST(NetGeometry, AWeakLatticeNearTheBandsLowEdgeIsNoNet) {
+  const PinholeCamera cam;
+  const kernels::RoiOrigin o{100, 100};
+  const NetPointParams p;
+  const auto at_cycles = [&](float cycles, float quality) {
+    const float f = cycles / 300.0f;
+    return roi_net_point({f, 0, 0, f, quality, 30}, o, 300, cam, {kMesh}, p).status;
+  };
+  EXPECT_EQ(at_cycles(5.3f, 0.038f), RoiStatus::kNoLattice);
+  EXPECT_EQ(at_cycles(7.9f, 0.059f), RoiStatus::kNoLattice);
+  EXPECT_EQ(at_cycles(5.3f, 0.12f), RoiStatus::kValid);
+  EXPECT_EQ(at_cycles(8.1f, 0.038f), RoiStatus::kValid);
+  EXPECT_EQ(at_cycles(15.0f, 0.038f), RoiStatus::kValid);
+  EXPECT_LT(p.min_quality, p.near_min_quality);
+}
+
 }  // namespace
 }  // namespace pensight
