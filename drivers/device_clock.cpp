@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "core/units.h"
+
 namespace pensight::drivers {
 namespace {
 
@@ -11,10 +13,6 @@ const Param<DeviceClockParams> kDeviceClockParams[] = {
     {"max_jump_s", &DeviceClockParams::max_jump_s, "s", kPositive,
      "the offset falling by more at once: the device's clock was set"},
 };
-
-int64_t to_ns(double s) {
-  return static_cast<int64_t>(std::llround(s * 1e9));
-}
 
 }  // namespace
 
@@ -30,8 +28,9 @@ int64_t DeviceClock::to_host_ns(int64_t device_ns, int64_t arrival_ns) {
   const int64_t offset = arrival_ns - device_ns;
   // A late sample (a stalled link) only has a larger offset and is mapped by the window's; a
   // clock set forward gives a smaller one, a clock set back a device time that goes back.
-  const bool jumped = started_ && (device_ns < last_device_ns_ ||
-                                   offset < candidates_.front().second - to_ns(params_.max_jump_s));
+  const bool jumped =
+      started_ && (device_ns < last_device_ns_ ||
+                   offset < candidates_.front().second - seconds_to_ns(params_.max_jump_s));
   if (jumped) {
     candidates_.clear();
     ++resets_;
@@ -41,7 +40,7 @@ int64_t DeviceClock::to_host_ns(int64_t device_ns, int64_t arrival_ns) {
   // A newer sample with a smaller offset makes the older, larger ones no longer candidates.
   while (!candidates_.empty() && candidates_.back().second >= offset) candidates_.pop_back();
   candidates_.emplace_back(arrival_ns, offset);
-  const int64_t window_ns = to_ns(params_.window_s);
+  const int64_t window_ns = seconds_to_ns(params_.window_s);
   while (candidates_.front().first < arrival_ns - window_ns) candidates_.pop_front();
   return device_ns + candidates_.front().second;
 }

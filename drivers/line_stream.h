@@ -25,6 +25,11 @@ class LineStream {
 
   // The complete lines these bytes finish, without their end; an unfinished one is kept.
   std::vector<std::string> feed(std::span<const uint8_t> bytes);
+  // Forgets an unfinished line: the connection it came on is gone.
+  void discard_unfinished() {
+    pending_.clear();
+    dropping_ = false;
+  }
   const LineStreamCounters& counters() const { return counters_; }
 
  private:

@@ -112,6 +112,8 @@ class WaterLinkedStream {
   explicit WaterLinkedStream(Protocol protocol) : protocol_(protocol) {}
 
   std::vector<WaterLinkedReport> feed(std::span<const uint8_t> bytes);
+  // A new connection: the last one's unfinished line is forgotten, the counters kept.
+  void restart() { lines_.discard_unfinished(); }
   const WaterLinkedCounters& counters() const { return counters_; }
   const LineStreamCounters& line_counters() const { return lines_.counters(); }
   // The reason the latest malformed or bad-checksum line was refused ("" before one).

@@ -1,0 +1,195 @@
+#include "drivers/tcp_client.h"
+
+#include <arpa/inet.h>
+#include <fcntl.h>
+#include <netdb.h>
+#include <netinet/in.h>
+#include <netinet/tcp.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <memory>
+#include <utility>
+
+#include "core/error.h"
+#include "core/units.h"
+
+namespace pensight::drivers {
+namespace {
+
+const Param<TcpClientParams> kTcpClientParams[] = {
+    {"connect_timeout_s", &TcpClientParams::connect_timeout_s, "s", kPositive,
+     "a connect not done by then is a failure"},
+    {"reconnect_delay_s", &TcpClientParams::reconnect_delay_s, "s", kNonNegative,
+     "between a failure or a drop and the next connect"},
+    {"idle_timeout_s", &TcpClientParams::idle_timeout_s, "s", kPositive,
+     "no byte for this long on a connection: the device stopped answering, reconnect"},
+};
+
+int64_t steady_ns() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(
+             std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
+int to_ms(int64_t ns) {
+  return static_cast<int>(std::clamp<int64_t>((ns + 999'999) / 1'000'000, 0, 60'000));
+}
+
+}  // namespace
+
+std::span<const Param<TcpClientParams>> tcp_client_params() {
+  return kTcpClientParams;
+}
+
+TcpClient::TcpClient(std::string host, int port, TcpClientParams params)
+    : address_(host + ":" + std::to_string(port)), params_(params) {
+  check_params<TcpClientParams>(params_, kTcpClientParams, "TCP client " + address_);
+  if (port < 1 || port > 65535) {
+    throw Error("TCP client " + address_ + ": port " + std::to_string(port) +
+                " is outside 1..65535");
+  }
+  addrinfo hints{};
+  hints.ai_family = AF_INET;
+  hints.ai_socktype = SOCK_STREAM;
+  addrinfo* found = nullptr;
+  const int rc = ::getaddrinfo(host.c_str(), nullptr, &hints, &found);
+  if (rc != 0 || found == nullptr) {
+    throw Error("TCP client " + address_ + ": host '" + host +
+                "' does not resolve to an IPv4 address (" + ::gai_strerror(rc) +
+                "); give the device's IP address");
+  }
+  const std::unique_ptr<addrinfo, decltype(&::freeaddrinfo)> owner(found, &::freeaddrinfo);
+  ipv4_ = ntohl(reinterpret_cast<const sockaddr_in*>(found->ai_addr)->sin_addr.s_addr);
+  port_ = static_cast<uint16_t>(port);
+}
+
+TcpClient::~TcpClient() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
+void TcpClient::drop(std::string why, bool idle) {
+  if (fd_ >= 0) ::close(fd_);
+  fd_ = -1;
+  ++(idle ? counters_.idle_timeouts : counters_.drops);
+  last_error_ = std::move(why);
+  next_connect_ns_ = steady_ns() + seconds_to_ns(params_.reconnect_delay_s);
+}
+
+void TcpClient::try_connect() {
+  const int64_t now = steady_ns();
+  if (now < next_connect_ns_) return;
+  next_connect_ns_ = now + seconds_to_ns(params_.reconnect_delay_s);
+  const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
+  if (fd < 0) {
+    ++counters_.connect_failures;
+    last_error_ = std::string("socket: ") + std::strerror(errno);
+    return;
+  }
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_addr.s_addr = htonl(ipv4_);
+  a.sin_port = htons(port_);
+  int rc = ::connect(fd, reinterpret_cast<const sockaddr*>(&a), sizeof a);
+  int err = rc == 0 ? 0 : errno;
+  if (err == EINPROGRESS) {
+    pollfd p{fd, POLLOUT, 0};
+    rc = ::poll(&p, 1, to_ms(seconds_to_ns(params_.connect_timeout_s)));
+    socklen_t len = sizeof err;
+    if (rc == 1) {
+      ::getsockopt(fd, SOL_SOCKET, SO_ERROR, &err, &len);
+    } else {
+      err = rc == 0 ? ETIMEDOUT : errno;
+    }
+  }
+  if (err != 0) {
+    ::close(fd);
+    ++counters_.connect_failures;
+    last_error_ = "connect to " + address_ + ": " + std::strerror(err);
+    return;
+  }
+  // Reports are small and periodic: sent at once, not coalesced.
+  const int one = 1;
+  ::setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
+  fd_ = fd;
+  ++counters_.connects;
+  new_connection_ = true;
+  last_byte_ns_ = steady_ns();
+}
+
+std::vector<uint8_t> TcpClient::read(double timeout_s) {
+  std::vector<uint8_t> bytes;
+  const int64_t deadline = steady_ns() + seconds_to_ns(timeout_s);
+  for (;;) {
+    if (fd_ < 0) try_connect();
+    const int64_t now = steady_ns();
+    if (fd_ < 0) {
+      // Wait for the next connect or the deadline, whichever is first.
+      const int64_t until = std::min(deadline, next_connect_ns_);
+      if (until > now) ::poll(nullptr, 0, to_ms(until - now));
+      if (steady_ns() >= deadline) return bytes;
+      continue;
+    }
+    const int64_t idle_at = last_byte_ns_ + seconds_to_ns(params_.idle_timeout_s);
+    if (now >= idle_at) {
+      drop("no byte from " + address_ + " for " + std::to_string(params_.idle_timeout_s) + " s",
+           true);
+      continue;
+    }
+    pollfd p{fd_, POLLIN, 0};
+    const int rc = ::poll(&p, 1, to_ms(std::max<int64_t>(0, std::min(deadline, idle_at) - now)));
+    if (rc < 0 && errno != EINTR) {
+      drop(std::string("poll: ") + std::strerror(errno), false);
+      continue;
+    }
+    if (rc > 0) {
+      uint8_t buf[4096];
+      const ssize_t n = ::recv(fd_, buf, sizeof buf, 0);
+      if (n > 0) {
+        bytes.insert(bytes.end(), buf, buf + n);
+        counters_.bytes_received += static_cast<size_t>(n);
+        last_byte_ns_ = steady_ns();
+        return bytes;
+      }
+      if (n == 0) {
+        drop(address_ + " closed the connection", false);
+      } else if (errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR) {
+        drop(std::string("recv: ") + std::strerror(errno), false);
+      }
+    }
+    if (steady_ns() >= deadline) return bytes;
+  }
+}
+
+bool TcpClient::write(std::string_view bytes) {
+  if (fd_ < 0) return false;
+  size_t sent = 0;
+  while (sent < bytes.size()) {
+    const ssize_t n = ::send(fd_, bytes.data() + sent, bytes.size() - sent, MSG_NOSIGNAL);
+    if (n > 0) {
+      sent += static_cast<size_t>(n);
+      continue;
+    }
+    if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) {
+      pollfd p{fd_, POLLOUT, 0};
+      if (::poll(&p, 1, to_ms(seconds_to_ns(params_.connect_timeout_s))) == 1) continue;
+    } else if (n < 0 && errno == EINTR) {
+      continue;
+    }
+    drop("send to " + address_ + ": " + std::strerror(n < 0 ? errno : EPIPE), false);
+    return false;
+  }
+  return true;
+}
+
+bool TcpClient::take_new_connection() {
+  return std::exchange(new_connection_, false);
+}
+
+}  // namespace pensight::drivers

@@ -1,0 +1,75 @@
+#pragma once
+// A TCP client to a device's data port (a Water Linked DVL's 16171, a Nortek Nucleus's 9002) that
+// keeps itself connected: a refused or timed-out connect is retried after reconnect_delay_s, a
+// closed connection or one silent for longer than idle_timeout_s (a device that stopped answering
+// without closing) is closed and reconnected. Network failures are counted, never thrown; the
+// caller sees bytes, or none. One thread uses it; every call returns within its timeout plus
+// connect_timeout_s.
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/params.h"
+
+namespace pensight::drivers {
+
+struct TcpClientParams {
+  double connect_timeout_s = 2.0;  // a connect not done by then is a failure
+  double reconnect_delay_s = 0.5;  // between a failure or a drop and the next connect
+  double idle_timeout_s = 3.0;     // no byte for this long on a connection: reconnect
+};
+
+// Key, unit, valid range and help of every TcpClientParams member.
+std::span<const Param<TcpClientParams>> tcp_client_params();
+
+struct TcpClientCounters {
+  size_t connects = 0;          // connections made
+  size_t connect_failures = 0;  // refused, unreachable, timed out
+  size_t drops = 0;             // closed by the peer, reset, or a read error
+  size_t idle_timeouts = 0;     // closed by us after idle_timeout_s of silence
+  size_t bytes_received = 0;
+};
+
+class TcpClient {
+ public:
+  // Throws pensight::Error naming the address when `host` does not resolve to IPv4 or `port` is
+  // outside 1..65535, and naming the key when a parameter is out of its range. Connects lazily.
+  TcpClient(std::string host, int port, TcpClientParams params = {});
+  ~TcpClient();
+  TcpClient(const TcpClient&) = delete;
+  TcpClient& operator=(const TcpClient&) = delete;
+
+  // The bytes that arrive within timeout_s (returns at the first ones), connecting first if
+  // needed; empty when none came.
+  std::vector<uint8_t> read(double timeout_s);
+  // Sends all of `bytes` on the current connection; false when there is none or it failed (then
+  // it is dropped and counted).
+  bool write(std::string_view bytes);
+  // True once after each new connection: the caller re-sends its set-up commands.
+  bool take_new_connection();
+
+  bool connected() const { return fd_ >= 0; }
+  const TcpClientCounters& counters() const { return counters_; }
+  const std::string& last_error() const { return last_error_; }
+  const std::string& address() const { return address_; }
+
+ private:
+  void try_connect();
+  void drop(std::string why, bool idle);
+
+  std::string address_;  // host:port, for messages
+  uint32_t ipv4_ = 0;
+  uint16_t port_ = 0;
+  TcpClientParams params_;
+  int fd_ = -1;
+  bool new_connection_ = false;
+  int64_t next_connect_ns_ = 0;  // steady clock
+  int64_t last_byte_ns_ = 0;
+  TcpClientCounters counters_;
+  std::string last_error_;
+};
+
+}  // namespace pensight::drivers
