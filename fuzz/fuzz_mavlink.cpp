@@ -18,6 +18,8 @@ void check_round_trip(const Frame& f) {
   if (f.msgid == Heartbeat::kId) unpack<Heartbeat>(f.payload);
   if (f.msgid == Attitude::kId) unpack<Attitude>(f.payload);
   if (f.msgid == ScaledPressure::kId) unpack<ScaledPressure>(f.payload);
+  if (f.msgid == ScaledPressure2::kId) unpack<ScaledPressure2>(f.payload);
+  if (f.msgid == ScaledPressure3::kId) unpack<ScaledPressure3>(f.payload);
 }
 
 }  // namespace

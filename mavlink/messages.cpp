@@ -12,10 +12,12 @@ namespace {
 
 // Checked against common.xml and minimal.xml of mavlink/mavlink (CRC_EXTRA recomputed from the
 // field lists) and against node-mavlink's tables by tests/mavlink/node_mavlink_test.cpp.
-constexpr std::array<MessageInfo, 7> kMessages = {{
+constexpr std::array<MessageInfo, 9> kMessages = {{
     {Heartbeat::kId, 50, 9, "HEARTBEAT"},
     {SetMode::kId, 89, 6, "SET_MODE"},
     {ScaledPressure::kId, 115, 16, "SCALED_PRESSURE"},
+    {ScaledPressure2::kId, 195, 16, "SCALED_PRESSURE2"},
+    {ScaledPressure3::kId, 131, 16, "SCALED_PRESSURE3"},
     {Attitude::kId, 39, 28, "ATTITUDE"},
     {ManualControl::kId, 243, 30, "MANUAL_CONTROL"},
     {RcChannelsOverride::kId, 124, 38, "RC_CHANNELS_OVERRIDE"},
@@ -68,8 +70,8 @@ template <class Io>
 void fields(Io& io, SetMode& m) {
   io(m.custom_mode, m.target_system, m.base_mode);
 }
-template <class Io>
-void fields(Io& io, ScaledPressure& m) {
+template <class Io, uint32_t Id>
+void fields(Io& io, ScaledPressureOf<Id>& m) {
   io(m.time_boot_ms, m.press_abs_hpa, m.press_diff_hpa, m.temperature_cdeg,
      m.temperature_press_diff_cdeg);
 }
@@ -134,6 +136,8 @@ M unpack(std::span<const uint8_t> payload) {
 template std::vector<uint8_t> pack(const Heartbeat&);
 template std::vector<uint8_t> pack(const SetMode&);
 template std::vector<uint8_t> pack(const ScaledPressure&);
+template std::vector<uint8_t> pack(const ScaledPressure2&);
+template std::vector<uint8_t> pack(const ScaledPressure3&);
 template std::vector<uint8_t> pack(const Attitude&);
 template std::vector<uint8_t> pack(const ManualControl&);
 template std::vector<uint8_t> pack(const RcChannelsOverride&);
@@ -141,6 +145,8 @@ template std::vector<uint8_t> pack(const CommandLong&);
 template Heartbeat unpack(std::span<const uint8_t>);
 template SetMode unpack(std::span<const uint8_t>);
 template ScaledPressure unpack(std::span<const uint8_t>);
+template ScaledPressure2 unpack(std::span<const uint8_t>);
+template ScaledPressure3 unpack(std::span<const uint8_t>);
 template Attitude unpack(std::span<const uint8_t>);
 template ManualControl unpack(std::span<const uint8_t>);
 template RcChannelsOverride unpack(std::span<const uint8_t>);

@@ -33,6 +33,7 @@ inline constexpr uint8_t kMavStateActive = 4;
 inline constexpr uint8_t kModeFlagCustomModeEnabled = 0x01;
 inline constexpr uint8_t kModeFlagSafetyArmed = 0x80;
 inline constexpr uint16_t kCmdComponentArmDisarm = 400;
+inline constexpr uint16_t kCmdSetMessageInterval = 511;
 inline constexpr uint8_t kCompIdAutopilot = 1;
 inline constexpr uint8_t kCompIdMissionPlanner = 190;
 inline constexpr uint8_t kCompIdOnboardComputer = 191;
@@ -57,14 +58,20 @@ struct SetMode {
   uint8_t base_mode = 0;
 };
 
-struct ScaledPressure {
-  static constexpr uint32_t kId = 29;
+// SCALED_PRESSURE (29), SCALED_PRESSURE2 (137) and SCALED_PRESSURE3 (143) share one layout, one
+// barometer each; which of them reads the water (a BlueROV2's Bar30) differs by board.
+template <uint32_t Id>
+struct ScaledPressureOf {
+  static constexpr uint32_t kId = Id;
   uint32_t time_boot_ms = 0;
   float press_abs_hpa = 0;
   float press_diff_hpa = 0;
   int16_t temperature_cdeg = 0;
   int16_t temperature_press_diff_cdeg = 0;
 };
+using ScaledPressure = ScaledPressureOf<29>;
+using ScaledPressure2 = ScaledPressureOf<137>;
+using ScaledPressure3 = ScaledPressureOf<143>;
 
 struct Attitude {
   static constexpr uint32_t kId = 30;

@@ -65,6 +65,13 @@ bool VehicleLink::set_mode(SubMode mode) {
                       .base_mode = kModeFlagCustomModeEnabled});
 }
 
+bool VehicleLink::request_message_rate(uint32_t msgid, double rate_hz) {
+  return send(CommandLong{.param = {static_cast<float>(msgid), static_cast<float>(1e6 / rate_hz)},
+                          .command = kCmdSetMessageInterval,
+                          .target_system = config_.target_system,
+                          .target_component = config_.target_component});
+}
+
 LinkCounters VehicleLink::counters() const {
   LinkCounters c = counters_;
   c.send_errors = socket_.errors();
@@ -114,8 +121,14 @@ void VehicleLink::handle(const Frame& f, int64_t now_ns) {
     status_.attitude_ns = now_ns;
     status_.attitude = unpack<Attitude>(f.payload);
   } else if (f.msgid == ScaledPressure::kId) {
-    status_.pressure_ns = now_ns;
-    status_.pressure = unpack<ScaledPressure>(f.payload);
+    status_.pressure_ns[0] = now_ns;
+    status_.pressure[0] = unpack<ScaledPressure>(f.payload);
+  } else if (f.msgid == ScaledPressure2::kId || f.msgid == ScaledPressure3::kId) {
+    const size_t i = f.msgid == ScaledPressure2::kId ? 1 : 2;
+    const ScaledPressure2 p = unpack<ScaledPressure2>(f.payload);  // the same layout
+    status_.pressure_ns[i] = now_ns;
+    status_.pressure[i] = {p.time_boot_ms, p.press_abs_hpa, p.press_diff_hpa, p.temperature_cdeg,
+                           p.temperature_press_diff_cdeg};
   }
 }
 

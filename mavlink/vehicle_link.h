@@ -4,6 +4,7 @@
 // to poll(), which reads what arrived and sends HEARTBEAT at 1 Hz and the manual control at
 // 10 Hz. A watchdog sends the neutral command (x = y = r = 0, z = 500) whenever the latest
 // command is older than the timeout, so a stalled caller leaves the vehicle holding still.
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -52,8 +53,9 @@ struct VehicleStatus {
   uint8_t system_status = 0;
   int64_t attitude_ns = -1;
   Attitude attitude;
-  int64_t pressure_ns = -1;
-  ScaledPressure pressure;
+  // SCALED_PRESSURE, SCALED_PRESSURE2, SCALED_PRESSURE3 (index 0-2), each the last heard.
+  std::array<int64_t, 3> pressure_ns = {-1, -1, -1};
+  std::array<ScaledPressure, 3> pressure;
 };
 
 struct LinkCounters {
@@ -81,6 +83,9 @@ class VehicleLink {
   // COMMAND_LONG MAV_CMD_COMPONENT_ARM_DISARM and SET_MODE, sent at once; false when not sent.
   bool arm(bool armed);
   bool set_mode(SubMode mode);
+  // COMMAND_LONG MAV_CMD_SET_MESSAGE_INTERVAL: the vehicle sends `msgid` at rate_hz on this link
+  // (ArduSub honours it per link); false when not sent.
+  bool request_message_rate(uint32_t msgid, double rate_hz);
 
   const VehicleStatus& status() const { return status_; }
   LinkCounters counters() const;

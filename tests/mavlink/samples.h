@@ -34,8 +34,8 @@ template <class V>
 void visit(SetMode& m, V v) {
   each(v, "custom_mode", m.custom_mode, "target_system", m.target_system, "base_mode", m.base_mode);
 }
-template <class V>
-void visit(ScaledPressure& m, V v) {
+template <class V, uint32_t Id>
+void visit(ScaledPressureOf<Id>& m, V v) {
   each(v, "time_boot_ms", m.time_boot_ms, "press_abs", m.press_abs_hpa, "press_diff",
        m.press_diff_hpa, "temperature", m.temperature_cdeg, "temperature_press_diff",
        m.temperature_press_diff_cdeg);
@@ -66,7 +66,8 @@ void visit(CommandLong& m, V v) {
 // Calls f(M{}) for every message type pensight knows.
 template <class F>
 void for_each_message_type(F f) {
-  f(Heartbeat{}), f(SetMode{}), f(ScaledPressure{}), f(Attitude{}), f(ManualControl{});
+  f(Heartbeat{}), f(SetMode{}), f(ScaledPressure{}), f(ScaledPressure2{}), f(ScaledPressure3{});
+  f(Attitude{}), f(ManualControl{});
   f(RcChannelsOverride{}), f(CommandLong{});
 }
 

@@ -138,11 +138,12 @@ TEST(MavlinkVehicleLink, DecodesTheVehicleAndCommandsIt) {
   EXPECT_EQ(vehicle.received<Heartbeat>().at(0).type, kMavTypeGcs);
   vehicle.send(Heartbeat{.custom_mode = 2, .type = 12, .autopilot = 3, .base_mode = 0x81});
   vehicle.send(Attitude{.time_boot_ms = 1234, .roll_rad = 0.1f, .yaw_rad = -3.0f});
-  vehicle.send(ScaledPressure{.press_abs_hpa = 1113.25f, .temperature_cdeg = 1525});
+  vehicle.send(ScaledPressure{.press_abs_hpa = 1003.5f, .temperature_cdeg = 2850});
+  vehicle.send(ScaledPressure2{.press_abs_hpa = 1113.25f, .temperature_cdeg = 1525});
   vehicle.send(Heartbeat{.base_mode = 0}, 1, 100);  // a camera: not the vehicle
   ASSERT_TRUE(eventually([&] {
     link.poll(50 * kMs);
-    return link.counters().parse.frames == 4;
+    return link.counters().parse.frames == 5;
   }));
   const VehicleStatus& s = link.status();
   EXPECT_EQ(s.heartbeat_ns, 50 * kMs);
@@ -152,9 +153,12 @@ TEST(MavlinkVehicleLink, DecodesTheVehicleAndCommandsIt) {
   EXPECT_EQ(s.attitude.time_boot_ms, 1234u);
   EXPECT_FLOAT_EQ(s.attitude.roll_rad, 0.1f);
   EXPECT_FLOAT_EQ(s.attitude.yaw_rad, -3.0f);
-  EXPECT_EQ(s.pressure_ns, 50 * kMs);
-  EXPECT_FLOAT_EQ(s.pressure.press_abs_hpa, 1113.25f);
-  EXPECT_EQ(s.pressure.temperature_cdeg, 1525);
+  EXPECT_EQ(s.pressure_ns[0], 50 * kMs);
+  EXPECT_FLOAT_EQ(s.pressure[0].press_abs_hpa, 1003.5f);
+  EXPECT_EQ(s.pressure_ns[1], 50 * kMs);
+  EXPECT_FLOAT_EQ(s.pressure[1].press_abs_hpa, 1113.25f);
+  EXPECT_EQ(s.pressure[1].temperature_cdeg, 1525);
+  EXPECT_EQ(s.pressure_ns[2], -1);
   EXPECT_EQ(link.counters().other_senders, 1u);
 
   ASSERT_TRUE(link.arm(true));
@@ -172,6 +176,17 @@ TEST(MavlinkVehicleLink, DecodesTheVehicleAndCommandsIt) {
   EXPECT_EQ(mode.custom_mode, 16u);
   EXPECT_EQ(mode.base_mode, kModeFlagCustomModeEnabled);
   EXPECT_EQ(mode.target_system, 1);
+
+  ASSERT_TRUE(link.request_message_rate(ScaledPressure2::kId, 5.0));
+  ASSERT_TRUE(eventually([&] {
+    vehicle.read();
+    return vehicle.received<CommandLong>().size() == 2;
+  }));
+  const auto rate = vehicle.received<CommandLong>().at(1);
+  EXPECT_EQ(rate.command, kCmdSetMessageInterval);
+  EXPECT_EQ(rate.param[0], 137.0f);
+  EXPECT_EQ(rate.param[1], 200000.0f);  // the interval in microseconds
+  EXPECT_EQ(rate.target_system, 1);
 }
 
 TEST(MavlinkVehicleLink, RcOverrideUsesArduSubChannels) {

@@ -1,0 +1,64 @@
+// The vehicle's depth from ArduSub's barometers: the water sensor chosen by its reading (a BlueROV2
+// sends its enclosure's air pressure beside the Bar30's, on a board-dependent message) or by
+// configuration, stale and empty barometers left out, and the pressure-to-depth conversion.
+#include "mavlink/water_depth.h"
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "core/error.h"
+
+namespace pensight::mavlink {
+namespace {
+
+constexpr int64_t kS = 1'000'000'000;
+
+VehicleStatus barometers(float p0, float p1, float p2, int64_t heard_ns) {
+  VehicleStatus s;
+  s.pressure[0].press_abs_hpa = p0;
+  s.pressure[1].press_abs_hpa = p1;
+  s.pressure[2].press_abs_hpa = p2;
+  s.pressure_ns = {heard_ns, heard_ns, heard_ns};
+  return s;
+}
+
+TEST(WaterDepth, TheBarometerOfTheWaterIsTheOneReadingMost) {
+  const WaterDepthParams p;
+  // The enclosure's air on SCALED_PRESSURE, the Bar30 on SCALED_PRESSURE2, no third (SITL sends 0).
+  VehicleStatus s = barometers(1003.5f, 1113.25f, 0.0f, 10 * kS);
+  EXPECT_EQ(water_pressure_index(s, p, 11 * kS), 1);
+  // The same with the boards' roles swapped.
+  s = barometers(1113.25f, 1003.5f, 0.0f, 10 * kS);
+  EXPECT_EQ(water_pressure_index(s, p, 11 * kS), 0);
+  // Not heard for longer than max_age_s: not used.
+  s.pressure_ns[0] = 8 * kS - 1;
+  EXPECT_EQ(water_pressure_index(s, p, 10 * kS), 1);
+  EXPECT_EQ(water_pressure_index(VehicleStatus{}, p, 10 * kS), -1);
+  // Configured: that one, even when it reads less, and none when it is not heard.
+  WaterDepthParams fixed;
+  fixed.pressure_source = 2;
+  EXPECT_EQ(water_pressure_index(barometers(1113.25f, 1003.5f, 0, kS), fixed, kS), 1);
+  fixed.pressure_source = 3;
+  EXPECT_EQ(water_pressure_index(barometers(1113.25f, 1003.5f, 0, kS), fixed, kS), -1);
+}
+
+TEST(WaterDepth, DepthIsThePressureAboveTheSurfacesOverRhoG) {
+  WaterDepthParams p;
+  EXPECT_NEAR(depth_from_pressure_m(1013.25 + 100.52, p), 1.0, 1e-3);  // 1025 kg/m^3 x g x 1 m
+  EXPECT_DOUBLE_EQ(depth_from_pressure_m(1013.25, p), 0.0);
+  p.water_density_kgpm3 = 997;
+  EXPECT_NEAR(depth_from_pressure_m(1013.25 + 97.77, p), 1.0, 1e-3);
+  p.surface_pressure_hpa = 990;
+  EXPECT_NEAR(depth_from_pressure_m(990 + 97.77, p), 1.0, 1e-3);
+  p.water_density_kgpm3 = 0;
+  try {
+    depth_from_pressure_m(1100, p);
+    FAIL() << "accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("water_density_kgpm3"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace pensight::mavlink
