@@ -24,7 +24,7 @@
 #include <Eigen/Core>
 
 #include "core/dataset_types.h"
-#include "drivers/device_clock.h"
+#include "core/device_clock.h"
 #include "drivers/line_stream.h"
 
 namespace pensight::drivers {

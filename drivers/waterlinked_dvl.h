@@ -13,7 +13,7 @@
 #include <Eigen/Core>
 
 #include "core/dataset_types.h"
-#include "drivers/device_clock.h"
+#include "core/device_clock.h"
 #include "drivers/tcp_client.h"
 #include "drivers/waterlinked.h"
 

@@ -19,6 +19,10 @@ bool due(std::optional<int64_t>& next_ns, int64_t period_ns, int64_t now_ns) {
   return true;
 }
 
+int64_t boot_ns(uint32_t time_boot_ms) {
+  return int64_t{time_boot_ms} * 1'000'000;
+}
+
 uint16_t rc_pulse(int value, int full_scale) {
   return static_cast<uint16_t>(kRcNeutralUs + value * kRcSpanUs / full_scale);
 }
@@ -26,7 +30,11 @@ uint16_t rc_pulse(int value, int full_scale) {
 }  // namespace
 
 VehicleLink::VehicleLink(LinkConfig config)
-    : config_(std::move(config)), socket_(parse_endpoint(config_.endpoint)) {
+    : config_(std::move(config)),
+      socket_(parse_endpoint(config_.endpoint)),
+      attitude_clock_(config_.boot_clock),
+      pressure_clock_(config_.boot_clock) {
+  depth_from_pressure_m(config_.water_depth.surface_pressure_hpa, config_.water_depth);  // checks
   const bool gcs = config_.role == LinkRole::kGroundStation;
   sysid_ = config_.sysid != 0 ? config_.sysid : (gcs ? 255 : 1);
   compid_ =
@@ -70,6 +78,23 @@ bool VehicleLink::request_message_rate(uint32_t msgid, double rate_hz) {
                           .command = kCmdSetMessageInterval,
                           .target_system = config_.target_system,
                           .target_component = config_.target_component});
+}
+
+template <class Sample>
+void VehicleLink::queue(std::vector<Sample>& samples, const Sample& s) {
+  if (samples.size() >= kMaxQueuedSamples) {
+    samples.erase(samples.begin());
+    ++counters_.samples_dropped;
+  }
+  samples.push_back(s);
+}
+
+std::vector<AttitudeSample> VehicleLink::take_attitude_samples() {
+  return std::exchange(attitudes_, {});
+}
+
+std::vector<PressureSample> VehicleLink::take_pressure_samples() {
+  return std::exchange(pressures_, {});
 }
 
 LinkCounters VehicleLink::counters() const {
@@ -119,16 +144,21 @@ void VehicleLink::handle(const Frame& f, int64_t now_ns) {
     status_.system_status = hb.system_status;
   } else if (f.msgid == Attitude::kId) {
     status_.attitude_ns = now_ns;
-    status_.attitude = unpack<Attitude>(f.payload);
-  } else if (f.msgid == ScaledPressure::kId) {
-    status_.pressure_ns[0] = now_ns;
-    status_.pressure[0] = unpack<ScaledPressure>(f.payload);
-  } else if (f.msgid == ScaledPressure2::kId || f.msgid == ScaledPressure3::kId) {
-    const size_t i = f.msgid == ScaledPressure2::kId ? 1 : 2;
-    const ScaledPressure2 p = unpack<ScaledPressure2>(f.payload);  // the same layout
-    status_.pressure_ns[i] = now_ns;
-    status_.pressure[i] = {p.time_boot_ms, p.press_abs_hpa, p.press_diff_hpa, p.temperature_cdeg,
-                           p.temperature_press_diff_cdeg};
+    const Attitude& a = status_.attitude = unpack<Attitude>(f.payload);
+    queue(attitudes_, AttitudeSample{attitude_clock_.to_host_ns(boot_ns(a.time_boot_ms), now_ns),
+                                     a.roll_rad, a.pitch_rad, a.yaw_rad});
+  } else if (f.msgid == ScaledPressure::kId || f.msgid == ScaledPressure2::kId ||
+             f.msgid == ScaledPressure3::kId) {
+    const int i = f.msgid == ScaledPressure::kId ? 0 : f.msgid == ScaledPressure2::kId ? 1 : 2;
+    const ScaledPressure p = unpack<ScaledPressure>(f.payload);  // one layout for the three
+    status_.pressure_ns[static_cast<size_t>(i)] = now_ns;
+    if (status_.first_pressure_ns < 0) status_.first_pressure_ns = now_ns;
+    status_.pressure[static_cast<size_t>(i)] = p;
+    if (water_pressure_index(status_, config_.water_depth, now_ns) == i) {
+      queue(pressures_,
+            PressureSample{pressure_clock_.to_host_ns(boot_ns(p.time_boot_ms), now_ns),
+                           depth_from_pressure_m(p.press_abs_hpa, config_.water_depth)});
+    }
   }
 }
 

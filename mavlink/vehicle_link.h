@@ -10,9 +10,13 @@
 #include <string>
 #include <vector>
 
+#include "core/dataset_types.h"
+#include "core/device_clock.h"
 #include "mavlink/endpoint.h"
 #include "mavlink/frame.h"
 #include "mavlink/messages.h"
+#include "mavlink/vehicle_status.h"
+#include "mavlink/water_depth.h"
 
 namespace pensight::mavlink {
 
@@ -43,19 +47,8 @@ struct LinkConfig {
   // RC_CHANNELS_OVERRIDE with ArduSub's channels (5 forward, 6 lateral, 3 throttle, 4 yaw; 1500
   // us neutral, +-400 us full scale) instead of MANUAL_CONTROL.
   bool rc_override = false;
-};
-
-// What the target vehicle last said; a *_ns of -1: not heard yet. Times are poll()'s clock.
-struct VehicleStatus {
-  int64_t heartbeat_ns = -1;
-  bool armed = false;
-  uint32_t custom_mode = 0;  // the ArduSub mode number (SubMode)
-  uint8_t system_status = 0;
-  int64_t attitude_ns = -1;
-  Attitude attitude;
-  // SCALED_PRESSURE, SCALED_PRESSURE2, SCALED_PRESSURE3 (index 0-2), each the last heard.
-  std::array<int64_t, 3> pressure_ns = {-1, -1, -1};
-  std::array<ScaledPressure, 3> pressure;
+  WaterDepthParams water_depth;  // which barometer reads the water, and the water's density
+  DeviceClockParams boot_clock;  // the vehicle's time_boot_ms onto poll()'s clock
 };
 
 struct LinkCounters {
@@ -63,6 +56,7 @@ struct LinkCounters {
   uint64_t send_errors = 0;       // UdpSocket::errors()
   uint64_t neutral_commands = 0;  // sent by the watchdog
   uint64_t other_senders = 0;     // good frames not from the target vehicle, ignored
+  uint64_t samples_dropped = 0;   // attitude or depth samples not taken in time
   ParseCounters parse;            // parse.frames: frames received
 };
 
@@ -87,6 +81,14 @@ class VehicleLink {
   // (ArduSub honours it per link); false when not sent.
   bool request_message_rate(uint32_t msgid, double rate_hz);
 
+  // The attitude (ATTITUDE) and depth (the water's barometer, water_depth.h) samples decoded since
+  // the last call, in arrival order, each stamped on poll()'s clock at its own time_boot_ms
+  // through a DeviceClock per message (the link's jitter removed). At most kMaxQueuedSamples of
+  // each wait between calls; older ones are dropped and counted.
+  std::vector<AttitudeSample> take_attitude_samples();
+  std::vector<PressureSample> take_pressure_samples();
+  static constexpr size_t kMaxQueuedSamples = 1000;
+
   const VehicleStatus& status() const { return status_; }
   LinkCounters counters() const;
   uint16_t local_port() const { return socket_.local_port(); }
@@ -102,6 +104,8 @@ class VehicleLink {
   bool send(const M& message);
   void send_command(int64_t now_ns);
   void handle(const Frame& frame, int64_t now_ns);
+  template <class Sample>
+  void queue(std::vector<Sample>& samples, const Sample& s);
 
   const LinkConfig config_;
   uint8_t sysid_, compid_, type_;
@@ -113,6 +117,9 @@ class VehicleLink {
   std::optional<Command> command_;
   VehicleStatus status_;
   LinkCounters counters_;
+  DeviceClock attitude_clock_, pressure_clock_;
+  std::vector<AttitudeSample> attitudes_;
+  std::vector<PressureSample> pressures_;
 };
 
 }  // namespace pensight::mavlink

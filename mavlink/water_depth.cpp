@@ -36,6 +36,10 @@ int water_pressure_index(const VehicleStatus& status, const WaterDepthParams& pa
   if (params.pressure_source > 0) {
     return fresh(params.pressure_source - 1) ? params.pressure_source - 1 : -1;
   }
+  if (status.first_pressure_ns < 0 ||
+      now_ns - status.first_pressure_ns < seconds_to_ns(params.max_age_s)) {
+    return -1;
+  }
   int best = -1;
   for (int i = 0; i < 3; ++i) {
     if (fresh(i) && (best < 0 || status.pressure[static_cast<size_t>(i)].press_abs_hpa >

@@ -8,7 +8,7 @@
 #include <span>
 
 #include "core/params.h"
-#include "mavlink/vehicle_link.h"
+#include "mavlink/vehicle_status.h"
 
 namespace pensight::mavlink {
 
@@ -25,7 +25,8 @@ std::span<const Param<WaterDepthParams>> water_depth_params();
 // Index (0-2) of the barometer that reads the water at now_ns, or -1 when it has not been heard
 // within max_age_s. Automatic: of the barometers heard, the one with the highest pressure above
 // zero, since water adds ~100 hPa per metre while a sealed enclosure stays near the pressure it
-// was closed at (at the surface the two agree within a few hPa, a few cm).
+// was closed at (at the surface the two agree within a few hPa, a few cm); none until barometers
+// have been heard for max_age_s, so that every one the vehicle sends has spoken.
 int water_pressure_index(const VehicleStatus& status, const WaterDepthParams& params,
                          int64_t now_ns);
 

@@ -11,14 +11,15 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <set>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "mavlink/vehicle_link.h"
 #include "mavlink/water_depth.h"
@@ -92,15 +93,26 @@ TEST_F(ArduSubSitl, AttitudeAtTheAskedRateAndTheDepthOfItsWaterBarometer) {
   ASSERT_TRUE(link.request_message_rate(ScaledPressure2::kId, 5.0));
   const double settle_s = static_cast<double>(steady_ns() - t0) * 1e-9 + 1.0;
   poll_until(settle_s, [] { return false; });
-  std::set<uint32_t> attitudes;
+  link.take_attitude_samples();
+  link.take_pressure_samples();
+  std::vector<AttitudeSample> attitudes;
+  std::vector<PressureSample> depths;
   const double window_s = 4.0;
   const int64_t from = steady_ns();
+  int64_t worst_lag_ns = 0;
   while (steady_ns() - from < static_cast<int64_t>(window_s * 1e9)) {
     link.poll(steady_ns());
-    if (link.status().attitude_ns >= from) attitudes.insert(link.status().attitude.time_boot_ms);
+    for (const AttitudeSample& a : link.take_attitude_samples()) {
+      worst_lag_ns = std::max(worst_lag_ns, steady_ns() - a.timestamp_ns);
+      attitudes.push_back(a);
+    }
+    for (const PressureSample& d : link.take_pressure_samples()) depths.push_back(d);
     std::this_thread::sleep_for(std::chrono::milliseconds(2));
   }
   const double attitude_hz = static_cast<double>(attitudes.size()) / window_s;
+  for (size_t i = 1; i < attitudes.size(); ++i) {
+    EXPECT_GT(attitudes[i].timestamp_ns, attitudes[i - 1].timestamp_ns) << i;
+  }
   const VehicleStatus& s = link.status();
   const WaterDepthParams params;
   const int water = water_pressure_index(s, params, steady_ns());
@@ -108,10 +120,12 @@ TEST_F(ArduSubSitl, AttitudeAtTheAskedRateAndTheDepthOfItsWaterBarometer) {
   const double depth_m =
       depth_from_pressure_m(s.pressure[static_cast<size_t>(water)].press_abs_hpa, params);
   std::printf(
-      "ArduSub SITL: ATTITUDE %.1f Hz (asked 25), barometers %.2f / %.2f / %.2f hPa, "
-      "water = SCALED_PRESSURE%s, depth %.3f m\n",
-      attitude_hz, s.pressure[0].press_abs_hpa, s.pressure[1].press_abs_hpa,
-      s.pressure[2].press_abs_hpa, water == 0 ? "" : std::to_string(water + 1).c_str(), depth_m);
+      "ArduSub SITL: ATTITUDE %.1f Hz (asked 25), each stamped at most %.1f ms before it was "
+      "taken; barometers %.2f / %.2f / %.2f hPa, water = SCALED_PRESSURE%s, depth %.3f m, %zu "
+      "depth samples\n",
+      attitude_hz, static_cast<double>(worst_lag_ns) * 1e-6, s.pressure[0].press_abs_hpa,
+      s.pressure[1].press_abs_hpa, s.pressure[2].press_abs_hpa,
+      water == 0 ? "" : std::to_string(water + 1).c_str(), depth_m, depths.size());
   // Asked 25 Hz, ArduSub's scheduler gives 21.0 (its default is 10): the request is honoured.
   EXPECT_GE(attitude_hz, 15.0);
   EXPECT_LE(attitude_hz, 30.0);
@@ -122,6 +136,18 @@ TEST_F(ArduSubSitl, AttitudeAtTheAskedRateAndTheDepthOfItsWaterBarometer) {
   // 1051.33 and 1033.58 hPa, 0.38 and 0.20 m of sea water.
   EXPECT_GT(depth_m, -0.1);
   EXPECT_LT(depth_m, 1.0);
+  // The depth samples are the chosen barometer's (ArduSub's default 2 Hz for SCALED_PRESSURE), from
+  // 2 s after the first barometer was heard (the automatic choice waits for all): 5 measured.
+  ASSERT_GE(depths.size(), 3u);
+  // The vehicle settles at the surface after SITL starts (measured 0.52, 0.48, 0.46 ... 0.38 m).
+  for (const PressureSample& d : depths) {
+    EXPECT_GT(d.depth_m, -0.1);
+    EXPECT_LT(d.depth_m, 1.0);
+  }
+  EXPECT_NEAR(depths.back().depth_m, depth_m, 0.05);
+  // Each attitude is stamped at its own time_boot_ms, taken within the 2 ms poll and the link's
+  // delay of it.
+  EXPECT_LT(worst_lag_ns, 100'000'000);
   EXPECT_EQ(link.counters().parse.bad_crc, 0u);
 }
 

@@ -189,6 +189,51 @@ TEST(MavlinkVehicleLink, DecodesTheVehicleAndCommandsIt) {
   EXPECT_EQ(rate.target_system, 1);
 }
 
+// ATTITUDE and the water's barometer become samples stamped at their own time_boot_ms (the vehicle
+// booted 5 s before our clock's zero): the link's delay (here 3-9 ms) is removed down to its
+// floor; the enclosure's air barometer gives no depth, and the water's none in its first
+// max_age_s (2 s), while the automatic choice waits for every barometer to speak.
+TEST(MavlinkVehicleLink, AttitudeAndDepthSamplesAtTheVehiclesOwnTimes) {
+  FakeVehicle vehicle;
+  VehicleLink link({.endpoint = vehicle.endpoint()});
+  link.poll(0);
+  ASSERT_TRUE(eventually([&] {
+    vehicle.read();
+    return !vehicle.frames.empty();
+  }));
+  int64_t now_ns = 0;
+  for (int k = 0; k < 40; ++k) {
+    const auto boot_ms = static_cast<uint32_t>(5'000 + 100 * k);
+    vehicle.send(Attitude{.time_boot_ms = boot_ms, .roll_rad = 0.01f * static_cast<float>(k)});
+    if (k % 4 == 0) {
+      vehicle.send(ScaledPressure{.time_boot_ms = boot_ms, .press_abs_hpa = 1003.5f});
+      vehicle.send(ScaledPressure2{.time_boot_ms = boot_ms, .press_abs_hpa = 1113.77f});
+    }
+    const int64_t sent_ns = 100 * kMs * k;
+    now_ns = sent_ns + (3 + 2 * (k % 4)) * kMs;
+    const uint64_t expected = link.counters().parse.frames + (k % 4 == 0 ? 3 : 1);
+    ASSERT_TRUE(eventually([&] {
+      link.poll(now_ns);
+      return link.counters().parse.frames == expected;
+    }));
+  }
+  const std::vector<AttitudeSample> a = link.take_attitude_samples();
+  ASSERT_EQ(a.size(), 40u);
+  EXPECT_TRUE(link.take_attitude_samples().empty());
+  for (size_t k = 0; k < a.size(); ++k) {
+    EXPECT_NEAR(a[k].roll_rad, 0.01 * static_cast<double>(k), 1e-6);
+    // Stamped at time_boot_ms plus the smallest delay seen so far (3 ms from the first sample on).
+    EXPECT_EQ(a[k].timestamp_ns, 100 * kMs * static_cast<int64_t>(k) + 3 * kMs) << k;
+  }
+  const std::vector<PressureSample> p = link.take_pressure_samples();
+  ASSERT_EQ(p.size(), 5u);  // sent every 0.4 s, from 2 s after the first: 2.0 ... 3.6 s
+  for (size_t k = 0; k < p.size(); ++k) {
+    EXPECT_EQ(p[k].timestamp_ns, 400 * kMs * static_cast<int64_t>(k + 5) + 3 * kMs);
+    EXPECT_NEAR(p[k].depth_m, 1.0, 1e-3);  // 100.52 hPa of sea water (1025 kg/m^3)
+  }
+  EXPECT_EQ(link.counters().samples_dropped, 0u);
+}
+
 TEST(MavlinkVehicleLink, RcOverrideUsesArduSubChannels) {
   FakeVehicle vehicle;
   VehicleLink link({.endpoint = vehicle.endpoint(), .rc_override = true});

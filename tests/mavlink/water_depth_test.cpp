@@ -20,6 +20,7 @@ VehicleStatus barometers(float p0, float p1, float p2, int64_t heard_ns) {
   s.pressure[1].press_abs_hpa = p1;
   s.pressure[2].press_abs_hpa = p2;
   s.pressure_ns = {heard_ns, heard_ns, heard_ns};
+  s.first_pressure_ns = 0;
   return s;
 }
 
@@ -35,6 +36,9 @@ TEST(WaterDepth, TheBarometerOfTheWaterIsTheOneReadingMost) {
   s.pressure_ns[0] = 8 * kS - 1;
   EXPECT_EQ(water_pressure_index(s, p, 10 * kS), 1);
   EXPECT_EQ(water_pressure_index(VehicleStatus{}, p, 10 * kS), -1);
+  // Automatic only once barometers have been heard for max_age_s: the air's may come first.
+  s.first_pressure_ns = 9 * kS;
+  EXPECT_EQ(water_pressure_index(s, p, 10 * kS), -1);
   // Configured: that one, even when it reads less, and none when it is not heard.
   WaterDepthParams fixed;
   fixed.pressure_source = 2;

@@ -1,10 +1,10 @@
-#include "drivers/device_clock.h"
+#include "core/device_clock.h"
 
 #include <cmath>
 
 #include "core/units.h"
 
-namespace pensight::drivers {
+namespace pensight {
 namespace {
 
 const Param<DeviceClockParams> kDeviceClockParams[] = {
@@ -45,4 +45,4 @@ int64_t DeviceClock::to_host_ns(int64_t device_ns, int64_t arrival_ns) {
   return device_ns + candidates_.front().second;
 }
 
-}  // namespace pensight::drivers
+}  // namespace pensight

@@ -19,7 +19,7 @@
 
 #include "core/params.h"
 
-namespace pensight::drivers {
+namespace pensight {
 
 struct DeviceClockParams {
   double window_s = 10.0;   // the offset is the smallest seen over this long
@@ -49,4 +49,4 @@ class DeviceClock {
   int resets_ = 0;
 };
 
-}  // namespace pensight::drivers
+}  // namespace pensight

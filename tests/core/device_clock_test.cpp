@@ -1,7 +1,7 @@
 // The device clock mapping against a simulated device: a clock 1234 s off and 50 ppm fast, a
 // transport delay of 0.8 ms plus an exponential jitter of mean 5 ms, a stalled link and a clock
 // reset.
-#include "drivers/device_clock.h"
+#include "core/device_clock.h"
 
 #include <gtest/gtest.h>
 
@@ -13,7 +13,7 @@
 #include "core/error.h"
 #include "tests/support/test_seed.h"
 
-namespace pensight::drivers {
+namespace pensight {
 namespace {
 
 constexpr int64_t kStart_ns = 1'700'000'000'000'000'000;
@@ -63,4 +63,4 @@ TEST(DeviceClock, ParametersOutOfRangeAreNamed) {
 }
 
 }  // namespace
-}  // namespace pensight::drivers
+}  // namespace pensight
