@@ -41,6 +41,8 @@ class NucleusStream {
   // The complete packets these bytes finish, in stream order; an incomplete one is kept for the
   // next call.
   std::vector<NucleusPacket> feed(std::span<const uint8_t> bytes);
+  // A new connection: the last one's unfinished packet is forgotten, the counters kept.
+  void restart() { pending_.clear(); }
   const NucleusStreamCounters& counters() const { return counters_; }
 
  private:

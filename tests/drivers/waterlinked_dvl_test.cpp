@@ -4,12 +4,6 @@
 // resolve or does not listen.
 #include "drivers/waterlinked_dvl.h"
 
-#include <arpa/inet.h>
-#include <netinet/in.h>
-#include <poll.h>
-#include <sys/socket.h>
-#include <unistd.h>
-
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -20,6 +14,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "tests/support/loopback_server.h"
 
 namespace pensight::drivers {
 namespace {
@@ -42,40 +37,7 @@ std::string velocity_line(double vx, bool water = false) {
          "}\n";
 }
 
-// A listening socket on 127.0.0.1 and the few calls the stand-in needs.
-class StandIn {
- public:
-  StandIn() {
-    fd_ = ::socket(AF_INET, SOCK_STREAM, 0);
-    sockaddr_in a{};
-    a.sin_family = AF_INET;
-    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    EXPECT_EQ(::bind(fd_, reinterpret_cast<sockaddr*>(&a), sizeof a), 0);
-    EXPECT_EQ(::listen(fd_, 4), 0);
-    socklen_t len = sizeof a;
-    ::getsockname(fd_, reinterpret_cast<sockaddr*>(&a), &len);
-    port_ = ntohs(a.sin_port);
-  }
-  ~StandIn() { ::close(fd_); }
-  int port() const { return port_; }
-  int accept_one() const { return ::accept(fd_, nullptr, nullptr); }
-
-  // The first line the client sends (its set_config), within 5 s.
-  static std::string read_line(int conn) {
-    std::string line;
-    char c = 0;
-    pollfd p{conn, POLLIN, 0};
-    while (::poll(&p, 1, 5000) == 1 && ::recv(conn, &c, 1, 0) == 1 && c != '\n') line += c;
-    return line;
-  }
-  static void send_all(int conn, const std::string& s) {
-    ASSERT_EQ(::send(conn, s.data(), s.size(), MSG_NOSIGNAL), static_cast<ssize_t>(s.size()));
-  }
-
- private:
-  int fd_ = -1;
-  int port_ = 0;
-};
+using StandIn = testing::LoopbackServer;
 
 TEST(WaterLinkedDvl, ReconnectsAfterACloseAndASilenceSendingItsConfigEachTime) {
   StandIn dvl;
