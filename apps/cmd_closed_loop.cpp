@@ -39,7 +39,8 @@ int cmd_closed_loop(const Args& args) {
   cli.add_option("--backend", backend, "perception: auto|cpu|vulkan|cuda")->capture_default_str();
   cli.add_option("--mavlink", mavlink_endpoint,
                  "also send the commands over MAVLink v2 as a companion computer: "
-                 "udpout:HOST:PORT (send to) or udpin:ADDR:PORT (listen), as MAVProxy writes them");
+                 "udpout:HOST:PORT (send to), udpin:ADDR:PORT (listen) or tcp:HOST:PORT "
+                 "(connect to), as MAVProxy writes them");
   std::vector<double> outage;
   cli.add_option("--perception-outage", outage,
                  "FROM TO: seconds after the start between which perception yields no pose (a "

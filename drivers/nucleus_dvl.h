@@ -16,7 +16,7 @@
 #include "core/dataset_types.h"
 #include "core/device_clock.h"
 #include "drivers/nucleus_stream.h"
-#include "drivers/tcp_client.h"
+#include "core/tcp_client.h"
 
 namespace pensight::drivers {
 

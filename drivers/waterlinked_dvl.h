@@ -14,7 +14,7 @@
 
 #include "core/dataset_types.h"
 #include "core/device_clock.h"
-#include "drivers/tcp_client.h"
+#include "core/tcp_client.h"
 #include "drivers/waterlinked.h"
 
 namespace pensight::drivers {

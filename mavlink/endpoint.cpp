@@ -19,8 +19,9 @@ constexpr size_t kMaxDatagram = 65536;
 
 [[noreturn]] void fail(const std::string& text, const std::string& why) {
   throw Error("MAVLink endpoint '" + text + "': " + why +
-              "; use udpout:HOST:PORT (send to HOST) or udpin:ADDR:PORT (listen on ADDR, 0.0.0.0 "
-              "for every interface)");
+              "; use udpout:HOST:PORT (send to HOST), udpin:ADDR:PORT (listen on ADDR, 0.0.0.0 "
+              "for every interface) or tcp:HOST:PORT (connect to a TCP server: ArduSub SITL 5760, "
+              "BlueOS 5777)");
 }
 
 uint16_t parse_port(const std::string& text, const std::string& port, bool zero_allowed) {
@@ -66,6 +67,8 @@ Endpoint parse_endpoint(const std::string& text) {
     e.kind = Endpoint::Kind::kUdpOut;
   } else if (scheme == "udpin") {
     e.kind = Endpoint::Kind::kUdpIn;
+  } else if (scheme == "tcp") {
+    e.kind = Endpoint::Kind::kTcp;
   } else {
     fail(text, "unknown scheme '" + scheme + "'");
   }
@@ -74,6 +77,7 @@ Endpoint parse_endpoint(const std::string& text) {
   if (port_colon == std::string::npos) fail(text, "no port");
   const std::string host = rest.substr(0, port_colon);
   if (host.empty()) fail(text, "no host");
+  e.host = host;
   e.port = parse_port(text, rest.substr(port_colon + 1), e.kind == Endpoint::Kind::kUdpIn);
   e.ipv4 = resolve_ipv4(text, host);
   return e;
@@ -142,6 +146,42 @@ uint16_t UdpSocket::local_port() const {
   socklen_t size = sizeof a;
   ::getsockname(fd_, reinterpret_cast<sockaddr*>(&a), &size);
   return ntohs(a.sin_port);
+}
+
+Connection::Connection(const Endpoint& endpoint) {
+  if (endpoint.kind == Endpoint::Kind::kTcp) {
+    tcp_ = std::make_unique<TcpClient>(endpoint.host, endpoint.port);
+  } else {
+    udp_ = std::make_unique<UdpSocket>(endpoint);
+  }
+}
+
+Connection::~Connection() = default;
+
+bool Connection::send(std::span<const uint8_t> bytes) {
+  if (udp_) return udp_->send(bytes);
+  // Not connected: receive() starts and finishes the connect.
+  return tcp_->write({reinterpret_cast<const char*>(bytes.data()), bytes.size()});
+}
+
+void Connection::receive(std::vector<uint8_t>& bytes) {
+  if (udp_) {
+    udp_->receive(bytes);
+    return;
+  }
+  for (std::vector<uint8_t> got = tcp_->read(0); !got.empty(); got = tcp_->read(0)) {
+    bytes.insert(bytes.end(), got.begin(), got.end());
+  }
+}
+
+uint64_t Connection::errors() const {
+  if (udp_) return udp_->errors();
+  return tcp_->counters().connect_failures + tcp_->counters().drops +
+         tcp_->counters().idle_timeouts;
+}
+
+uint16_t Connection::local_port() const {
+  return udp_ ? udp_->local_port() : 0;
 }
 
 }  // namespace pensight::mavlink

@@ -53,7 +53,7 @@ struct LinkConfig {
 
 struct LinkCounters {
   uint64_t frames_sent = 0;
-  uint64_t send_errors = 0;       // UdpSocket::errors()
+  uint64_t send_errors = 0;       // Connection::errors()
   uint64_t neutral_commands = 0;  // sent by the watchdog
   uint64_t other_senders = 0;     // good frames not from the target vehicle, ignored
   uint64_t samples_dropped = 0;   // attitude or depth samples not taken in time
@@ -109,7 +109,7 @@ class VehicleLink {
 
   const LinkConfig config_;
   uint8_t sysid_, compid_, type_;
-  UdpSocket socket_;
+  Connection socket_;
   FrameParser parser_;
   std::vector<uint8_t> received_;
   uint8_t seq_ = 0;

@@ -9,6 +9,7 @@
 #include "core/error.h"
 #include "mavlink/endpoint.h"
 #include "mavlink/vehicle_link.h"
+#include "tests/support/loopback_server.h"
 
 namespace pensight::mavlink {
 namespace {
@@ -73,14 +74,19 @@ TEST(MavlinkEndpoint, ParsesMavproxyNotation) {
 
 TEST(MavlinkEndpoint, RefusesMalformedEndpointsNamingThem) {
   for (const std::string bad :
-       {"tcp:127.0.0.1:5760", "udp:127.0.0.1:14550", "udpout", "udpout:127.0.0.1",
+       {"tcp:127.0.0.1:0", "udp:127.0.0.1:14550", "udpout", "udpout:127.0.0.1",
         "udpout:127.0.0.1:", "udpout:127.0.0.1:0", "udpout:127.0.0.1:65536",
         "udpout:127.0.0.1:14x50", "udpout::14550", "udpout:host..invalid:14550", ""}) {
     const std::string e = endpoint_error(bad);
     EXPECT_NE(e.find("'" + bad + "'"), std::string::npos) << e;
     EXPECT_NE(e.find("udpout:HOST:PORT"), std::string::npos) << e;
   }
-  EXPECT_NE(endpoint_error("tcp:1.2.3.4:5").find("unknown scheme 'tcp'"), std::string::npos);
+  EXPECT_NE(endpoint_error("udp:1.2.3.4:5").find("unknown scheme 'udp'"), std::string::npos);
+  EXPECT_NE(endpoint_error("tcp:127.0.0.1:0").find("tcp:HOST:PORT"), std::string::npos);
+  const Endpoint tcp = parse_endpoint("tcp:localhost:5777");
+  EXPECT_EQ(tcp.kind, Endpoint::Kind::kTcp);
+  EXPECT_EQ(tcp.host, "localhost");
+  EXPECT_EQ(tcp.port, 5777);
   EXPECT_NE(endpoint_error("udpout:host..invalid:1").find("does not resolve"), std::string::npos);
   EXPECT_THROW(VehicleLink({.endpoint = "udpout:127.0.0.1"}), Error);
 }
@@ -232,6 +238,43 @@ TEST(MavlinkVehicleLink, AttitudeAndDepthSamplesAtTheVehiclesOwnTimes) {
     EXPECT_NEAR(p[k].depth_m, 1.0, 1e-3);  // 100.52 hPa of sea water (1025 kg/m^3)
   }
   EXPECT_EQ(link.counters().samples_dropped, 0u);
+}
+
+// Over tcp:HOST:PORT (ArduSub SITL's 5760, BlueOS's 5777): the vehicle's frames in, ours out, and
+// a new connection after the server closes one.
+TEST(MavlinkVehicleLink, OverTcpReconnectingAfterTheServerCloses) {
+  pensight::testing::LoopbackServer vehicle;
+  VehicleLink link({.endpoint = "tcp:127.0.0.1:" + std::to_string(vehicle.port())});
+  const auto frame_bytes = [](const Heartbeat& hb) {
+    return encode_frame(make_frame(hb, 0, 1, kCompIdAutopilot));
+  };
+  std::thread server([&] {
+    for (uint32_t mode : {2u, 19u}) {
+      const int c = vehicle.accept_one();
+      pensight::testing::LoopbackServer::send_all(c,
+                                                  frame_bytes({.custom_mode = mode, .type = 12}));
+      // Wait for our heartbeat before closing: the link answers on this connection.
+      std::vector<uint8_t> got(64);
+      pollfd p{c, POLLIN, 0};
+      ::poll(&p, 1, 5000);
+      EXPECT_GT(::recv(c, got.data(), got.size(), 0), 0);
+      ::close(c);
+    }
+  });
+  int64_t t = 0;
+  ASSERT_TRUE(eventually([&] {
+    link.poll(t += 100 * kMs);
+    return link.status().custom_mode == 2;
+  }));
+  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+  while (link.status().custom_mode != 19 && std::chrono::steady_clock::now() < until) {
+    link.poll(t += 100 * kMs);
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  server.join();
+  EXPECT_EQ(link.status().custom_mode, 19u);
+  EXPECT_GE(link.counters().send_errors, 1u);  // the first connection's drop
+  EXPECT_EQ(link.local_port(), 0);
 }
 
 TEST(MavlinkVehicleLink, RcOverrideUsesArduSubChannels) {

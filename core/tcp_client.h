@@ -3,8 +3,8 @@
 // keeps itself connected: a refused or timed-out connect is retried after reconnect_delay_s, a
 // closed connection or one silent for longer than idle_timeout_s (a device that stopped answering
 // without closing) is closed and reconnected. Network failures are counted, never thrown; the
-// caller sees bytes, or none. One thread uses it; every call returns within its timeout plus
-// connect_timeout_s.
+// caller sees bytes, or none. The connect does not block: a call that starts one returns within
+// its own timeout, and a later call finishes it. One thread uses it.
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -14,7 +14,7 @@
 
 #include "core/params.h"
 
-namespace pensight::drivers {
+namespace pensight {
 
 struct TcpClientParams {
   double connect_timeout_s = 2.0;  // a connect not done by then is a failure
@@ -51,20 +51,24 @@ class TcpClient {
   // True once after each new connection: the caller re-sends its set-up commands.
   bool take_new_connection();
 
-  bool connected() const { return fd_ >= 0; }
+  bool connected() const { return fd_ >= 0 && !connecting_; }
   const TcpClientCounters& counters() const { return counters_; }
   const std::string& last_error() const { return last_error_; }
   const std::string& address() const { return address_; }
 
  private:
-  void try_connect();
+  void start_connect();
+  void finish_connect(int timeout_ms);
   void drop(std::string why, bool idle);
+  void fail_connect(int err);
 
   std::string address_;  // host:port, for messages
   uint32_t ipv4_ = 0;
   uint16_t port_ = 0;
   TcpClientParams params_;
   int fd_ = -1;
+  bool connecting_ = false;  // fd_ is a connect in progress
+  int64_t connect_deadline_ns_ = 0;
   bool new_connection_ = false;
   int64_t next_connect_ns_ = 0;  // steady clock
   int64_t last_byte_ns_ = 0;
@@ -72,4 +76,4 @@ class TcpClient {
   std::string last_error_;
 };
 
-}  // namespace pensight::drivers
+}  // namespace pensight

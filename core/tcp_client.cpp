@@ -1,7 +1,6 @@
-#include "drivers/tcp_client.h"
+#include "core/tcp_client.h"
 
 #include <arpa/inet.h>
-#include <fcntl.h>
 #include <netdb.h>
 #include <netinet/in.h>
 #include <netinet/tcp.h>
@@ -20,7 +19,7 @@
 #include "core/error.h"
 #include "core/units.h"
 
-namespace pensight::drivers {
+namespace pensight {
 namespace {
 
 const Param<TcpClientParams> kTcpClientParams[] = {
@@ -77,47 +76,63 @@ TcpClient::~TcpClient() {
 void TcpClient::drop(std::string why, bool idle) {
   if (fd_ >= 0) ::close(fd_);
   fd_ = -1;
+  connecting_ = false;
   ++(idle ? counters_.idle_timeouts : counters_.drops);
   last_error_ = std::move(why);
   next_connect_ns_ = steady_ns() + seconds_to_ns(params_.reconnect_delay_s);
 }
 
-void TcpClient::try_connect() {
+void TcpClient::fail_connect(int err) {
+  if (fd_ >= 0) ::close(fd_);
+  fd_ = -1;
+  connecting_ = false;
+  ++counters_.connect_failures;
+  last_error_ = "connect to " + address_ + ": " + std::strerror(err);
+}
+
+void TcpClient::start_connect() {
   const int64_t now = steady_ns();
-  if (now < next_connect_ns_) return;
   next_connect_ns_ = now + seconds_to_ns(params_.reconnect_delay_s);
-  const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
-  if (fd < 0) {
-    ++counters_.connect_failures;
-    last_error_ = std::string("socket: ") + std::strerror(errno);
+  fd_ = ::socket(AF_INET, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
+  if (fd_ < 0) {
+    fail_connect(errno);
     return;
   }
   sockaddr_in a{};
   a.sin_family = AF_INET;
   a.sin_addr.s_addr = htonl(ipv4_);
   a.sin_port = htons(port_);
-  int rc = ::connect(fd, reinterpret_cast<const sockaddr*>(&a), sizeof a);
-  int err = rc == 0 ? 0 : errno;
-  if (err == EINPROGRESS) {
-    pollfd p{fd, POLLOUT, 0};
-    rc = ::poll(&p, 1, to_ms(seconds_to_ns(params_.connect_timeout_s)));
-    socklen_t len = sizeof err;
-    if (rc == 1) {
-      ::getsockopt(fd, SOL_SOCKET, SO_ERROR, &err, &len);
-    } else {
-      err = rc == 0 ? ETIMEDOUT : errno;
-    }
+  connecting_ = true;
+  connect_deadline_ns_ = now + seconds_to_ns(params_.connect_timeout_s);
+  if (::connect(fd_, reinterpret_cast<const sockaddr*>(&a), sizeof a) == 0) {
+    finish_connect(0);
+  } else if (errno != EINPROGRESS) {
+    fail_connect(errno);
   }
-  if (err != 0) {
-    ::close(fd);
-    ++counters_.connect_failures;
-    last_error_ = "connect to " + address_ + ": " + std::strerror(err);
+}
+
+void TcpClient::finish_connect(int timeout_ms) {
+  pollfd p{fd_, POLLOUT, 0};
+  const int rc = ::poll(&p, 1, timeout_ms);
+  if (rc < 0 && errno != EINTR) {
+    fail_connect(errno);
     return;
   }
-  // Reports are small and periodic: sent at once, not coalesced.
+  if (rc <= 0) {
+    if (steady_ns() >= connect_deadline_ns_) fail_connect(ETIMEDOUT);
+    return;
+  }
+  int err = 0;
+  socklen_t len = sizeof err;
+  ::getsockopt(fd_, SOL_SOCKET, SO_ERROR, &err, &len);
+  if (err != 0) {
+    fail_connect(err);
+    return;
+  }
+  // Reports and commands are small and periodic: sent at once, not coalesced.
   const int one = 1;
-  ::setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
-  fd_ = fd;
+  ::setsockopt(fd_, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
+  connecting_ = false;
   ++counters_.connects;
   new_connection_ = true;
   last_byte_ns_ = steady_ns();
@@ -127,13 +142,21 @@ std::vector<uint8_t> TcpClient::read(double timeout_s) {
   std::vector<uint8_t> bytes;
   const int64_t deadline = steady_ns() + seconds_to_ns(timeout_s);
   for (;;) {
-    if (fd_ < 0) try_connect();
     const int64_t now = steady_ns();
     if (fd_ < 0) {
+      if (now >= next_connect_ns_) {
+        start_connect();
+        continue;
+      }
       // Wait for the next connect or the deadline, whichever is first.
       const int64_t until = std::min(deadline, next_connect_ns_);
       if (until > now) ::poll(nullptr, 0, to_ms(until - now));
       if (steady_ns() >= deadline) return bytes;
+      continue;
+    }
+    if (connecting_) {
+      finish_connect(to_ms(std::max<int64_t>(0, std::min(deadline, connect_deadline_ns_) - now)));
+      if (!connected() && steady_ns() >= deadline) return bytes;
       continue;
     }
     const int64_t idle_at = last_byte_ns_ + seconds_to_ns(params_.idle_timeout_s);
@@ -168,7 +191,7 @@ std::vector<uint8_t> TcpClient::read(double timeout_s) {
 }
 
 bool TcpClient::write(std::string_view bytes) {
-  if (fd_ < 0) return false;
+  if (!connected()) return false;
   size_t sent = 0;
   while (sent < bytes.size()) {
     const ssize_t n = ::send(fd_, bytes.data() + sent, bytes.size() - sent, MSG_NOSIGNAL);
@@ -192,4 +215,4 @@ bool TcpClient::take_new_connection() {
   return std::exchange(new_connection_, false);
 }
 
-}  // namespace pensight::drivers
+}  // namespace pensight
