@@ -15,8 +15,8 @@
 
 #include "core/dataset_types.h"
 #include "core/device_clock.h"
-#include "drivers/nucleus_stream.h"
 #include "core/tcp_client.h"
+#include "drivers/nucleus_stream.h"
 
 namespace pensight::drivers {
 
