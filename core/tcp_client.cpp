@@ -10,13 +10,13 @@
 
 #include <algorithm>
 #include <cerrno>
-#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <memory>
 #include <utility>
 
 #include "core/error.h"
+#include "core/timing.h"
 #include "core/units.h"
 
 namespace pensight {
@@ -30,16 +30,6 @@ const Param<TcpClientParams> kTcpClientParams[] = {
     {"idle_timeout_s", &TcpClientParams::idle_timeout_s, "s", kPositive,
      "no byte for this long on a connection: the device stopped answering, reconnect"},
 };
-
-int64_t steady_ns() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(
-             std::chrono::steady_clock::now().time_since_epoch())
-      .count();
-}
-
-int to_ms(int64_t ns) {
-  return static_cast<int>(std::clamp<int64_t>((ns + 999'999) / 1'000'000, 0, 60'000));
-}
 
 }  // namespace
 
@@ -79,7 +69,7 @@ void TcpClient::drop(std::string why, bool idle) {
   connecting_ = false;
   ++(idle ? counters_.idle_timeouts : counters_.drops);
   last_error_ = std::move(why);
-  next_connect_ns_ = steady_ns() + seconds_to_ns(params_.reconnect_delay_s);
+  next_connect_ns_ = steady_now_ns() + seconds_to_ns(params_.reconnect_delay_s);
 }
 
 void TcpClient::fail_connect(int err) {
@@ -91,7 +81,7 @@ void TcpClient::fail_connect(int err) {
 }
 
 void TcpClient::start_connect() {
-  const int64_t now = steady_ns();
+  const int64_t now = steady_now_ns();
   next_connect_ns_ = now + seconds_to_ns(params_.reconnect_delay_s);
   fd_ = ::socket(AF_INET, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
   if (fd_ < 0) {
@@ -119,7 +109,7 @@ void TcpClient::finish_connect(int timeout_ms) {
     return;
   }
   if (rc <= 0) {
-    if (steady_ns() >= connect_deadline_ns_) fail_connect(ETIMEDOUT);
+    if (steady_now_ns() >= connect_deadline_ns_) fail_connect(ETIMEDOUT);
     return;
   }
   int err = 0;
@@ -135,14 +125,14 @@ void TcpClient::finish_connect(int timeout_ms) {
   connecting_ = false;
   ++counters_.connects;
   new_connection_ = true;
-  last_byte_ns_ = steady_ns();
+  last_byte_ns_ = steady_now_ns();
 }
 
 std::vector<uint8_t> TcpClient::read(double timeout_s) {
   std::vector<uint8_t> bytes;
-  const int64_t deadline = steady_ns() + seconds_to_ns(timeout_s);
+  const int64_t deadline = steady_now_ns() + seconds_to_ns(timeout_s);
   for (;;) {
-    const int64_t now = steady_ns();
+    const int64_t now = steady_now_ns();
     if (fd_ < 0) {
       if (now >= next_connect_ns_) {
         start_connect();
@@ -150,13 +140,14 @@ std::vector<uint8_t> TcpClient::read(double timeout_s) {
       }
       // Wait for the next connect or the deadline, whichever is first.
       const int64_t until = std::min(deadline, next_connect_ns_);
-      if (until > now) ::poll(nullptr, 0, to_ms(until - now));
-      if (steady_ns() >= deadline) return bytes;
+      if (until > now) ::poll(nullptr, 0, poll_timeout_ms(until - now));
+      if (steady_now_ns() >= deadline) return bytes;
       continue;
     }
     if (connecting_) {
-      finish_connect(to_ms(std::max<int64_t>(0, std::min(deadline, connect_deadline_ns_) - now)));
-      if (!connected() && steady_ns() >= deadline) return bytes;
+      finish_connect(
+          poll_timeout_ms(std::max<int64_t>(0, std::min(deadline, connect_deadline_ns_) - now)));
+      if (!connected() && steady_now_ns() >= deadline) return bytes;
       continue;
     }
     const int64_t idle_at = last_byte_ns_ + seconds_to_ns(params_.idle_timeout_s);
@@ -166,7 +157,8 @@ std::vector<uint8_t> TcpClient::read(double timeout_s) {
       continue;
     }
     pollfd p{fd_, POLLIN, 0};
-    const int rc = ::poll(&p, 1, to_ms(std::max<int64_t>(0, std::min(deadline, idle_at) - now)));
+    const int rc =
+        ::poll(&p, 1, poll_timeout_ms(std::max<int64_t>(0, std::min(deadline, idle_at) - now)));
     if (rc < 0 && errno != EINTR) {
       drop(std::string("poll: ") + std::strerror(errno), false);
       continue;
@@ -177,7 +169,7 @@ std::vector<uint8_t> TcpClient::read(double timeout_s) {
       if (n > 0) {
         bytes.insert(bytes.end(), buf, buf + n);
         counters_.bytes_received += static_cast<size_t>(n);
-        last_byte_ns_ = steady_ns();
+        last_byte_ns_ = steady_now_ns();
         return bytes;
       }
       if (n == 0) {
@@ -186,7 +178,7 @@ std::vector<uint8_t> TcpClient::read(double timeout_s) {
         drop(std::string("recv: ") + std::strerror(errno), false);
       }
     }
-    if (steady_ns() >= deadline) return bytes;
+    if (steady_now_ns() >= deadline) return bytes;
   }
 }
 
@@ -201,7 +193,7 @@ bool TcpClient::write(std::string_view bytes) {
     }
     if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) {
       pollfd p{fd_, POLLOUT, 0};
-      if (::poll(&p, 1, to_ms(seconds_to_ns(params_.connect_timeout_s))) == 1) continue;
+      if (::poll(&p, 1, poll_timeout_ms(seconds_to_ns(params_.connect_timeout_s))) == 1) continue;
     } else if (n < 0 && errno == EINTR) {
       continue;
     }

@@ -12,6 +12,7 @@
 #include <string_view>
 #include <vector>
 
+#include "core/byte_link.h"
 #include "core/params.h"
 
 namespace pensight {
@@ -25,15 +26,7 @@ struct TcpClientParams {
 // Key, unit, valid range and help of every TcpClientParams member.
 std::span<const Param<TcpClientParams>> tcp_client_params();
 
-struct TcpClientCounters {
-  size_t connects = 0;          // connections made
-  size_t connect_failures = 0;  // refused, unreachable, timed out
-  size_t drops = 0;             // closed by the peer, reset, or a read error
-  size_t idle_timeouts = 0;     // closed by us after idle_timeout_s of silence
-  size_t bytes_received = 0;
-};
-
-class TcpClient {
+class TcpClient final : public ByteLink {
  public:
   // Throws pensight::Error naming the address when `host` does not resolve to IPv4 or `port` is
   // outside 1..65535, and naming the key when a parameter is out of its range. Connects lazily.
@@ -44,16 +37,16 @@ class TcpClient {
 
   // The bytes that arrive within timeout_s (returns at the first ones), connecting first if
   // needed; empty when none came.
-  std::vector<uint8_t> read(double timeout_s);
+  std::vector<uint8_t> read(double timeout_s) override;
   // Sends all of `bytes` on the current connection; false when there is none or it failed (then
   // it is dropped and counted).
-  bool write(std::string_view bytes);
+  bool write(std::string_view bytes) override;
   // True once after each new connection: the caller re-sends its set-up commands.
-  bool take_new_connection();
+  bool take_new_connection() override;
 
   bool connected() const { return fd_ >= 0 && !connecting_; }
-  const TcpClientCounters& counters() const { return counters_; }
-  const std::string& last_error() const { return last_error_; }
+  const ByteLinkCounters& counters() const override { return counters_; }
+  const std::string& last_error() const override { return last_error_; }
   const std::string& address() const { return address_; }
 
  private:
@@ -72,7 +65,7 @@ class TcpClient {
   bool new_connection_ = false;
   int64_t next_connect_ns_ = 0;  // steady clock
   int64_t last_byte_ns_ = 0;
-  TcpClientCounters counters_;
+  ByteLinkCounters counters_;
   std::string last_error_;
 };
 

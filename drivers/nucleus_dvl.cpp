@@ -1,6 +1,7 @@
 #include "drivers/nucleus_dvl.h"
 
-#include <chrono>
+#include "core/timing.h"
+
 #include <utility>
 
 namespace pensight::drivers {
@@ -26,9 +27,7 @@ NucleusDvl::NucleusDvl(NucleusDvlConfig config)
 std::vector<DvlSample> NucleusDvl::poll(double timeout_s) {
   std::vector<DvlSample> samples;
   const std::vector<uint8_t> bytes = tcp_.read(timeout_s);
-  const int64_t arrival_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
-                                 std::chrono::system_clock::now().time_since_epoch())
-                                 .count();
+  const int64_t arrival_ns = host_now_ns();
   if (tcp_.take_new_connection()) stream_.restart();
   for (const NucleusPacket& p : stream_.feed(bytes)) {
     const std::optional<NucleusTrack> track = decode_nucleus_track(p);

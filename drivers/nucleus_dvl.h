@@ -53,7 +53,7 @@ class NucleusDvl {
 
   const NucleusDvlCounters& counters() const { return counters_; }
   const NucleusStreamCounters& stream_counters() const { return stream_.counters(); }
-  const TcpClientCounters& connection_counters() const { return tcp_.counters(); }
+  const ByteLinkCounters& connection_counters() const { return tcp_.counters(); }
   const std::string& last_error() const { return tcp_.last_error(); }
 
  private:

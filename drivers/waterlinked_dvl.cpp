@@ -1,17 +1,12 @@
 #include "drivers/waterlinked_dvl.h"
 
-#include <chrono>
+#include "core/timing.h"
+
 #include <utility>
 #include <variant>
 
 namespace pensight::drivers {
 namespace {
-
-int64_t host_now_ns() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(
-             std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
 
 bool any_set(const WaterLinkedConfig& c) {
   return c.speed_of_sound_mps || c.mounting_rotation_offset_deg || c.acoustic_enabled ||
@@ -22,16 +17,27 @@ bool any_set(const WaterLinkedConfig& c) {
 
 WaterLinkedDvl::WaterLinkedDvl(WaterLinkedDvlConfig config)
     : config_(std::move(config)),
-      tcp_(config_.host, config_.port, config_.tcp),
-      clock_(config_.clock) {}
+      stream_(config_.serial_device.empty() ? WaterLinkedStream::Protocol::kJson
+                                            : WaterLinkedStream::Protocol::kSerial),
+      clock_(config_.clock) {
+  if (config_.serial_device.empty()) {
+    link_ = std::make_unique<TcpClient>(config_.host, config_.port, config_.tcp);
+  } else {
+    link_ = std::make_unique<SerialPort>(config_.serial_device, config_.serial);
+  }
+}
 
 std::vector<DvlSample> WaterLinkedDvl::poll(double timeout_s) {
   std::vector<DvlSample> samples;
-  const std::vector<uint8_t> bytes = tcp_.read(timeout_s);
+  const std::vector<uint8_t> bytes = link_->read(timeout_s);
   const int64_t arrival_ns = host_now_ns();
-  if (tcp_.take_new_connection()) {
+  if (link_->take_new_connection()) {
     stream_.restart();
-    if (any_set(config_.set_config)) tcp_.write(waterlinked_json_set_config(config_.set_config));
+    if (any_set(config_.set_config)) {
+      link_->write(config_.serial_device.empty()
+                       ? waterlinked_json_set_config(config_.set_config)
+                       : waterlinked_set_config_sentence(config_.set_config));
+    }
   }
   for (const WaterLinkedReport& r : stream_.feed(bytes)) {
     if (const auto* v = std::get_if<WaterLinkedVelocity>(&r)) {
@@ -43,9 +49,13 @@ std::vector<DvlSample> WaterLinkedDvl::poll(double timeout_s) {
           to_dvl_sample(*v, config_.R_B_S, waterlinked_ping_host_ns(*v, arrival_ns, clock_)));
       ++counters_.samples;
     } else if (const auto* resp = std::get_if<WaterLinkedResponse>(&r)) {
-      if (resp->response_to == "set_config" && !resp->success) {
+      // The serial protocol's naks do not name the command: set_config is the only one sent.
+      const bool nak =
+          resp->response_to == "wrn" || resp->response_to == "wr?" || resp->response_to == "wr!";
+      if ((resp->response_to == "set_config" && !resp->success) || nak) {
         ++counters_.config_refused;
-        config_error_ = "the DVL refused set_config: " + resp->error_message;
+        config_error_ =
+            "the DVL refused set_config: " + (nak ? resp->response_to : resp->error_message);
       }
     }
   }
@@ -55,7 +65,7 @@ std::vector<DvlSample> WaterLinkedDvl::poll(double timeout_s) {
 std::string WaterLinkedDvl::last_error() const {
   if (!config_error_.empty()) return config_error_;
   if (!stream_.last_error().empty()) return "a malformed report: " + stream_.last_error();
-  return tcp_.last_error();
+  return link_->last_error();
 }
 
 }  // namespace pensight::drivers

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "tests/support/fake_serial_device.h"
 #include "tests/support/loopback_server.h"
 
 namespace pensight::drivers {
@@ -132,6 +133,37 @@ TEST(WaterLinkedDvl, ARefusedConfigurationIsCountedAndNamed) {
     EXPECT_EQ(source.last_error(), "the DVL refused set_config: speed_of_sound out of range");
   }
   server.join();
+}
+
+// On the serial line (a pseudo-terminal standing in for the UART): the configuration as a `wcs`
+// sentence on opening, a ping sent both as wrz and the deprecated wrx taken once, a nak counted.
+TEST(WaterLinkedDvl, OnTheSerialLine) {
+  testing::FakeSerialDevice dvl;
+  WaterLinkedDvlConfig config;
+  config.serial_device = dvl.path();
+  config.set_config.dark_mode_enabled = true;
+  WaterLinkedDvl source(config);
+  EXPECT_TRUE(source.poll(0.05).empty());
+  const std::string wcs = waterlinked_set_config_sentence(config.set_config);
+  EXPECT_EQ(dvl.receive(wcs.size()), wcs);
+  dvl.send(
+      waterlinked_sentence("wrn") +
+      "wrz,0.120,-0.400,2.000,y,1.30,1.855,1e-07;0;1.4;0;1.2;0;0.2;0;1e+09,7,14,123.00,1*50\r\n"
+      "wrx,112.83,0.007,0.017,0.006,0.000,0.93,y,0*d2\r\n"
+      "wru,0,0.070,1.10,-40,-95*9c\r\n");
+  std::vector<DvlSample> samples;
+  for (int i = 0; i < 20 && samples.empty(); ++i) {
+    for (const DvlSample& s : source.poll(0.1)) samples.push_back(s);
+  }
+  for (int i = 0; i < 3; ++i) source.poll(0.05);
+  ASSERT_EQ(samples.size(), 1u);
+  EXPECT_TRUE(samples[0].valid);
+  EXPECT_NEAR(samples[0].velocity_B_mps.y(), -0.4, 1e-12);
+  EXPECT_TRUE(std::isnan(samples[0].beam_range_m[0]));  // wru comes apart from the velocity
+  EXPECT_EQ(source.stream_counters().superseded, 1u);
+  EXPECT_EQ(source.counters().config_refused, 1u);
+  EXPECT_EQ(source.last_error(), "the DVL refused set_config: wrn");
+  EXPECT_EQ(source.connection_counters().connects, 1u);
 }
 
 TEST(WaterLinkedDvl, NoListenerIsCountedAndABadAddressNamed) {
