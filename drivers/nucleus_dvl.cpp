@@ -20,15 +20,19 @@ DvlSample to_dvl_sample(const NucleusTrack& track, const Eigen::Matrix3d& R_B_S,
 }
 
 NucleusDvl::NucleusDvl(NucleusDvlConfig config)
-    : config_(std::move(config)),
-      tcp_(config_.host, config_.port, config_.tcp),
-      clock_(config_.clock) {}
+    : config_(std::move(config)), clock_(config_.clock) {
+  if (config_.serial_device.empty()) {
+    link_ = std::make_unique<TcpClient>(config_.host, config_.port, config_.tcp);
+  } else {
+    link_ = std::make_unique<SerialPort>(config_.serial_device, config_.serial);
+  }
+}
 
 std::vector<DvlSample> NucleusDvl::poll(double timeout_s) {
   std::vector<DvlSample> samples;
-  const std::vector<uint8_t> bytes = tcp_.read(timeout_s);
+  const std::vector<uint8_t> bytes = link_->read(timeout_s);
   const int64_t arrival_ns = host_now_ns();
-  if (tcp_.take_new_connection()) stream_.restart();
+  if (link_->take_new_connection()) stream_.restart();
   for (const NucleusPacket& p : stream_.feed(bytes)) {
     const std::optional<NucleusTrack> track = decode_nucleus_track(p);
     if (!track) {

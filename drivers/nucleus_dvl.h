@@ -1,20 +1,23 @@
 #pragma once
-// A Nortek Nucleus 1000 on its TCP data port (9002) as a source of the pipeline's DvlSamples: the
-// connection kept up (TcpClient), each bottom-track record stamped at its own time on the host's
-// clock (system_clock, ns since the Unix epoch; the Nucleus's clock mapped by a DeviceClock,
-// POSIX or not) and rotated into the body. Water-track records (velocity through the water) and
-// the other records are counted and left out. The Nucleus streams once measuring: started from
-// its web interface or command port (9000), which this source does not drive. Faults are counted
-// (counters()), never thrown.
+// A Nortek Nucleus 1000 on its TCP data port (9002), or on its serial line, as a source of the
+// pipeline's DvlSamples: the connection kept up (TcpClient, SerialPort), each bottom-track record
+// stamped at its own time on the host's clock (system_clock, ns since the Unix epoch; the Nucleus's
+// clock mapped by a DeviceClock, POSIX or not) and rotated into the body. Water-track records
+// (velocity through the water) and the other records are counted and left out. The Nucleus streams
+// once measuring: started from its web interface or command port (9000), which this source does not
+// drive. Faults are counted (counters()), never thrown.
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include <Eigen/Core>
 
+#include "core/byte_link.h"
 #include "core/dataset_types.h"
 #include "core/device_clock.h"
+#include "core/serial_port.h"
 #include "core/tcp_client.h"
 #include "drivers/nucleus_stream.h"
 
@@ -31,6 +34,8 @@ DvlSample to_dvl_sample(const NucleusTrack& track, const Eigen::Matrix3d& R_B_S,
 struct NucleusDvlConfig {
   std::string host = "192.168.2.201";
   int port = kNucleusDataPort;
+  std::string serial_device;  // e.g. /dev/ttyUSB0: the same binary stream there instead of TCP
+  SerialPortParams serial;
   Eigen::Matrix3d R_B_S = Eigen::Matrix3d::Identity();  // dvl0/sensor.yaml's T_BS rotation
   TcpClientParams tcp;
   DeviceClockParams clock;
@@ -53,12 +58,12 @@ class NucleusDvl {
 
   const NucleusDvlCounters& counters() const { return counters_; }
   const NucleusStreamCounters& stream_counters() const { return stream_.counters(); }
-  const ByteLinkCounters& connection_counters() const { return tcp_.counters(); }
-  const std::string& last_error() const { return tcp_.last_error(); }
+  const ByteLinkCounters& connection_counters() const { return link_->counters(); }
+  const std::string& last_error() const { return link_->last_error(); }
 
  private:
   NucleusDvlConfig config_;
-  TcpClient tcp_;
+  std::unique_ptr<ByteLink> link_;
   NucleusStream stream_;
   DeviceClock clock_;
   NucleusDvlCounters counters_;

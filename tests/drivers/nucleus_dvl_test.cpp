@@ -12,6 +12,7 @@
 #include <thread>
 #include <vector>
 
+#include "tests/support/fake_serial_device.h"
 #include "tests/support/loopback_server.h"
 
 namespace pensight::drivers {
@@ -102,6 +103,33 @@ TEST(NucleusDvl, NortekRecordingOverTcpAcrossADrop) {
       EXPECT_GE(samples[i].timestamp_ns, samples[i - 1].timestamp_ns) << i;
     }
   }
+}
+
+// The same stream on a serial line (a pseudo-terminal for the UART): the first 40 kB of the
+// recording, every track record among them decoded.
+TEST(NucleusDvl, NortekRecordingOnASerialLine) {
+  const std::vector<uint8_t> bytes = recording();
+  ASSERT_GT(bytes.size(), 40000u);
+  testing::FakeSerialDevice nucleus;
+  NucleusDvlConfig config;
+  config.serial_device = nucleus.path();
+  config.serial.baud = 921600;
+  NucleusDvl dvl(config);
+  EXPECT_TRUE(dvl.poll(0.05).empty());  // opens the line
+  const std::string part(bytes.begin(), bytes.begin() + 40000);
+  size_t samples = 0;
+  for (size_t at = 0; at < part.size(); at += 2000) {
+    nucleus.send(part.substr(at, 2000));
+    for (int i = 0; i < 3; ++i) samples += dvl.poll(0.02).size();
+  }
+  for (int i = 0; i < 10; ++i) samples += dvl.poll(0.02).size();
+  EXPECT_EQ(dvl.connection_counters().bytes_received, part.size());
+  EXPECT_EQ(dvl.stream_counters().checksum_failures, 0u);
+  EXPECT_GT(samples, 0u);
+  EXPECT_EQ(samples, dvl.counters().samples);
+  EXPECT_EQ(
+      dvl.counters().samples + dvl.counters().water_track_skipped + dvl.counters().other_records,
+      dvl.stream_counters().packets);
 }
 
 }  // namespace
