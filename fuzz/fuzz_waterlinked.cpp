@@ -16,7 +16,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const size_t chunk = size_t{data[0] & 0x7fu} + 1;
   const std::span<const uint8_t> bytes(data + 1, size - 1);
   WaterLinkedStream stream(protocol);
-  DeviceClock clock;
+  pensight::DeviceClock clock;
   int64_t arrival_ns = 0;
   for (size_t at = 0; at < bytes.size(); at += chunk) {
     for (const WaterLinkedReport& r :
