@@ -17,6 +17,7 @@ void check_round_trip(const Frame& f) {
   if (back.size() != 1 || back[0].msgid != f.msgid || back[0].payload != f.payload) std::abort();
   if (f.msgid == Heartbeat::kId) unpack<Heartbeat>(f.payload);
   if (f.msgid == Attitude::kId) unpack<Attitude>(f.payload);
+  if (f.msgid == SysStatus::kId) unpack<SysStatus>(f.payload);
   if (f.msgid == ScaledPressure::kId) unpack<ScaledPressure>(f.payload);
   if (f.msgid == ScaledPressure2::kId) unpack<ScaledPressure2>(f.payload);
   if (f.msgid == ScaledPressure3::kId) unpack<ScaledPressure3>(f.payload);

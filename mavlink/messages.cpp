@@ -12,8 +12,9 @@ namespace {
 
 // Checked against common.xml and minimal.xml of mavlink/mavlink (CRC_EXTRA recomputed from the
 // field lists) and against node-mavlink's tables by tests/mavlink/node_mavlink_test.cpp.
-constexpr std::array<MessageInfo, 9> kMessages = {{
+constexpr std::array<MessageInfo, 10> kMessages = {{
     {Heartbeat::kId, 50, 9, "HEARTBEAT"},
+    {SysStatus::kId, 124, 31, "SYS_STATUS"},
     {SetMode::kId, 89, 6, "SET_MODE"},
     {ScaledPressure::kId, 115, 16, "SCALED_PRESSURE"},
     {ScaledPressure2::kId, 195, 16, "SCALED_PRESSURE2"},
@@ -65,6 +66,12 @@ class Codec {
 template <class Io>
 void fields(Io& io, Heartbeat& m) {
   io(m.custom_mode, m.type, m.autopilot, m.base_mode, m.system_status, m.mavlink_version);
+}
+template <class Io>
+void fields(Io& io, SysStatus& m) {
+  io(m.onboard_control_sensors_present, m.onboard_control_sensors_enabled,
+     m.onboard_control_sensors_health, m.load_permille, m.voltage_battery_mv, m.current_battery_ca,
+     m.drop_rate_comm_cpercent, m.errors_comm, m.errors_count, m.battery_remaining_percent);
 }
 template <class Io>
 void fields(Io& io, SetMode& m) {
@@ -135,6 +142,7 @@ M unpack(std::span<const uint8_t> payload) {
 
 template std::vector<uint8_t> pack(const Heartbeat&);
 template std::vector<uint8_t> pack(const SetMode&);
+template std::vector<uint8_t> pack(const SysStatus&);
 template std::vector<uint8_t> pack(const ScaledPressure&);
 template std::vector<uint8_t> pack(const ScaledPressure2&);
 template std::vector<uint8_t> pack(const ScaledPressure3&);
@@ -144,6 +152,7 @@ template std::vector<uint8_t> pack(const RcChannelsOverride&);
 template std::vector<uint8_t> pack(const CommandLong&);
 template Heartbeat unpack(std::span<const uint8_t>);
 template SetMode unpack(std::span<const uint8_t>);
+template SysStatus unpack(std::span<const uint8_t>);
 template ScaledPressure unpack(std::span<const uint8_t>);
 template ScaledPressure2 unpack(std::span<const uint8_t>);
 template ScaledPressure3 unpack(std::span<const uint8_t>);

@@ -51,6 +51,21 @@ struct Heartbeat {
 };
 
 // SET_MODE: base_mode kModeFlagCustomModeEnabled with the ArduSub mode number in custom_mode.
+// SYS_STATUS: the autopilot's sensors (bit masks), load, and the battery; extensions left out.
+struct SysStatus {
+  static constexpr uint32_t kId = 1;
+  uint32_t onboard_control_sensors_present = 0;
+  uint32_t onboard_control_sensors_enabled = 0;
+  uint32_t onboard_control_sensors_health = 0;
+  uint16_t load_permille = 0;
+  uint16_t voltage_battery_mv = 0;  // UINT16_MAX: not sent
+  int16_t current_battery_ca = 0;   // -1: not measured
+  uint16_t drop_rate_comm_cpercent = 0;
+  uint16_t errors_comm = 0;
+  std::array<uint16_t, 4> errors_count{};
+  int8_t battery_remaining_percent = 0;  // -1: not estimated
+};
+
 struct SetMode {
   static constexpr uint32_t kId = 11;
   uint32_t custom_mode = 0;

@@ -142,6 +142,9 @@ void VehicleLink::handle(const Frame& f, int64_t now_ns) {
     status_.armed = (hb.base_mode & kModeFlagSafetyArmed) != 0;
     status_.custom_mode = hb.custom_mode;
     status_.system_status = hb.system_status;
+  } else if (f.msgid == SysStatus::kId) {
+    status_.sys_status_ns = now_ns;
+    status_.sys_status = unpack<SysStatus>(f.payload);
   } else if (f.msgid == Attitude::kId) {
     status_.attitude_ns = now_ns;
     const Attitude& a = status_.attitude = unpack<Attitude>(f.payload);

@@ -13,6 +13,8 @@ struct VehicleStatus {
   bool armed = false;
   uint32_t custom_mode = 0;  // the ArduSub mode number (SubMode)
   uint8_t system_status = 0;
+  int64_t sys_status_ns = -1;
+  SysStatus sys_status;  // battery, load, sensor health
   int64_t attitude_ns = -1;
   Attitude attitude;
   // SCALED_PRESSURE, SCALED_PRESSURE2, SCALED_PRESSURE3 (index 0-2), each the last heard.

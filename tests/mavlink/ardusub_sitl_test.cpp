@@ -139,6 +139,14 @@ TEST_F(ArduSubSitl, AttitudeAtTheAskedRateAndTheDepthOfItsWaterBarometer) {
   EXPECT_TRUE(std::isfinite(s.attitude.roll_rad) && std::abs(s.attitude.roll_rad) < 0.5);
   EXPECT_TRUE(std::isfinite(s.attitude.yaw_rad));
   EXPECT_NE(water, 2) << "SITL's third barometer reads 0";
+  std::printf("ArduSub SITL: SYS_STATUS battery %u mV, %d cA, %d %%, load %u permille\n",
+              s.sys_status.voltage_battery_mv, s.sys_status.current_battery_ca,
+              s.sys_status.battery_remaining_percent, s.sys_status.load_permille);
+  EXPECT_GE(s.sys_status_ns, 0) << "no SYS_STATUS (ArduSub's default 2 Hz)";
+  // SITL's simulated battery reads 12600 mV, 100 %.
+  EXPECT_NEAR(s.sys_status.voltage_battery_mv, 12600, 500);
+  EXPECT_GE(s.sys_status.battery_remaining_percent, 0);
+  EXPECT_LE(s.sys_status.battery_remaining_percent, 100);
   // The vehicle floats at the surface (home altitude 0), its barometers below it: SITL's read
   // 1051.33 and 1033.58 hPa, 0.38 and 0.20 m of sea water.
   EXPECT_GT(depth_m, -0.1);

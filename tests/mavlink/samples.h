@@ -31,6 +31,16 @@ void visit(Heartbeat& m, V v) {
        m.base_mode, "system_status", m.system_status, "mavlink_version", m.mavlink_version);
 }
 template <class V>
+void visit(SysStatus& m, V v) {
+  each(v, "onboard_control_sensors_present", m.onboard_control_sensors_present,
+       "onboard_control_sensors_enabled", m.onboard_control_sensors_enabled,
+       "onboard_control_sensors_health", m.onboard_control_sensors_health, "load", m.load_permille,
+       "voltage_battery", m.voltage_battery_mv, "current_battery", m.current_battery_ca,
+       "drop_rate_comm", m.drop_rate_comm_cpercent, "errors_comm", m.errors_comm, "errors_count1",
+       m.errors_count[0], "errors_count2", m.errors_count[1], "errors_count3", m.errors_count[2],
+       "errors_count4", m.errors_count[3], "battery_remaining", m.battery_remaining_percent);
+}
+template <class V>
 void visit(SetMode& m, V v) {
   each(v, "custom_mode", m.custom_mode, "target_system", m.target_system, "base_mode", m.base_mode);
 }
@@ -66,7 +76,8 @@ void visit(CommandLong& m, V v) {
 // Calls f(M{}) for every message type pensight knows.
 template <class F>
 void for_each_message_type(F f) {
-  f(Heartbeat{}), f(SetMode{}), f(ScaledPressure{}), f(ScaledPressure2{}), f(ScaledPressure3{});
+  f(Heartbeat{}), f(SysStatus{}), f(SetMode{}), f(ScaledPressure{}), f(ScaledPressure2{}),
+      f(ScaledPressure3{});
   f(Attitude{}), f(ManualControl{});
   f(RcChannelsOverride{}), f(CommandLong{});
 }
