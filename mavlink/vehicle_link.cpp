@@ -34,7 +34,7 @@ VehicleLink::VehicleLink(LinkConfig config)
       socket_(parse_endpoint(config_.endpoint)),
       attitude_clock_(config_.boot_clock),
       pressure_clock_(config_.boot_clock) {
-  depth_from_pressure_m(config_.water_depth.surface_pressure_hpa, config_.water_depth);  // checks
+  check_params<WaterDepthParams>(config_.water_depth, water_depth_params(), "water depth");
   const bool gcs = config_.role == LinkRole::kGroundStation;
   sysid_ = config_.sysid != 0 ? config_.sysid : (gcs ? 255 : 1);
   compid_ =

@@ -63,7 +63,8 @@ struct LinkCounters {
 class VehicleLink {
  public:
   // Opens the endpoint. Throws pensight::Error (endpoint.h) for a bad endpoint or a socket that
-  // cannot be opened; nothing after construction throws for what happens on the network.
+  // cannot be opened, and naming the key for water_depth or boot_clock out of range; nothing
+  // after construction throws for what happens on the network.
   explicit VehicleLink(LinkConfig config);
 
   // Reads every frame that arrived, then sends what is due at now_ns (non-decreasing).

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "core/error.h"
+#include "mavlink/vehicle_link.h"
 
 namespace pensight::mavlink {
 namespace {
@@ -55,6 +56,8 @@ TEST(WaterDepth, DepthIsThePressureAboveTheSurfacesOverRhoG) {
   EXPECT_NEAR(depth_from_pressure_m(1013.25 + 97.77, p), 1.0, 1e-3);
   p.surface_pressure_hpa = 990;
   EXPECT_NEAR(depth_from_pressure_m(990 + 97.77, p), 1.0, 1e-3);
+  EXPECT_THROW(
+      VehicleLink({.endpoint = "udpin:127.0.0.1:0", .water_depth = {.pressure_source = 4}}), Error);
   p.water_density_kgpm3 = 0;
   try {
     depth_from_pressure_m(1100, p);
