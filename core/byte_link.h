@@ -4,6 +4,7 @@
 // connection so the caller re-sends its set-up commands. Faults are counted, never thrown.
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -32,5 +33,14 @@ class ByteLink {
   // The latest fault in words ("" before one).
   virtual const std::string& last_error() const = 0;
 };
+
+struct SerialPortParams;
+struct TcpClientParams;
+
+// A device's link as its configuration names it: its serial line (SerialPort) where
+// serial_device is set, else TCP to host:port (TcpClient). Throws as their constructors do.
+std::unique_ptr<ByteLink> make_byte_link(const std::string& serial_device,
+                                         const SerialPortParams& serial, const std::string& host,
+                                         int port, const TcpClientParams& tcp);
 
 }  // namespace pensight

@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "core/error.h"
+#include "core/internal/fd_io.h"
 #include "core/timing.h"
 #include "core/units.h"
 
@@ -122,26 +123,21 @@ std::vector<uint8_t> SerialPort::read(double timeout_s) {
       drop("no byte from " + path_ + " for " + std::to_string(params_.idle_timeout_s) + " s", true);
       continue;
     }
-    pollfd p{fd_, POLLIN, 0};
-    const int rc =
-        ::poll(&p, 1, poll_timeout_ms(std::max<int64_t>(0, std::min(deadline, idle_at) - now)));
-    if (rc < 0 && errno != EINTR) {
-      drop("poll " + path_ + ": " + std::strerror(errno), false);
-      continue;
-    }
-    if (rc > 0) {
-      uint8_t buf[4096];
-      const ssize_t n = ::read(fd_, buf, sizeof buf);
-      if (n > 0) {
-        bytes.insert(bytes.end(), buf, buf + n);
-        counters_.bytes_received += static_cast<size_t>(n);
+    int err = 0;
+    // A hang-up (the device gone) reads 0 bytes or fails with EIO.
+    switch (detail::read_some(fd_, std::min(deadline, idle_at), bytes, &err)) {
+      case detail::FdRead::kBytes:
+        counters_.bytes_received += bytes.size();
         last_byte_ns_ = steady_now_ns();
         return bytes;
-      }
-      // A hang-up (the device gone) reads 0 or fails with EIO.
-      if (n == 0 || (errno != EAGAIN && errno != EINTR)) {
-        drop(path_ + (n == 0 ? " hung up" : std::string(": ") + std::strerror(errno)), false);
-      }
+      case detail::FdRead::kClosed:
+        drop(path_ + " hung up", false);
+        break;
+      case detail::FdRead::kFailed:
+        drop(path_ + ": " + std::strerror(err), false);
+        break;
+      case detail::FdRead::kTimeout:
+        break;
     }
     if (steady_now_ns() >= deadline) return bytes;
   }
@@ -149,23 +145,10 @@ std::vector<uint8_t> SerialPort::read(double timeout_s) {
 
 bool SerialPort::write(std::string_view bytes) {
   if (fd_ < 0) return false;
-  size_t sent = 0;
-  while (sent < bytes.size()) {
-    const ssize_t n = ::write(fd_, bytes.data() + sent, bytes.size() - sent);
-    if (n > 0) {
-      sent += static_cast<size_t>(n);
-      continue;
-    }
-    if (n < 0 && errno == EAGAIN) {
-      pollfd p{fd_, POLLOUT, 0};
-      if (::poll(&p, 1, 1000) == 1) continue;
-    } else if (n < 0 && errno == EINTR) {
-      continue;
-    }
-    drop("write " + path_ + ": " + std::strerror(n < 0 ? errno : EIO), false);
-    return false;
-  }
-  return true;
+  int err = 0;
+  if (detail::write_all(fd_, bytes, false, 1000, &err)) return true;
+  drop("write " + path_ + ": " + std::strerror(err), false);
+  return false;
 }
 
 bool SerialPort::take_new_connection() {

@@ -16,6 +16,7 @@
 #include <utility>
 
 #include "core/error.h"
+#include "core/internal/fd_io.h"
 #include "core/timing.h"
 #include "core/units.h"
 
@@ -33,6 +34,19 @@ const Param<TcpClientParams> kTcpClientParams[] = {
 
 }  // namespace
 
+std::optional<uint32_t> resolve_ipv4(const std::string& host, std::string* why) {
+  addrinfo hints{};
+  hints.ai_family = AF_INET;
+  addrinfo* found = nullptr;
+  const int rc = ::getaddrinfo(host.c_str(), nullptr, &hints, &found);
+  if (rc != 0 || found == nullptr) {
+    *why = ::gai_strerror(rc);
+    return std::nullopt;
+  }
+  const std::unique_ptr<addrinfo, decltype(&::freeaddrinfo)> owner(found, &::freeaddrinfo);
+  return ntohl(reinterpret_cast<const sockaddr_in*>(found->ai_addr)->sin_addr.s_addr);
+}
+
 std::span<const Param<TcpClientParams>> tcp_client_params() {
   return kTcpClientParams;
 }
@@ -44,18 +58,14 @@ TcpClient::TcpClient(std::string host, int port, TcpClientParams params)
     throw Error("TCP client " + address_ + ": port " + std::to_string(port) +
                 " is outside 1..65535");
   }
-  addrinfo hints{};
-  hints.ai_family = AF_INET;
-  hints.ai_socktype = SOCK_STREAM;
-  addrinfo* found = nullptr;
-  const int rc = ::getaddrinfo(host.c_str(), nullptr, &hints, &found);
-  if (rc != 0 || found == nullptr) {
+  std::string why;
+  const std::optional<uint32_t> ipv4 = resolve_ipv4(host, &why);
+  if (!ipv4) {
     throw Error("TCP client " + address_ + ": host '" + host +
-                "' does not resolve to an IPv4 address (" + ::gai_strerror(rc) +
+                "' does not resolve to an IPv4 address (" + why +
                 "); give the device's IP address");
   }
-  const std::unique_ptr<addrinfo, decltype(&::freeaddrinfo)> owner(found, &::freeaddrinfo);
-  ipv4_ = ntohl(reinterpret_cast<const sockaddr_in*>(found->ai_addr)->sin_addr.s_addr);
+  ipv4_ = *ipv4;
   port_ = static_cast<uint16_t>(port);
 }
 
@@ -156,27 +166,20 @@ std::vector<uint8_t> TcpClient::read(double timeout_s) {
            true);
       continue;
     }
-    pollfd p{fd_, POLLIN, 0};
-    const int rc =
-        ::poll(&p, 1, poll_timeout_ms(std::max<int64_t>(0, std::min(deadline, idle_at) - now)));
-    if (rc < 0 && errno != EINTR) {
-      drop(std::string("poll: ") + std::strerror(errno), false);
-      continue;
-    }
-    if (rc > 0) {
-      uint8_t buf[4096];
-      const ssize_t n = ::recv(fd_, buf, sizeof buf, 0);
-      if (n > 0) {
-        bytes.insert(bytes.end(), buf, buf + n);
-        counters_.bytes_received += static_cast<size_t>(n);
+    int err = 0;
+    switch (detail::read_some(fd_, std::min(deadline, idle_at), bytes, &err)) {
+      case detail::FdRead::kBytes:
+        counters_.bytes_received += bytes.size();
         last_byte_ns_ = steady_now_ns();
         return bytes;
-      }
-      if (n == 0) {
+      case detail::FdRead::kClosed:
         drop(address_ + " closed the connection", false);
-      } else if (errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR) {
-        drop(std::string("recv: ") + std::strerror(errno), false);
-      }
+        break;
+      case detail::FdRead::kFailed:
+        drop("read from " + address_ + ": " + std::strerror(err), false);
+        break;
+      case detail::FdRead::kTimeout:
+        break;
     }
     if (steady_now_ns() >= deadline) return bytes;
   }
@@ -184,23 +187,13 @@ std::vector<uint8_t> TcpClient::read(double timeout_s) {
 
 bool TcpClient::write(std::string_view bytes) {
   if (!connected()) return false;
-  size_t sent = 0;
-  while (sent < bytes.size()) {
-    const ssize_t n = ::send(fd_, bytes.data() + sent, bytes.size() - sent, MSG_NOSIGNAL);
-    if (n > 0) {
-      sent += static_cast<size_t>(n);
-      continue;
-    }
-    if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) {
-      pollfd p{fd_, POLLOUT, 0};
-      if (::poll(&p, 1, poll_timeout_ms(seconds_to_ns(params_.connect_timeout_s))) == 1) continue;
-    } else if (n < 0 && errno == EINTR) {
-      continue;
-    }
-    drop("send to " + address_ + ": " + std::strerror(n < 0 ? errno : EPIPE), false);
-    return false;
+  int err = 0;
+  if (detail::write_all(fd_, bytes, true, poll_timeout_ms(seconds_to_ns(params_.connect_timeout_s)),
+                        &err)) {
+    return true;
   }
-  return true;
+  drop("send to " + address_ + ": " + std::strerror(err), false);
+  return false;
 }
 
 bool TcpClient::take_new_connection() {

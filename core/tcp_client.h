@@ -7,6 +7,7 @@
 // its own timeout, and a later call finishes it. One thread uses it.
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -22,6 +23,10 @@ struct TcpClientParams {
   double reconnect_delay_s = 0.5;  // between a failure or a drop and the next connect
   double idle_timeout_s = 3.0;     // no byte for this long on a connection: reconnect
 };
+
+// The IPv4 address (host byte order) a host name or dotted quad resolves to, or nullopt with the
+// resolver's reason in *why. Shared with MAVLink's endpoints.
+std::optional<uint32_t> resolve_ipv4(const std::string& host, std::string* why);
 
 // Key, unit, valid range and help of every TcpClientParams member.
 std::span<const Param<TcpClientParams>> tcp_client_params();

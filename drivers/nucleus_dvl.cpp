@@ -20,13 +20,10 @@ DvlSample to_dvl_sample(const NucleusTrack& track, const Eigen::Matrix3d& R_B_S,
 }
 
 NucleusDvl::NucleusDvl(NucleusDvlConfig config)
-    : config_(std::move(config)), clock_(config_.clock) {
-  if (config_.serial_device.empty()) {
-    link_ = std::make_unique<TcpClient>(config_.host, config_.port, config_.tcp);
-  } else {
-    link_ = std::make_unique<SerialPort>(config_.serial_device, config_.serial);
-  }
-}
+    : config_(std::move(config)),
+      link_(make_byte_link(config_.serial_device, config_.serial, config_.host, config_.port,
+                           config_.tcp)),
+      clock_(config_.clock) {}
 
 std::vector<DvlSample> NucleusDvl::poll(double timeout_s) {
   std::vector<DvlSample> samples;

@@ -17,15 +17,11 @@ bool any_set(const WaterLinkedConfig& c) {
 
 WaterLinkedDvl::WaterLinkedDvl(WaterLinkedDvlConfig config)
     : config_(std::move(config)),
+      link_(make_byte_link(config_.serial_device, config_.serial, config_.host, config_.port,
+                           config_.tcp)),
       stream_(config_.serial_device.empty() ? WaterLinkedStream::Protocol::kJson
                                             : WaterLinkedStream::Protocol::kSerial),
-      clock_(config_.clock) {
-  if (config_.serial_device.empty()) {
-    link_ = std::make_unique<TcpClient>(config_.host, config_.port, config_.tcp);
-  } else {
-    link_ = std::make_unique<SerialPort>(config_.serial_device, config_.serial);
-  }
-}
+      clock_(config_.clock) {}
 
 std::vector<DvlSample> WaterLinkedDvl::poll(double timeout_s) {
   std::vector<DvlSample> samples;

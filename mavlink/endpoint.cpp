@@ -1,7 +1,6 @@
 #include "mavlink/endpoint.h"
 
 #include <arpa/inet.h>
-#include <netdb.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
 #include <unistd.h>
@@ -32,20 +31,6 @@ uint16_t parse_port(const std::string& text, const std::string& port, bool zero_
     fail(text, "port '" + port + "' is not a number in 1..65535");
   }
   return static_cast<uint16_t>(value);
-}
-
-uint32_t resolve_ipv4(const std::string& text, const std::string& host) {
-  addrinfo hints{};
-  hints.ai_family = AF_INET;
-  hints.ai_socktype = SOCK_DGRAM;
-  addrinfo* found = nullptr;
-  const int rc = ::getaddrinfo(host.c_str(), nullptr, &hints, &found);
-  if (rc != 0 || found == nullptr) {
-    fail(text,
-         "host '" + host + "' does not resolve to an IPv4 address (" + ::gai_strerror(rc) + ")");
-  }
-  const std::unique_ptr<addrinfo, decltype(&::freeaddrinfo)> owner(found, &::freeaddrinfo);
-  return ntohl(reinterpret_cast<const sockaddr_in*>(found->ai_addr)->sin_addr.s_addr);
 }
 
 sockaddr_in to_sockaddr(uint32_t ipv4, uint16_t port) {
@@ -79,7 +64,10 @@ Endpoint parse_endpoint(const std::string& text) {
   if (host.empty()) fail(text, "no host");
   e.host = host;
   e.port = parse_port(text, rest.substr(port_colon + 1), e.kind == Endpoint::Kind::kUdpIn);
-  e.ipv4 = resolve_ipv4(text, host);
+  std::string why;
+  const std::optional<uint32_t> ipv4 = resolve_ipv4(host, &why);
+  if (!ipv4) fail(text, "host '" + host + "' does not resolve to an IPv4 address (" + why + ")");
+  e.ipv4 = *ipv4;
   return e;
 }
 

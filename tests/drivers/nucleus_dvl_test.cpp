@@ -6,24 +6,17 @@
 
 #include <chrono>
 #include <cmath>
-#include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <thread>
 #include <vector>
 
 #include "tests/support/fake_serial_device.h"
 #include "tests/support/loopback_server.h"
+#include "tests/support/nucleus_recording.h"
 
 namespace pensight::drivers {
 namespace {
 
-std::vector<uint8_t> recording() {
-  const auto file = std::filesystem::path(PENSIGHT_SHARED_DIR) / "real/dvl/nucleus_sample.nucleus";
-  std::ifstream in(file, std::ios::binary);
-  EXPECT_TRUE(in) << file << " is missing: the project expects ../shared/ beside its checkout";
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
+using testing::nucleus_recording;
 
 TEST(NucleusDvl, TrackRecordIntoTheBodyWithItsBeams) {
   NucleusTrack t;
@@ -51,7 +44,7 @@ TEST(NucleusDvl, TrackRecordIntoTheBodyWithItsBeams) {
 // velocity flagged invalid) served over TCP in two connections, the first cut mid-packet: the
 // samples of both, none valid, in order.
 TEST(NucleusDvl, NortekRecordingOverTcpAcrossADrop) {
-  const std::vector<uint8_t> bytes = recording();
+  const std::vector<uint8_t> bytes = nucleus_recording();
   ASSERT_GT(bytes.size(), 100000u);
   testing::LoopbackServer nucleus;
   const size_t cut = bytes.size() / 2 + 3;  // inside a packet: its first part is lost
@@ -108,7 +101,7 @@ TEST(NucleusDvl, NortekRecordingOverTcpAcrossADrop) {
 // The same stream on a serial line (a pseudo-terminal for the UART): the first 40 kB of the
 // recording, every track record among them decoded.
 TEST(NucleusDvl, NortekRecordingOnASerialLine) {
-  const std::vector<uint8_t> bytes = recording();
+  const std::vector<uint8_t> bytes = nucleus_recording();
   ASSERT_GT(bytes.size(), 40000u);
   testing::FakeSerialDevice nucleus;
   NucleusDvlConfig config;

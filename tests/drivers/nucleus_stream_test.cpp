@@ -8,23 +8,17 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <map>
 #include <random>
 #include <string>
 #include <vector>
 
+#include "tests/support/nucleus_recording.h"
+
 namespace pensight::drivers {
 namespace {
 
-std::vector<uint8_t> recording() {
-  const auto file = std::filesystem::path(PENSIGHT_SHARED_DIR) / "real/dvl/nucleus_sample.nucleus";
-  std::ifstream in(file, std::ios::binary);
-  EXPECT_TRUE(in) << file << " is missing: the project expects ../shared/ beside its checkout";
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
+using testing::nucleus_recording;
 
 struct Parsed {
   std::map<uint8_t, size_t> by_record;
@@ -50,7 +44,7 @@ Parsed parse(const std::vector<uint8_t>& bytes, uint64_t chunk_seed) {
 }
 
 TEST(NucleusStream, NortekRecordingInAnyChunking) {
-  const std::vector<uint8_t> bytes = recording();
+  const std::vector<uint8_t> bytes = nucleus_recording();
   ASSERT_EQ(bytes.size(), 310174u);
   for (const uint64_t seed : {uint64_t{0}, uint64_t{1}, uint64_t{2}, uint64_t{3}}) {
     SCOPED_TRACE(seed);
@@ -76,7 +70,7 @@ TEST(NucleusStream, NortekRecordingInAnyChunking) {
 // record type, every altimeter record decoded.
 TEST(NucleusStream, AhrsAltimeterAndClockOfNortekRecording) {
   NucleusStream stream;
-  const std::vector<uint8_t> bytes = recording();
+  const std::vector<uint8_t> bytes = nucleus_recording();
   std::vector<NucleusAhrs> ahrs;
   std::vector<NucleusAltimeter> altimeter;
   std::map<uint8_t, int64_t> last_ns;
