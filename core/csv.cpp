@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <limits>
 
 #include "core/error.h"
 
@@ -48,8 +49,9 @@ CsvTable::CsvTable(const std::filesystem::path& file, size_t min_fields, size_t 
     if (row.fields.size() < min_fields || row.fields.size() > max_fields) {
       const std::string message =
           file_ + ":" + std::to_string(number) + ": expected " +
-          (min_fields == max_fields
-               ? std::to_string(min_fields)
+          (min_fields == max_fields ? std::to_string(min_fields)
+           : max_fields == std::numeric_limits<size_t>::max()
+               ? "at least " + std::to_string(min_fields)
                : std::to_string(min_fields) + " to " + std::to_string(max_fields)) +
           " comma-separated fields, got " + std::to_string(row.fields.size());
       if (bad_rows == BadRows::kThrow) throw Error(message);

@@ -73,18 +73,21 @@ struct DvlSample {
   Eigen::Vector3d velocity_B_mps = Eigen::Vector3d::Zero();
   bool valid = false;
   std::array<double, 4> beam_range_m = {kNaN, kNaN, kNaN, kNaN};  // NaN: no return / not recorded
+  std::optional<int64_t> device_ns;  // a live device's own time stamp of the sample (raw)
 };
 
 // One line of pressure0/data.csv.
 struct PressureSample {
   int64_t timestamp_ns = 0;
   double depth_m = 0;  // positive below the surface
+  std::optional<int64_t> device_ns;  // a live device's own time stamp of the sample (raw)
 };
 
 // One line of imu0/attitude.csv: body attitude in the pen frame P.
 struct AttitudeSample {
   int64_t timestamp_ns = 0;
   double roll_rad = 0, pitch_rad = 0, yaw_rad = 0;
+  std::optional<int64_t> device_ns;  // a live device's own time stamp of the sample (raw)
 };
 
 // One line of groundtruth0/data.csv: body pose in the pen frame, net values for cam0 (NaN where

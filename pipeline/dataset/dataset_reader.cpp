@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "core/csv.h"
 #include "core/error.h"
@@ -23,8 +24,22 @@ void require_time_order(const std::vector<T>& v, const fs::path& file) {
   }
 }
 
+// Columns after the contract's (a recorder's device times, another tool's extras) are passed over,
+// said once per file.
+constexpr size_t kAnyFields = std::numeric_limits<size_t>::max();
+
+void note_extra_columns(const CsvTable& t, size_t contract_fields) {
+  for (size_t r = 0; r < t.rows(); ++r) {
+    if (t.fields(r) <= contract_fields) continue;
+    log_info(t.file() + ": columns after the first " + std::to_string(contract_fields) +
+             " are not part of the dataset contract; passed over");
+    return;
+  }
+}
+
 std::vector<ImageEntry> read_frames(const fs::path& file) {
-  const CsvTable t(file, 2, 2);
+  const CsvTable t(file, 2, kAnyFields);
+  note_extra_columns(t, 2);
   std::vector<ImageEntry> out;
   for (size_t r = 0; r < t.rows(); ++r) out.push_back({t.integer(r, 0), t.text(r, 1)});
   // A run over no frames would write a header-only estimates.csv that looks like a result.
@@ -76,11 +91,23 @@ std::vector<Sample> read_log(const CsvTable& t, Parse parse, std::vector<Skipped
 DvlData read_dvl(const fs::path& dir, std::vector<SkippedRows>& skipped) {
   DvlData d;
   d.calibration = read_dvl_yaml(dir / "sensor.yaml");
-  const CsvTable t(dir / "data.csv", 5, 9, BadRows::kSetAside);
+  const CsvTable t(dir / "data.csv", 5, kAnyFields, BadRows::kSetAside);
+  // Beam ranges are a property of the file: its header names r1 after `valid`, or (no header) its
+  // well-formed rows have 9 fields. Further columns are passed over.
+  const std::vector<std::string>& header = t.header();
+  if (header.size() > 5) {
+    d.has_beam_ranges = header[5].rfind("r1", 0) == 0;
+  } else {
+    for (size_t r = 0; r < t.rows() && !d.has_beam_ranges; ++r) {
+      d.has_beam_ranges = t.fields(r) == 9;
+    }
+  }
+  const size_t fields = d.has_beam_ranges ? 9 : 5;
+  note_extra_columns(t, fields);
   d.samples = read_log<DvlSample>(
       t,
       [&](size_t r) {
-        if (t.fields(r) != 5 && t.fields(r) != 9) {
+        if (t.fields(r) != 5 && t.fields(r) < fields) {
           throw Error(t.file() + ":" + std::to_string(t.line(r)) +
                       ": expected 5 fields, or 9 with the beam ranges r1..r4");
         }
@@ -88,19 +115,18 @@ DvlData read_dvl(const fs::path& dir, std::vector<SkippedRows>& skipped) {
         s.timestamp_ns = t.integer(r, 0);
         s.velocity_B_mps = {t.number(r, 1), t.number(r, 2), t.number(r, 3)};
         s.valid = t.integer(r, 4) != 0;
-        if (t.fields(r) == 9) {
+        if (d.has_beam_ranges && t.fields(r) >= 9) {
           for (size_t b = 0; b < 4; ++b) s.beam_range_m[b] = t.number(r, 5 + b);
         }
         return s;
       },
       skipped);
-  // Beam ranges are a property of the file: its well-formed rows have 9 fields.
-  for (size_t r = 0; r < t.rows() && !d.has_beam_ranges; ++r) d.has_beam_ranges = t.fields(r) == 9;
   return d;
 }
 
 std::vector<PressureSample> read_pressure(const fs::path& file, std::vector<SkippedRows>& skipped) {
-  const CsvTable t(file, 2, 2, BadRows::kSetAside);
+  const CsvTable t(file, 2, kAnyFields, BadRows::kSetAside);
+  note_extra_columns(t, 2);
   return read_log<PressureSample>(
       t,
       [&](size_t r) {
@@ -110,7 +136,8 @@ std::vector<PressureSample> read_pressure(const fs::path& file, std::vector<Skip
 }
 
 std::vector<AttitudeSample> read_attitude(const fs::path& file, std::vector<SkippedRows>& skipped) {
-  const CsvTable t(file, 4, 4, BadRows::kSetAside);
+  const CsvTable t(file, 4, kAnyFields, BadRows::kSetAside);
+  note_extra_columns(t, 4);
   return read_log<AttitudeSample>(
       t,
       [&](size_t r) {

@@ -17,12 +17,19 @@ void write_text(const fs::path& file, const std::string& text) {
   if (!out) throw Error("cannot write '" + file.string() + "'");
 }
 
-void check_replaceable(const fs::path& root) {
+void check_replaceable(const fs::path& root, DatasetWriteMode mode) {
   if (!fs::exists(root)) return;
   const bool is_dir = fs::is_directory(root);
-  if (is_dir && (fs::is_empty(root) || fs::exists(root / "scene.yaml"))) return;
-  throw Error("output '" + root.string() + "' exists and is not a dataset; choose another --out " +
-              (is_dir ? "folder" : "path") + " or remove it");
+  if (is_dir && fs::is_empty(root)) return;
+  if (mode == DatasetWriteMode::kWhole && is_dir && fs::exists(root / "scene.yaml")) return;
+  throw Error("output '" + root.string() + "' exists and is not " +
+              (mode == DatasetWriteMode::kWhole ? "a dataset" : "empty") +
+              "; choose another --out " + (is_dir ? "folder" : "path") + " or remove it");
+}
+
+// The header of a sensor log, with the device-time column when asked for.
+std::string log_header(std::string header, bool device_times) {
+  return device_times ? header + ",device_time [ns]" : header;
 }
 
 }  // namespace
@@ -31,15 +38,15 @@ std::string frame_filename(int64_t timestamp_ns) {
   return std::to_string(timestamp_ns) + ".png";
 }
 
-DatasetWriter::DatasetWriter(fs::path root, DatasetContents contents)
-    : root_(std::move(root)), contents_(std::move(contents)) {
+DatasetWriter::DatasetWriter(fs::path root, DatasetContents contents, DatasetWriteMode mode)
+    : root_(std::move(root)), contents_(std::move(contents)), mode_(mode) {
   if (root_.filename().empty()) root_ = root_.parent_path();  // "out/" -> "out"
-  check_replaceable(root_);
+  check_replaceable(root_, mode_);
   if (!root_.parent_path().empty() && !fs::is_directory(root_.parent_path())) {
     throw Error("cannot write dataset '" + root_.string() + "': folder '" +
                 root_.parent_path().string() + "' does not exist");
   }
-  temp_ = temporary_sibling(root_);
+  temp_ = mode_ == DatasetWriteMode::kWhole ? temporary_sibling(root_) : root_;
   std::error_code ec;
   fs::create_directories(temp_ / "cam0" / "data", ec);
   if (ec) throw Error("cannot create '" + temp_.string() + "': " + ec.message());
@@ -51,18 +58,22 @@ DatasetWriter::DatasetWriter(fs::path root, DatasetContents contents)
     fs::create_directories(temp_ / "dvl0");
     write_text(temp_ / "dvl0" / "sensor.yaml", dvl_yaml(*contents_.dvl0));
     dvl_csv_ = open_csv("dvl0/data.csv",
-                        contents_.dvl_beam_ranges
-                            ? "#timestamp [ns],vx [m/s],vy [m/s],vz [m/s],valid,r1 [m],r2 [m],"
-                              "r3 [m],r4 [m]"
-                            : "#timestamp [ns],vx [m/s],vy [m/s],vz [m/s],valid");
+                        log_header(contents_.dvl_beam_ranges
+                                       ? "#timestamp [ns],vx [m/s],vy [m/s],vz [m/s],valid,r1 "
+                                         "[m],r2 [m],r3 [m],r4 [m]"
+                                       : "#timestamp [ns],vx [m/s],vy [m/s],vz [m/s],valid",
+                                   contents_.device_times));
   }
   if (contents_.pressure0) {
     fs::create_directories(temp_ / "pressure0");
-    pressure_csv_ = open_csv("pressure0/data.csv", "#timestamp [ns],depth [m]");
+    pressure_csv_ = open_csv("pressure0/data.csv",
+                             log_header("#timestamp [ns],depth [m]", contents_.device_times));
   }
   if (contents_.imu0) {
     fs::create_directories(temp_ / "imu0");
-    imu_csv_ = open_csv("imu0/attitude.csv", "#timestamp [ns],roll [rad],pitch [rad],yaw [rad]");
+    imu_csv_ = open_csv("imu0/attitude.csv",
+                        log_header("#timestamp [ns],roll [rad],pitch [rad],yaw [rad]",
+                                   contents_.device_times));
   }
   if (contents_.groundtruth0) {
     fs::create_directories(temp_ / "groundtruth0" / "depth");
@@ -73,16 +84,27 @@ DatasetWriter::DatasetWriter(fs::path root, DatasetContents contents)
 }
 
 DatasetWriter::~DatasetWriter() {
-  if (finished_) return;
+  if (finished_ || mode_ == DatasetWriteMode::kStreaming) return;
   std::error_code ec;
   fs::remove_all(temp_, ec);
 }
 
-std::ofstream DatasetWriter::open_csv(const fs::path& rel, const char* header) {
+std::ofstream DatasetWriter::open_csv(const fs::path& rel, const std::string& header) {
   std::ofstream out(temp_ / rel);
   out << header << "\n";
+  if (mode_ == DatasetWriteMode::kStreaming) out.flush();
   if (!out) throw Error("cannot write '" + (temp_ / rel).string() + "'");
   return out;
+}
+
+// A row is handed to the file in one write when streaming: a killed process leaves whole rows.
+void DatasetWriter::end_row(std::ofstream& csv, const std::optional<int64_t>& device_ns) {
+  if (contents_.device_times) {
+    csv << "," << (device_ns ? std::to_string(*device_ns) : std::string("nan"));
+  }
+  csv << "\n";
+  if (mode_ == DatasetWriteMode::kStreaming) csv.flush();
+  if (!csv) throw Error("writing dataset '" + temp_.string() + "' failed (disk full?)");
 }
 
 void DatasetWriter::check_frame(const char* what, int64_t t, int64_t& last, int w, int h) const {
@@ -96,8 +118,19 @@ template <class Pixel>
 void DatasetWriter::write_frame(int64_t timestamp_ns, const Image<Pixel>& image) {
   check_frame("DatasetWriter::add_frame", timestamp_ns, last_frame_ns_, image.width, image.height);
   const std::string name = frame_filename(timestamp_ns);
-  write_png(temp_ / "cam0" / "data" / name, image);
+  const fs::path file = temp_ / "cam0" / "data" / name;
+  if (mode_ == DatasetWriteMode::kStreaming) {
+    // Hidden until complete, so the folder never holds a truncated frame under its own name.
+    const fs::path partial = file.parent_path() / ("." + name);
+    write_png(partial, image);
+    std::error_code ec;
+    fs::rename(partial, file, ec);
+    if (ec) throw Error("cannot move '" + partial.string() + "' into place: " + ec.message());
+  } else {
+    write_png(file, image);
+  }
   cam_csv_ << timestamp_ns << "," << name << "\n";
+  if (mode_ == DatasetWriteMode::kStreaming) cam_csv_.flush();
 }
 
 void DatasetWriter::add_frame(int64_t timestamp_ns, const ImageU8& image) {
@@ -148,7 +181,7 @@ void DatasetWriter::add_dvl(const DvlSample& s) {
   if (contents_.dvl_beam_ranges) {
     for (const double r : s.beam_range_m) dvl_csv_ << "," << format_number(r);
   }
-  dvl_csv_ << "\n";
+  end_row(dvl_csv_, s.device_ns);
 }
 
 void DatasetWriter::add_pressure(const PressureSample& s) {
@@ -157,7 +190,8 @@ void DatasetWriter::add_pressure(const PressureSample& s) {
     throw Error("DatasetWriter::add_pressure: timestamps must increase");
   }
   last_pressure_ns_ = s.timestamp_ns;
-  pressure_csv_ << s.timestamp_ns << "," << format_number(s.depth_m) << "\n";
+  pressure_csv_ << s.timestamp_ns << "," << format_number(s.depth_m);
+  end_row(pressure_csv_, s.device_ns);
 }
 
 void DatasetWriter::add_attitude(const AttitudeSample& s) {
@@ -167,7 +201,8 @@ void DatasetWriter::add_attitude(const AttitudeSample& s) {
   }
   last_imu_ns_ = s.timestamp_ns;
   imu_csv_ << s.timestamp_ns << "," << format_number(s.roll_rad) << ","
-           << format_number(s.pitch_rad) << "," << format_number(s.yaw_rad) << "\n";
+           << format_number(s.pitch_rad) << "," << format_number(s.yaw_rad);
+  end_row(imu_csv_, s.device_ns);
 }
 
 void DatasetWriter::finish() {
@@ -177,6 +212,10 @@ void DatasetWriter::finish() {
     f->flush();
     if (!*f) throw Error("writing dataset '" + temp_.string() + "' failed (disk full?)");
     f->close();
+  }
+  if (mode_ == DatasetWriteMode::kStreaming) {
+    finished_ = true;
+    return;
   }
   // Move an earlier dataset aside first: rename cannot replace a non-empty folder.
   const fs::path old = temporary_sibling(root_);
