@@ -10,6 +10,7 @@ DvlSample to_dvl_sample(const NucleusTrack& track, const Eigen::Matrix3d& R_B_S,
                         int64_t timestamp_ns) {
   DvlSample s;
   s.timestamp_ns = timestamp_ns;
+  s.device_ns = track.time.device_ns;
   const Eigen::Vector3d v_S(track.velocity_mps[0], track.velocity_mps[1], track.velocity_mps[2]);
   s.valid = track.bottom && track.valid() && v_S.allFinite();
   s.velocity_B_mps = s.valid ? Eigen::Vector3d(R_B_S * v_S) : Eigen::Vector3d::Zero();

@@ -27,7 +27,7 @@ inline constexpr int kNucleusDataPort = 9002;
 
 // The pipeline's DVL sample of a track record: the velocity rotated into the body by R_B_S,
 // valid where the record is bottom track and all three velocity components are flagged valid,
-// beam range r1-r3 each beam's distance where it is positive.
+// beam range r1-r3 each beam's distance where it is positive, device_ns the record's own time.
 DvlSample to_dvl_sample(const NucleusTrack& track, const Eigen::Matrix3d& R_B_S,
                         int64_t timestamp_ns);
 

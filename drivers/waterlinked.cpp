@@ -428,6 +428,7 @@ DvlSample to_dvl_sample(const WaterLinkedVelocity& report, const Eigen::Matrix3d
                         int64_t timestamp_ns) {
   DvlSample s;
   s.timestamp_ns = timestamp_ns;
+  if (report.time_of_validity_us) s.device_ns = *report.time_of_validity_us * 1000;
   const Eigen::Vector3d v_S(report.velocity_mps[0], report.velocity_mps[1], report.velocity_mps[2]);
   s.valid = report.valid && v_S.allFinite();
   s.velocity_B_mps = s.valid ? Eigen::Vector3d(R_B_S * v_S) : Eigen::Vector3d::Zero();

@@ -147,7 +147,7 @@ std::string waterlinked_set_config_sentence(const WaterLinkedConfig& config);
 
 // The pipeline's DVL sample: the velocity rotated into the body by R_B_S (the rotation of
 // dvl0/sensor.yaml's T_BS), valid as the report's lock, beam range r(id+1) the transducer's
-// distance where its beam is valid.
+// distance where its beam is valid, device_ns the time of validity (when the report has one).
 DvlSample to_dvl_sample(const WaterLinkedVelocity& report, const Eigen::Matrix3d& R_B_S,
                         int64_t timestamp_ns);
 

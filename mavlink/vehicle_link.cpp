@@ -149,7 +149,7 @@ void VehicleLink::handle(const Frame& f, int64_t now_ns) {
     status_.attitude_ns = now_ns;
     const Attitude& a = status_.attitude = unpack<Attitude>(f.payload);
     queue(attitudes_, AttitudeSample{attitude_clock_.to_host_ns(boot_ns(a.time_boot_ms), now_ns),
-                                     a.roll_rad, a.pitch_rad, a.yaw_rad});
+                                     a.roll_rad, a.pitch_rad, a.yaw_rad, boot_ns(a.time_boot_ms)});
   } else if (f.msgid == ScaledPressure::kId || f.msgid == ScaledPressure2::kId ||
              f.msgid == ScaledPressure3::kId) {
     const int i = f.msgid == ScaledPressure::kId ? 0 : f.msgid == ScaledPressure2::kId ? 1 : 2;
@@ -160,7 +160,8 @@ void VehicleLink::handle(const Frame& f, int64_t now_ns) {
     if (water_pressure_index(status_, config_.water_depth, now_ns) == i) {
       queue(pressures_,
             PressureSample{pressure_clock_.to_host_ns(boot_ns(p.time_boot_ms), now_ns),
-                           depth_from_pressure_m(p.press_abs_hpa, config_.water_depth)});
+                           depth_from_pressure_m(p.press_abs_hpa, config_.water_depth),
+                           boot_ns(p.time_boot_ms)});
     }
   }
 }

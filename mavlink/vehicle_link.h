@@ -84,8 +84,8 @@ class VehicleLink {
 
   // The attitude (ATTITUDE) and depth (the water's barometer, water_depth.h) samples decoded since
   // the last call, in arrival order, each stamped on poll()'s clock at its own time_boot_ms
-  // through a DeviceClock per message (the link's jitter removed). At most kMaxQueuedSamples of
-  // each wait between calls; older ones are dropped and counted.
+  // through a DeviceClock per message (the link's jitter removed; device_ns the raw time_boot_ms).
+  // At most kMaxQueuedSamples of each wait between calls; older ones are dropped and counted.
   std::vector<AttitudeSample> take_attitude_samples();
   std::vector<PressureSample> take_pressure_samples();
   static constexpr size_t kMaxQueuedSamples = 1000;

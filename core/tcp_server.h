@@ -1,0 +1,51 @@
+#pragma once
+// A TCP listener for the device stand-ins (`pensight sim-devices`): it accepts any number of
+// clients and broadcasts a device's stream to all of them, as a Water Linked DVL or a camera
+// encoder does; what clients send comes back as lines. A client that goes away or stops reading
+// for longer than the send wait is dropped and counted. Non-blocking, one thread uses it.
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace pensight {
+
+class TcpServer {
+ public:
+  // Listens on host:port (port 0: an ephemeral one, see port()). Throws pensight::Error naming
+  // the address when it cannot resolve or bind (in use: another stand-in or the device itself).
+  TcpServer(const std::string& host, int port, int send_wait_ms = 1000);
+  ~TcpServer();
+  TcpServer(const TcpServer&) = delete;
+  TcpServer& operator=(const TcpServer&) = delete;
+
+  int port() const { return port_; }
+  // Accepts the clients waiting to connect; returns how many are new (their descriptors are the
+  // last ones of clients()).
+  size_t accept_new();
+  // Sends `bytes` to every client (those that fail are dropped).
+  void broadcast(std::string_view bytes);
+  // Sends `bytes` to one client (dropped when it fails).
+  void send_to(size_t client, std::string_view bytes);
+  // The complete lines ('\n' ended, '\r' stripped) each client sent since the last call, with the
+  // client's index.
+  std::vector<std::pair<size_t, std::string>> take_lines();
+  size_t clients() const { return clients_.size(); }
+  uint64_t dropped_clients() const { return dropped_; }
+
+ private:
+  struct Client {
+    int fd = -1;
+    std::string pending;  // received bytes after the last '\n'
+  };
+  void drop(size_t client);
+
+  int fd_ = -1;
+  int port_ = 0;
+  int send_wait_ms_;
+  std::vector<Client> clients_;
+  uint64_t dropped_ = 0;
+};
+
+}  // namespace pensight

@@ -1,0 +1,221 @@
+#include "live/recorder.h"
+
+#include <cmath>
+#include <limits>
+
+#include "core/error.h"
+#include "core/log.h"
+#include "core/timing.h"
+#include "drivers/nucleus_dvl.h"
+#include "drivers/waterlinked_dvl.h"
+#include "mavlink/messages.h"
+#include "mavlink/vehicle_link.h"
+#include "pipeline/dataset/dataset_writer.h"
+
+namespace pensight::live {
+namespace {
+
+DatasetContents contents_of(const RecordConfig& c) {
+  DatasetContents d;
+  d.scene = c.scene;
+  d.cam0 = c.camera.calibration;
+  if (c.dvl) d.dvl0 = c.dvl->calibration;
+  d.pressure0 = c.mavlink.has_value();
+  d.imu0 = c.mavlink.has_value();
+  d.groundtruth0 = false;
+  d.device_times = true;
+  return d;
+}
+
+std::string link_faults(const ByteLinkCounters& c) {
+  return "connects " + std::to_string(c.connects) + ", connect failures " +
+         std::to_string(c.connect_failures) + ", drops " + std::to_string(c.drops) +
+         ", idle timeouts " + std::to_string(c.idle_timeouts);
+}
+
+// A sensor log's writing: time order kept, the latest clock offset remembered.
+template <class Sample>
+void write_sample(const Sample& s, int64_t& last_ns, SourceSummary& summary, auto&& add) {
+  if (s.timestamp_ns <= last_ns) {
+    ++summary.out_of_order;
+    return;
+  }
+  last_ns = s.timestamp_ns;
+  add(s);
+  ++summary.samples;
+  if constexpr (requires { s.device_ns; }) {
+    if (s.device_ns) summary.clock_offset_ns = s.timestamp_ns - *s.device_ns;
+  }
+}
+
+}  // namespace
+
+struct Recorder::Sources {
+  RecordConfig config;
+  DatasetWriter writer;
+  CameraSource camera;
+  std::unique_ptr<drivers::WaterLinkedDvl> waterlinked;
+  std::unique_ptr<drivers::NucleusDvl> nucleus;
+  std::unique_ptr<mavlink::VehicleLink> link;
+  bool rates_requested = false;
+  SourceSummary cam{"cam0"}, dvl{"dvl0"}, pressure{"pressure0"}, imu{"imu0"};
+  int64_t last_frame_ns = std::numeric_limits<int64_t>::min(),
+          last_dvl_ns = std::numeric_limits<int64_t>::min(),
+          last_pressure_ns = std::numeric_limits<int64_t>::min(),
+          last_imu_ns = std::numeric_limits<int64_t>::min();
+  int64_t start_steady_ns = 0, end_steady_ns = 0;
+
+  Sources(const RecordConfig& c, const std::filesystem::path& out)
+      : config(c),
+        writer(out, contents_of(c), DatasetWriteMode::kStreaming),
+        camera(c.camera.uri, c.camera.calibration.camera, c.camera.source) {
+    if (c.dvl) {
+      const Eigen::Matrix3d R_B_S = c.dvl->calibration.T_body_dvl.linear();
+      if (c.dvl->kind == DvlKind::kWaterLinked) {
+        drivers::WaterLinkedDvlConfig w;
+        w.host = c.dvl->host;
+        w.port = c.dvl->port;
+        w.serial_device = c.dvl->serial_device;
+        w.serial = c.dvl->serial;
+        w.R_B_S = R_B_S;
+        if (c.dvl->dark_mode) w.set_config.dark_mode_enabled = true;
+        w.tcp = c.dvl->tcp;
+        w.clock = c.dvl->clock;
+        waterlinked = std::make_unique<drivers::WaterLinkedDvl>(w);
+      } else {
+        drivers::NucleusDvlConfig n;
+        n.host = c.dvl->host;
+        n.port = c.dvl->port;
+        n.serial_device = c.dvl->serial_device;
+        n.serial = c.dvl->serial;
+        n.R_B_S = R_B_S;
+        n.tcp = c.dvl->tcp;
+        n.clock = c.dvl->clock;
+        nucleus = std::make_unique<drivers::NucleusDvl>(n);
+      }
+    }
+    if (c.mavlink) {
+      mavlink::LinkConfig l;
+      l.endpoint = c.mavlink->endpoint;
+      l.role = mavlink::LinkRole::kCompanionComputer;
+      l.water_depth = c.mavlink->water_depth;
+      l.boot_clock = c.mavlink->clock;
+      link = std::make_unique<mavlink::VehicleLink>(l);
+    }
+  }
+
+  void poll_camera(double wait_s) {
+    if (std::optional<CameraFrame> f = camera.take(wait_s)) {
+      write_sample(*f, last_frame_ns, cam,
+                   [&](const CameraFrame& frame) { writer.add_frame(frame.timestamp_ns, frame.image); });
+    }
+  }
+
+  void poll_dvl() {
+    std::vector<DvlSample> samples;
+    if (waterlinked) samples = waterlinked->poll(0);
+    if (nucleus) samples = nucleus->poll(0);
+    for (const DvlSample& s : samples) {
+      write_sample(s, last_dvl_ns, dvl, [&](const DvlSample& x) { writer.add_dvl(x); });
+    }
+  }
+
+  void poll_link() {
+    if (!link) return;
+    link->poll(host_now_ns());
+    // ArduSub answers rate requests once it knows the link: after its first message.
+    if (!rates_requested && link->status().heartbeat_ns >= 0) {
+      rates_requested = true;
+      link->request_message_rate(mavlink::Attitude::kId, config.mavlink->attitude_rate_hz);
+      for (const uint32_t id : {mavlink::ScaledPressure::kId, mavlink::ScaledPressure2::kId,
+                                mavlink::ScaledPressure3::kId}) {
+        link->request_message_rate(id, config.mavlink->pressure_rate_hz);
+      }
+    }
+    for (const AttitudeSample& s : link->take_attitude_samples()) {
+      write_sample(s, last_imu_ns, imu, [&](const AttitudeSample& x) { writer.add_attitude(x); });
+    }
+    for (const PressureSample& s : link->take_pressure_samples()) {
+      write_sample(s, last_pressure_ns, pressure,
+                   [&](const PressureSample& x) { writer.add_pressure(x); });
+    }
+  }
+};
+
+Recorder::Recorder(const RecordConfig& config, const std::filesystem::path& out)
+    : sources_(std::make_unique<Sources>(config, out)) {}
+
+Recorder::~Recorder() = default;
+
+void Recorder::run(double duration_s, const std::atomic<bool>& stop) {
+  Sources& s = *sources_;
+  s.start_steady_ns = steady_now_ns();
+  const double end_ns = static_cast<double>(s.start_steady_ns) + duration_s * 1e9;
+  while (!stop.load() && static_cast<double>(steady_now_ns()) < end_ns && !s.camera.finished()) {
+    s.poll_camera(0.002);
+    s.poll_dvl();
+    s.poll_link();
+  }
+  s.end_steady_ns = steady_now_ns();
+  s.writer.finish();
+}
+
+std::vector<SourceSummary> Recorder::summary() const {
+  const Sources& s = *sources_;
+  std::vector<SourceSummary> out;
+  SourceSummary cam = s.cam;
+  const CameraCounters c = s.camera.counters();
+  cam.faults = "dropped " + std::to_string(c.dropped) + ", wrong size " +
+               std::to_string(c.wrong_size) + ", stalls " + std::to_string(c.stalls) +
+               ", reconnects " + std::to_string(c.reconnects) + ", open failures " +
+               std::to_string(c.open_failures);
+  out.push_back(cam);
+  if (s.waterlinked || s.nucleus) {
+    SourceSummary d = s.dvl;
+    if (s.waterlinked) {
+      const drivers::WaterLinkedCounters& w = s.waterlinked->stream_counters();
+      d.faults = "malformed " + std::to_string(w.malformed) + ", checksum failures " +
+                 std::to_string(w.checksum_failures) + ", water track skipped " +
+                 std::to_string(s.waterlinked->counters().water_track_skipped) + ", " +
+                 link_faults(s.waterlinked->connection_counters());
+    } else {
+      const drivers::NucleusStreamCounters& n = s.nucleus->stream_counters();
+      d.faults = "checksum failures " + std::to_string(n.checksum_failures) + ", skipped bytes " +
+                 std::to_string(n.skipped_bytes) + ", " +
+                 link_faults(s.nucleus->connection_counters());
+    }
+    out.push_back(d);
+  }
+  if (s.link) {
+    const mavlink::LinkCounters l = s.link->counters();
+    const std::string faults = "bad crc " + std::to_string(l.parse.bad_crc) + ", dropped " +
+                               std::to_string(l.samples_dropped) + ", link errors " +
+                               std::to_string(l.send_errors);
+    SourceSummary p = s.pressure, i = s.imu;
+    p.faults = i.faults = faults;
+    out.push_back(p);
+    out.push_back(i);
+  }
+  return out;
+}
+
+std::string Recorder::summary_text() const {
+  const double length_s = static_cast<double>(sources_->end_steady_ns - sources_->start_steady_ns) / 1e9;
+  std::string text = "recorded " + format_param_value(length_s) + " s\n";
+  for (const SourceSummary& s : summary()) {
+    char rate[32];
+    std::snprintf(rate, sizeof rate, "%.2f", length_s > 0 ? static_cast<double>(s.samples) / length_s : 0.0);
+    text += "  " + s.name + ": " + std::to_string(s.samples) + " samples (" + rate + " Hz)";
+    if (s.out_of_order > 0) text += ", " + std::to_string(s.out_of_order) + " out of order";
+    if (s.clock_offset_ns) {
+      char offset[48];
+      std::snprintf(offset, sizeof offset, ", host - device clock %.6f s",
+                    static_cast<double>(*s.clock_offset_ns) / 1e9);
+      text += offset;
+    }
+    text += "; " + s.faults + "\n";
+  }
+  return text;
+}
+
+}  // namespace pensight::live
