@@ -79,7 +79,7 @@ struct DvlSample {
 // One line of pressure0/data.csv.
 struct PressureSample {
   int64_t timestamp_ns = 0;
-  double depth_m = 0;  // positive below the surface
+  double depth_m = 0;                // positive below the surface
   std::optional<int64_t> device_ns;  // a live device's own time stamp of the sample (raw)
 };
 

@@ -23,7 +23,8 @@ TcpServer::TcpServer(const std::string& host, int port, int send_wait_ms)
   std::string why;
   const std::optional<uint32_t> ip = resolve_ipv4(host, &why);
   if (!ip) throw Error("cannot listen on " + address + ": " + why);
-  if (port < 0 || port > 65535) throw Error("cannot listen on " + address + ": port outside 0..65535");
+  if (port < 0 || port > 65535)
+    throw Error("cannot listen on " + address + ": port outside 0..65535");
   fd_ = ::socket(AF_INET, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
   if (fd_ < 0) throw Error("cannot listen on " + address + ": " + std::strerror(errno));
   const int one = 1;

@@ -49,9 +49,9 @@ struct CameraSource::State {
   // Waits until `deadline` on the steady clock or a stop; true when stopped.
   bool sleep_until(int64_t deadline_steady_ns) {
     std::unique_lock lock(mutex);
-    return changed.wait_for(lock, std::chrono::nanoseconds(std::max<int64_t>(
-                                      0, deadline_steady_ns - steady_now_ns())),
-                            [&] { return stop; });
+    return changed.wait_for(
+        lock, std::chrono::nanoseconds(std::max<int64_t>(0, deadline_steady_ns - steady_now_ns())),
+        [&] { return stop; });
   }
   bool stopping() {
     const std::lock_guard lock(mutex);
@@ -175,7 +175,8 @@ void capture_stream(CameraSource::State& s) {
     f.image = ImageU8(grey.cols, grey.rows);
     for (int y = 0; y < grey.rows; ++y) {
       const uint8_t* row = grey.ptr<uint8_t>(y);
-      std::copy(row, row + grey.cols, f.image.pixels.begin() + static_cast<ptrdiff_t>(y) * grey.cols);
+      std::copy(row, row + grey.cols,
+                f.image.pixels.begin() + static_cast<ptrdiff_t>(y) * grey.cols);
     }
     s.publish(std::move(f));
   }
@@ -217,7 +218,8 @@ CameraSource::CameraSource(CameraUri uri, const PinholeCamera& camera, CameraSou
   if (state_->uri.kind == CameraUriKind::kDataset) {
     state_->dataset = read_dataset(state_->uri.target);
     const PinholeCamera& c = state_->dataset->cam0.camera;
-    check_image_size(c.width_px, c.height_px, camera, ("camera '" + state_->uri.text + "'").c_str());
+    check_image_size(c.width_px, c.height_px, camera,
+                     ("camera '" + state_->uri.text + "'").c_str());
   }
   state_->thread = std::thread([s = state_] {
     if (s->dataset) {

@@ -36,12 +36,12 @@ struct CameraFrame {
 };
 
 struct CameraCounters {
-  uint64_t frames = 0;       // read from the stream with the calibration's size
-  uint64_t taken = 0;        // handed to the consumer
-  uint64_t dropped = 0;      // replaced by a newer frame before the consumer took them
-  uint64_t wrong_size = 0;   // not the calibration's size: skipped
-  uint64_t stalls = 0;       // reads that failed, timed out or hit the end of the stream
-  uint64_t reconnects = 0;   // opens after the first
+  uint64_t frames = 0;      // read from the stream with the calibration's size
+  uint64_t taken = 0;       // handed to the consumer
+  uint64_t dropped = 0;     // replaced by a newer frame before the consumer took them
+  uint64_t wrong_size = 0;  // not the calibration's size: skipped
+  uint64_t stalls = 0;      // reads that failed, timed out or hit the end of the stream
+  uint64_t reconnects = 0;  // opens after the first
   uint64_t open_failures = 0;
 };
 

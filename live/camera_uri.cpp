@@ -44,8 +44,9 @@ CameraUri parse_camera_uri(const std::string& uri) {
   } else if (scheme == "gst") {
     out.kind = CameraUriKind::kGstreamer;
     if (rest.find("appsink") == std::string::npos) {
-      fail(uri, "the GStreamer pipeline must end in appsink, e.g. '... ! videoconvert ! "
-                "video/x-raw,format=GRAY8 ! appsink sync=false max-buffers=1 drop=true'");
+      fail(uri,
+           "the GStreamer pipeline must end in appsink, e.g. '... ! videoconvert ! "
+           "video/x-raw,format=GRAY8 ! appsink sync=false max-buffers=1 drop=true'");
     }
   } else if (scheme == "dataset") {
     out.kind = CameraUriKind::kDataset;
@@ -58,7 +59,8 @@ CameraUri parse_camera_uri(const std::string& uri) {
   } else {
     fail(uri, "unknown scheme '" + scheme + ":'");
   }
-  if (rest.find_first_not_of(" \t") == std::string::npos) fail(uri, "nothing after '" + scheme + ":'");
+  if (rest.find_first_not_of(" \t") == std::string::npos)
+    fail(uri, "nothing after '" + scheme + ":'");
   out.target = rest;
   return out;
 }

@@ -24,27 +24,35 @@ constexpr TextKey kSceneKey{"scene", "required",
                             "the net: a scene.yaml (../shared/dataset-format.md), relative to "
                             "this file"};
 constexpr TextKey kCameraKeys[] = {
-    {"uri", "required", "where frames come from: v4l2:/dev/video0, gst:PIPELINE, rtsp://, tcp://, "
-                        "a video file or dataset:DIR (live/camera_uri.h)"},
+    {"uri", "required",
+     "where frames come from: v4l2:/dev/video0, gst:PIPELINE, rtsp://, tcp://, "
+     "a video file or dataset:DIR (live/camera_uri.h)"},
     {"calibration", "required", "a cam0/sensor.yaml: intrinsics, size every frame must have, T_BS"},
 };
 constexpr TextKey kDvlKeys[] = {
-    {"kind", "required", "waterlinked (A50 / A125, JSON over TCP or serial sentences) or nucleus "
-                         "(Nortek Nucleus 1000, binary)"},
-    {"host", "the kind's", "the DVL's address: 192.168.194.95 (Water Linked fallback), "
-                           "192.168.2.201 (Nucleus)"},
-    {"serial_device", "none", "a serial device (/dev/ttyUSB0): the DVL's serial line instead of TCP"},
+    {"kind", "required",
+     "waterlinked (A50 / A125, JSON over TCP or serial sentences) or nucleus "
+     "(Nortek Nucleus 1000, binary)"},
+    {"host", "the kind's",
+     "the DVL's address: 192.168.194.95 (Water Linked fallback), "
+     "192.168.2.201 (Nucleus)"},
+    {"serial_device", "none",
+     "a serial device (/dev/ttyUSB0): the DVL's serial line instead of TCP"},
     {"calibration", "required", "a dvl0/sensor.yaml: T_BS and the beam directions"},
 };
 constexpr TextKey kMavlinkKeys[] = {
-    {"endpoint", "udpin:0.0.0.0:14550", "udpin:ADDR:PORT (BlueOS sends to 14550), "
-                                        "udpout:HOST:PORT or tcp:HOST:PORT (BlueOS 5777, SITL 5760)"},
+    {"endpoint", "udpin:0.0.0.0:14550",
+     "udpin:ADDR:PORT (BlueOS sends to 14550), "
+     "udpout:HOST:PORT or tcp:HOST:PORT (BlueOS 5777, SITL 5760)"},
 };
 
 const Param<RecordDvl> kDvlParams[] = {
     {"port", &RecordDvl::port, "", closed_range(0, 65535),
      "TCP port; 0: the kind's data port (16171 Water Linked, 9002 Nucleus)"},
-    {"dark_mode", &RecordDvl::dark_mode, "", {},
+    {"dark_mode",
+     &RecordDvl::dark_mode,
+     "",
+     {},
      "Water Linked: set dark_mode_enabled on every connection, so the LED does not flash into "
      "the camera"},
 };
@@ -59,8 +67,8 @@ const Param<RecordMavlink> kMavlinkParams[] = {
 std::string text_rows(std::span<const TextKey> keys, std::string_view prefix) {
   std::string rows;
   for (const TextKey& k : keys) {
-    rows += "| `" + std::string(prefix) + std::string(k.key) + "` | " + std::string(k.default_text) +
-            " |  | text | " + std::string(k.help) + " |\n";
+    rows += "| `" + std::string(prefix) + std::string(k.key) + "` | " +
+            std::string(k.default_text) + " |  | text | " + std::string(k.help) + " |\n";
   }
   return rows;
 }
@@ -94,8 +102,8 @@ RecordDvl read_dvl(const YamlMap& m, const fs::path& base_dir) {
   }
   read_params(m, std::span<const Param<RecordDvl>>(kDvlParams), d);
   const bool wl = d.kind == DvlKind::kWaterLinked;
-  d.host = m.string("host", wl ? drivers::WaterLinkedDvlConfig{}.host
-                               : drivers::NucleusDvlConfig{}.host);
+  d.host = m.string("host",
+                    wl ? drivers::WaterLinkedDvlConfig{}.host : drivers::NucleusDvlConfig{}.host);
   if (d.port == 0) d.port = wl ? drivers::kWaterLinkedTcpPort : drivers::kNucleusDataPort;
   d.serial_device = m.string("serial_device", "");
   d.calibration = read_named_file(m, "calibration", base_dir, read_dvl_yaml);

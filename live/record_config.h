@@ -40,8 +40,8 @@ struct RecordCamera {
 
 struct RecordDvl {
   DvlKind kind = DvlKind::kWaterLinked;
-  std::string host;         // default: the kind's factory address
-  int port = 0;             // default: the kind's data port (16171, 9002)
+  std::string host;           // default: the kind's factory address
+  int port = 0;               // default: the kind's data port (16171, 9002)
   std::string serial_device;  // set: the serial line instead of TCP
   SerialPortParams serial;
   DvlCalibration calibration;

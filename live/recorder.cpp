@@ -106,8 +106,9 @@ struct Recorder::Sources {
 
   void poll_camera(double wait_s) {
     if (std::optional<CameraFrame> f = camera.take(wait_s)) {
-      write_sample(*f, last_frame_ns, cam,
-                   [&](const CameraFrame& frame) { writer.add_frame(frame.timestamp_ns, frame.image); });
+      write_sample(*f, last_frame_ns, cam, [&](const CameraFrame& frame) {
+        writer.add_frame(frame.timestamp_ns, frame.image);
+      });
     }
   }
 
@@ -200,11 +201,13 @@ std::vector<SourceSummary> Recorder::summary() const {
 }
 
 std::string Recorder::summary_text() const {
-  const double length_s = static_cast<double>(sources_->end_steady_ns - sources_->start_steady_ns) / 1e9;
+  const double length_s =
+      static_cast<double>(sources_->end_steady_ns - sources_->start_steady_ns) / 1e9;
   std::string text = "recorded " + format_param_value(length_s) + " s\n";
   for (const SourceSummary& s : summary()) {
     char rate[32];
-    std::snprintf(rate, sizeof rate, "%.2f", length_s > 0 ? static_cast<double>(s.samples) / length_s : 0.0);
+    std::snprintf(rate, sizeof rate, "%.2f",
+                  length_s > 0 ? static_cast<double>(s.samples) / length_s : 0.0);
     text += "  " + s.name + ": " + std::to_string(s.samples) + " samples (" + rate + " Hz)";
     if (s.out_of_order > 0) text += ", " + std::to_string(s.out_of_order) + " out of order";
     if (s.clock_offset_ns) {

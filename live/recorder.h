@@ -16,10 +16,10 @@
 namespace pensight::live {
 
 struct SourceSummary {
-  std::string name;   // "cam0", "dvl0", "pressure0", "imu0"
-  uint64_t samples = 0;       // written
-  uint64_t out_of_order = 0;  // a time stamp not after the previous one: not written
-  std::string faults;         // the source's counters of drops and errors, in words
+  std::string name;                        // "cam0", "dvl0", "pressure0", "imu0"
+  uint64_t samples = 0;                    // written
+  uint64_t out_of_order = 0;               // a time stamp not after the previous one: not written
+  std::string faults;                      // the source's counters of drops and errors, in words
   std::optional<int64_t> clock_offset_ns;  // host stamp - device time of the last sample
 };
 

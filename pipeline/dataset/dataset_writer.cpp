@@ -71,9 +71,9 @@ DatasetWriter::DatasetWriter(fs::path root, DatasetContents contents, DatasetWri
   }
   if (contents_.imu0) {
     fs::create_directories(temp_ / "imu0");
-    imu_csv_ = open_csv("imu0/attitude.csv",
-                        log_header("#timestamp [ns],roll [rad],pitch [rad],yaw [rad]",
-                                   contents_.device_times));
+    imu_csv_ = open_csv(
+        "imu0/attitude.csv",
+        log_header("#timestamp [ns],roll [rad],pitch [rad],yaw [rad]", contents_.device_times));
   }
   if (contents_.groundtruth0) {
     fs::create_directories(temp_ / "groundtruth0" / "depth");

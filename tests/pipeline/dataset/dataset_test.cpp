@@ -273,8 +273,8 @@ TEST_F(DatasetTest, ExtraColumnsOfOtherToolsArePassedOver) {
   write_file(root / "dvl0" / "data.csv",
              "#timestamp [ns],vx [m/s],vy [m/s],vz [m/s],valid,fom\n100,0.1,0,0,1,0.002\n"
              "200,0.2,0,0,1,0.003\n");
-  write_file(root / "cam0" / "data.csv", "#timestamp [ns],filename,exposure [us]\n100," +
-                                             frame_filename(100) + ",800\n");
+  write_file(root / "cam0" / "data.csv",
+             "#timestamp [ns],filename,exposure [us]\n100," + frame_filename(100) + ",800\n");
   const Dataset d = read_dataset(root);
   ASSERT_EQ(d.dvl0->samples.size(), 2u);
   EXPECT_FALSE(d.dvl0->has_beam_ranges);
@@ -526,9 +526,10 @@ TEST_F(DatasetFilesTest, BadSensorLogRowsAreSkippedCountedAndNamed) {
     EXPECT_EQ(s.skipped, 1u) << s.file;
     EXPECT_EQ(s.rows, 22u) << s.file;
   }
-  EXPECT_NE(log.text().find("dvl0/data.csv:22: expected at least 5 comma-separated fields, got 3; row "
-                            "skipped"),
-            std::string::npos)
+  EXPECT_NE(
+      log.text().find("dvl0/data.csv:22: expected at least 5 comma-separated fields, got 3; row "
+                      "skipped"),
+      std::string::npos)
       << log.text();
   EXPECT_NE(log.text().find("pressure0/data.csv:22: field 2: expected a number"), std::string::npos)
       << log.text();
