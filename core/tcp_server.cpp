@@ -16,6 +16,9 @@
 #include "core/timing.h"
 
 namespace pensight {
+namespace {
+constexpr size_t kMaxPendingBytes = 64 * 1024;
+}  // namespace
 
 TcpServer::TcpServer(const std::string& host, int port, int send_wait_ms)
     : send_wait_ms_(send_wait_ms) {
@@ -67,6 +70,10 @@ void TcpServer::drop(size_t client) {
   ++dropped_;
 }
 
+void TcpServer::disconnect_all() {
+  while (!clients_.empty()) drop(clients_.size() - 1);
+}
+
 void TcpServer::send_to(size_t client, std::string_view bytes) {
   int error = 0;
   if (!detail::write_all(clients_[client].fd, bytes, true, send_wait_ms_, &error)) drop(client);
@@ -88,6 +95,9 @@ std::vector<std::pair<size_t, std::string>> TcpServer::take_lines() {
     }
     std::string& pending = clients_[i].pending;
     pending.append(bytes.begin(), bytes.end());
+    // A client that sends no lines (binary) must not grow this without bound.
+    if (pending.size() > kMaxPendingBytes && pending.find('\n') == std::string::npos)
+      pending.clear();
     for (size_t end = pending.find('\n'); end != std::string::npos; end = pending.find('\n')) {
       std::string line = pending.substr(0, end);
       if (!line.empty() && line.back() == '\r') line.pop_back();

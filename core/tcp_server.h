@@ -31,6 +31,8 @@ class TcpServer {
   // The complete lines ('\n' ended, '\r' stripped) each client sent since the last call, with the
   // client's index.
   std::vector<std::pair<size_t, std::string>> take_lines();
+  // Closes every client's connection (a device that restarts), counted as dropped.
+  void disconnect_all();
   size_t clients() const { return clients_.size(); }
   uint64_t dropped_clients() const { return dropped_; }
 

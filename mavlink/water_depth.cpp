@@ -56,4 +56,10 @@ double depth_from_pressure_m(double press_abs_hpa, const WaterDepthParams& param
          (params.water_density_kgpm3 * kGravity_mps2);
 }
 
+double pressure_from_depth_hpa(double depth_m, const WaterDepthParams& params) {
+  check_params<WaterDepthParams>(params, kWaterDepthParams, "water depth");
+  return params.surface_pressure_hpa +
+         depth_m * params.water_density_kgpm3 * kGravity_mps2 / kPaPerHpa;
+}
+
 }  // namespace pensight::mavlink

@@ -33,5 +33,7 @@ int water_pressure_index(const VehicleStatus& status, const WaterDepthParams& pa
 // Depth below the surface, m, for an absolute pressure in hPa. Throws pensight::Error naming the
 // key when a parameter is out of its range.
 double depth_from_pressure_m(double press_abs_hpa, const WaterDepthParams& params);
+// The inverse: the absolute pressure in hPa at depth_m (a simulated vehicle's barometer).
+double pressure_from_depth_hpa(double depth_m, const WaterDepthParams& params);
 
 }  // namespace pensight::mavlink

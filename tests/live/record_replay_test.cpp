@@ -1,0 +1,138 @@
+// Record -> replay: a rendered dataset served by the device stand-ins over loopback (camera stream,
+// Water Linked DVL with its clock 3 s off and reports leaving 190 ms after the ping, ArduSub over
+// UDP), recorded by the Recorder, then run through the pipeline, gives the estimates of the
+// rendered dataset run directly; the DVL's samples land within 5 ms of their true host time.
+#include <arpa/inet.h>
+#include <gtest/gtest.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cmath>
+#include <thread>
+
+#include "core/units.h"
+#include "live/device_standins.h"
+#include "live/recorder.h"
+#include "tests/support/rendered_run.h"
+
+namespace pensight::live {
+namespace {
+
+// A UDP port free at the moment (the recorder listens there as it would for BlueOS).
+int free_udp_port() {
+  const int fd = ::socket(AF_INET, SOCK_DGRAM, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  ::bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a);
+  socklen_t len = sizeof a;
+  ::getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len);
+  ::close(fd);
+  return ntohs(a.sin_port);
+}
+
+void expect_same(double recorded, double direct, double tolerance, const char* what, size_t i) {
+  if (std::isnan(direct)) {
+    EXPECT_TRUE(std::isnan(recorded)) << what << " frame " << i;
+  } else {
+    EXPECT_NEAR(recorded, direct, tolerance) << what << " frame " << i;
+  }
+}
+
+TEST(RecordReplay, TheRecordedStandInsGiveTheDirectRunsEstimates) {
+  const testing::RenderedDataset rendered(testing::shipped_scenario("follow.yaml", 3.0));
+  const Dataset& d = rendered.dataset();
+  ASSERT_TRUE(d.dvl0 && d.pressure0 && d.imu0);
+
+  RecordConfig config;
+  config.scene = d.scene;
+  config.camera.uri = parse_camera_uri("tcp://127.0.0.1:0");
+  config.camera.calibration = d.cam0;
+  config.dvl = RecordDvl{};
+  config.dvl->host = "127.0.0.1";
+  config.dvl->port = 0;
+  config.dvl->calibration = d.dvl0->calibration;
+  config.mavlink = RecordMavlink{};
+  config.mavlink->endpoint = "udpin:127.0.0.1:" + std::to_string(free_udp_port());
+  config.mavlink->water_depth.pressure_source = 2;
+  StandInParams p;
+  p.dvl_clock_offset_s = 3.0;
+  p.dvl_delay_s = 0.19;
+  DeviceStandIns standins(d, config, p);
+  config.camera.uri =
+      parse_camera_uri("tcp://127.0.0.1:" + std::to_string(standins.ports().camera));
+  config.dvl->port = standins.ports().dvl;
+
+  std::atomic<bool> stop{false};
+  std::thread serve([&] { standins.run(stop); });
+  const std::filesystem::path rec = rendered.dir() / "rec";
+  {
+    Recorder recorder(config, rec);
+    recorder.run(p.lead_in_s + 3.0 + 0.4, stop);
+    std::printf("%s", recorder.summary_text().c_str());
+  }
+  serve.join();
+
+  const Dataset r = read_dataset(rec);
+  ASSERT_EQ(r.frames.size(), d.frames.size());
+  for (size_t i = 0; i < d.frames.size(); ++i) {
+    ASSERT_EQ(r.load_frame(i).pixels, d.load_frame(i).pixels) << "frame " << i;
+  }
+  // The DVL's time: its clock 3 s ahead and 190 ms of delay removed.
+  ASSERT_TRUE(r.dvl0);
+  ASSERT_EQ(r.dvl0->samples.size(), d.dvl0->samples.size());
+  double worst_ms = 0;
+  for (size_t i = 0; i < d.dvl0->samples.size(); ++i) {
+    const double error_ms =
+        static_cast<double>(r.dvl0->samples[i].timestamp_ns -
+                            standins.host_ns_of(d.dvl0->samples[i].timestamp_ns)) /
+        1e6;
+    worst_ms = std::max(worst_ms, std::abs(error_ms));
+    EXPECT_EQ(r.dvl0->samples[i].valid, d.dvl0->samples[i].valid) << i;
+    if (d.dvl0->samples[i].valid) {
+      EXPECT_LT((r.dvl0->samples[i].velocity_B_mps - d.dvl0->samples[i].velocity_B_mps).norm(),
+                1e-6);
+    }
+  }
+  std::printf("DVL host time error: worst %.3f ms over %zu samples\n", worst_ms,
+              d.dvl0->samples.size());
+  EXPECT_LT(worst_ms, 5.0);
+  ASSERT_TRUE(r.pressure0 && r.imu0);
+  EXPECT_GE(r.pressure0->size(), d.pressure0->size() - 2);
+  EXPECT_GE(r.imu0->size(), d.imu0->size() - 2);
+
+  const testing::RenderedRun direct = rendered.run(d, "direct");
+  const testing::RenderedRun recorded = rendered.run(r, "recorded");
+  ASSERT_EQ(recorded.rows.size(), direct.rows.size());
+  const double angle = deg_to_rad(0.05);
+  double worst_d_mm = 0, worst_angle_deg = 0;
+  for (size_t i = 0; i < direct.rows.size(); ++i) {
+    const EstimateRow &a = recorded.rows[i], &b = direct.rows[i];
+    expect_same(a.d_net_fft_m, b.d_net_fft_m, 1e-3, "d_net_fft", i);
+    expect_same(a.psi_net_fft_rad, b.psi_net_fft_rad, angle, "psi_net_fft", i);
+    expect_same(a.pitch_net_fft_rad, b.pitch_net_fft_rad, angle, "pitch_net_fft", i);
+    expect_same(a.d_net_depth_m, b.d_net_depth_m, 1e-3, "d_net_depth", i);
+    expect_same(a.psi_net_depth_rad, b.psi_net_depth_rad, angle, "psi_net_depth", i);
+    expect_same(a.pitch_net_depth_rad, b.pitch_net_depth_rad, angle, "pitch_net_depth", i);
+    for (const auto& [x, y] :
+         {std::pair{a.d_net_fft_m, b.d_net_fft_m}, {a.d_net_depth_m, b.d_net_depth_m}}) {
+      if (std::isfinite(x) && std::isfinite(y))
+        worst_d_mm = std::max(worst_d_mm, 1e3 * std::abs(x - y));
+    }
+    for (const auto& [x, y] : {std::pair{a.psi_net_fft_rad, b.psi_net_fft_rad},
+                               {a.pitch_net_fft_rad, b.pitch_net_fft_rad},
+                               {a.psi_net_depth_rad, b.psi_net_depth_rad},
+                               {a.pitch_net_depth_rad, b.pitch_net_depth_rad}}) {
+      if (std::isfinite(x) && std::isfinite(y)) {
+        worst_angle_deg = std::max(worst_angle_deg, rad_to_deg(std::abs(x - y)));
+      }
+    }
+  }
+  std::printf("recorded vs direct over %zu frames: distance %.4f mm, angles %.5f deg at worst\n",
+              direct.rows.size(), worst_d_mm, worst_angle_deg);
+}
+
+}  // namespace
+}  // namespace pensight::live
