@@ -13,6 +13,7 @@
 #include "core/atomic_file.h"
 #include "core/file_bytes.h"
 #include "core/params.h"
+#include "live/record_config.h"
 #include "pipeline/dataset/calibration_yaml.h"
 #include "pipeline/depth/depth_estimator.h"
 #include "pipeline/fft/net_detector_params.h"
@@ -62,6 +63,13 @@ std::string parameters_markdown() {
       "\nA leg's `sway_speed_mps` is at most `limits.sway_speed_mps`, `safety.backoff_after_s` "
       "at least `safety.pose_timeout_s`, and `gains.surge_position.kp` and `gains.yaw.kp` are "
       "above 0.\n";
+  doc +=
+      "\n## Live session (`pensight record CONFIG`, `pensight sim-devices`, "
+      "`live/record_config.h`; docs/vehicle.md)\n\n";
+  doc += std::string(kParamTableHeader) + live::record_config_param_rows();
+  doc +=
+      "\nPaths are relative to the file's folder. Without `dvl:` no DVL is read, without "
+      "`mavlink:` no depth or attitude.\n";
 #if PENSIGHT_HAS_MAPPING
   doc += "\n## Occupancy map (`pensight map --config FILE`, `mapping/map_config.h`)\n\n";
   doc += std::string(kParamTableHeader) +
