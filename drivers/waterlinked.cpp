@@ -1,5 +1,6 @@
 #include "drivers/waterlinked.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -402,6 +403,61 @@ std::string waterlinked_json_set_config(const WaterLinkedConfig& c) {
   if (c.range_mode) p["range_mode"] = *c.range_mode;
   if (c.periodic_cycling_enabled) p["periodic_cycling_enabled"] = *c.periodic_cycling_enabled;
   return json{{"command", "set_config"}, {"parameters", p}}.dump() + "\n";
+}
+
+std::string waterlinked_json_velocity(const WaterLinkedVelocity& v) {
+  // JSON has no NaN: an unknown number is left out, or written as the DVL does (0, a beam without
+  // return at -1).
+  const auto number = [](double x, double none) { return std::isfinite(x) ? x : none; };
+  json j = {{"vx", number(v.velocity_mps[0], 0)},
+            {"vy", number(v.velocity_mps[1], 0)},
+            {"vz", number(v.velocity_mps[2], 0)},
+            {"velocity_valid", v.valid},
+            {"status", v.status},
+            {"format", v.format.empty() ? "json_v3.1" : v.format},
+            {"type", v.water_track ? "velocity_water" : "velocity"}};
+  for (const auto& [key, value] : {std::pair{"fom", v.fom_mps},
+                                   {"altitude", v.altitude_m},
+                                   {"time", v.since_last_report_ms}}) {
+    if (std::isfinite(value)) j[key] = value;
+  }
+  if (std::all_of(v.covariance_m2ps2.begin(), v.covariance_m2ps2.end(),
+                  [](double c) { return std::isfinite(c); })) {
+    json rows = json::array();
+    for (size_t r = 0; r < 3; ++r) {
+      rows.push_back({v.covariance_m2ps2[3 * r], v.covariance_m2ps2[3 * r + 1],
+                      v.covariance_m2ps2[3 * r + 2]});
+    }
+    j["covariance"] = rows;
+  }
+  json beams = json::array();
+  for (const WaterLinkedBeam& b : v.beams) {
+    beams.push_back({{"id", b.id},
+                     {"velocity", number(b.velocity_mps, 0)},
+                     {"distance", number(b.distance_m, -1)},
+                     {"rssi", number(b.rssi_dbm, 0)},
+                     {"nsd", number(b.nsd_dbm, 0)},
+                     {"beam_valid", b.valid}});
+  }
+  j["transducers"] = beams;
+  if (v.time_of_validity_us) j["time_of_validity"] = *v.time_of_validity_us;
+  if (v.time_of_transmission_us) j["time_of_transmission"] = *v.time_of_transmission_us;
+  return j.dump() + "\n";
+}
+
+std::optional<std::string> waterlinked_json_command_name(std::string_view line) {
+  const json j = json::parse(line, nullptr, false);
+  if (!j.is_object()) return std::nullopt;
+  const auto c = j.find("command");
+  if (c == j.end() || !c->is_string()) return std::nullopt;
+  return c->get<std::string>();
+}
+
+std::string waterlinked_json_response(std::string_view command, bool success) {
+  return json{{"response_to", command}, {"success", success},    {"error_message", ""},
+              {"result", nullptr},      {"format", "json_v3.1"}, {"type", "response"}}
+             .dump() +
+         "\n";
 }
 
 std::string waterlinked_sentence(std::string_view body) {

@@ -140,6 +140,13 @@ struct WaterLinkedConfig {
 std::string waterlinked_json_command(std::string_view command);
 // {"command":"set_config","parameters":{...}}\n with the parameters that are set.
 std::string waterlinked_json_set_config(const WaterLinkedConfig& config);
+// The DVL's side of the JSON API, for stand-ins (`pensight sim-devices`) and tests:
+// a velocity report (type velocity or velocity_water, format json_v3.1 unless `format` is set) as
+// parse_waterlinked_json reads it back; the command a client's line names (nullopt for a line that
+// is no command object); and the reply to it.
+std::string waterlinked_json_velocity(const WaterLinkedVelocity& report);
+std::optional<std::string> waterlinked_json_command_name(std::string_view line);
+std::string waterlinked_json_response(std::string_view command, bool success);
 // A serial command with its checksum and line end: "<body>*<crc>\n" (e.g. body "wcc").
 std::string waterlinked_sentence(std::string_view body);
 // wcs,[speed],[offset],[acoustic],[dark],[range_mode],[cycling] with the unset fields blank.

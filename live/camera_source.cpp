@@ -12,6 +12,7 @@
 #include "core/error.h"
 #include "core/log.h"
 #include "core/timing.h"
+#include "core/units.h"
 #include "pipeline/dataset/dataset_reader.h"
 
 namespace pensight::live {
@@ -79,10 +80,6 @@ struct CameraSource::State {
 
 namespace {
 
-int64_t seconds_ns(double s) {
-  return static_cast<int64_t>(s * 1e9);
-}
-
 bool open_capture(cv::VideoCapture& cap, const CameraUri& uri, const CameraSourceParams& p) {
   const int timeout_ms = static_cast<int>(p.timeout_s * 1000);
   try {
@@ -134,7 +131,7 @@ void capture_stream(CameraSource::State& s) {
                     format_param_value(s.params.reconnect_s) +
                     " s (check the URI, the cable or the stream's sender)",
                 &CameraCounters::open_failures);
-        if (s.sleep_until(steady_now_ns() + seconds_ns(s.params.reconnect_s))) break;
+        if (s.sleep_until(steady_now_ns() + seconds_to_ns(s.params.reconnect_s))) break;
         continue;
       }
       if (opened_before) {
@@ -171,7 +168,7 @@ void capture_stream(CameraSource::State& s) {
       continue;
     }
     CameraFrame f;
-    f.timestamp_ns = arrival_ns - seconds_ns(s.params.latency_s);
+    f.timestamp_ns = arrival_ns - seconds_to_ns(s.params.latency_s);
     f.image = ImageU8(grey.cols, grey.rows);
     for (int y = 0; y < grey.rows; ++y) {
       const uint8_t* row = grey.ptr<uint8_t>(y);
@@ -192,7 +189,7 @@ void play_dataset(CameraSource::State& s) {
     const int64_t offset_ns = d.frames[i].timestamp_ns - t0;
     if (s.sleep_until(steady_start_ns + offset_ns)) return;
     CameraFrame f;
-    f.timestamp_ns = host_start_ns + offset_ns - seconds_ns(s.params.latency_s);
+    f.timestamp_ns = host_start_ns + offset_ns - seconds_to_ns(s.params.latency_s);
     try {
       f.image = d.load_frame(i);
     } catch (const Error& e) {
@@ -240,7 +237,7 @@ CameraSource::~CameraSource() {
   // A read has its own timeout on FFmpeg; V4L2 and GStreamer reads may not: the thread (which
   // holds the state) is then left to end on its own.
   const bool done = state_->changed.wait_for(
-      lock, std::chrono::nanoseconds(seconds_ns(state_->params.timeout_s + 1.0)),
+      lock, std::chrono::nanoseconds(seconds_to_ns(state_->params.timeout_s + 1.0)),
       [&] { return state_->thread_done; });
   lock.unlock();
   if (done) {
@@ -252,7 +249,7 @@ CameraSource::~CameraSource() {
 
 std::optional<CameraFrame> CameraSource::take(double timeout_s) {
   std::unique_lock lock(state_->mutex);
-  state_->changed.wait_for(lock, std::chrono::nanoseconds(seconds_ns(timeout_s)),
+  state_->changed.wait_for(lock, std::chrono::nanoseconds(seconds_to_ns(timeout_s)),
                            [&] { return state_->newest.has_value() || state_->finished; });
   if (!state_->newest) return std::nullopt;
   std::optional<CameraFrame> out = std::move(state_->newest);

@@ -1,14 +1,16 @@
 #include "live/device_standins.h"
 
 #include <algorithm>
+#include <charconv>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <thread>
 
 #include "core/error.h"
 #include "core/tcp_server.h"
 #include "core/timing.h"
+#include "core/units.h"
+#include "drivers/waterlinked.h"
 #include "mavlink/endpoint.h"
 #include "mavlink/messages.h"
 #include "mavlink/water_depth.h"
@@ -19,7 +21,7 @@ namespace {
 enum class Event { kFrame, kDvl, kPressure, kAttitude, kHeartbeat };
 
 struct Scheduled {
-  int64_t offset_ns;
+  int64_t offset_ns;  // from the first sample (its dataset time while the schedule is built)
   Event event;
   size_t index;
 };
@@ -34,48 +36,40 @@ std::pair<std::string, int> tcp_address(const CameraUri& uri) {
   const std::string rest = uri.target.substr(
       prefix.size(), uri.target.find_first_of("/?", prefix.size()) - prefix.size());
   const size_t colon = rest.rfind(':');
-  if (colon == std::string::npos) throw Error("camera uri '" + uri.text + "' has no port");
-  return {rest.substr(0, colon), std::stoi(rest.substr(colon + 1))};
-}
-
-std::string format_double(double v) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.9g", v);
-  return text;
-}
-
-// A Water Linked velocity report (json_v3.1) of one dataset sample, on the DVL's clock.
-std::string velocity_report(const DvlSample& s, const DvlCalibration& calib, int64_t validity_us,
-                            int64_t transmission_us) {
-  const Eigen::Matrix3d R_S_B = calib.T_body_dvl.linear().transpose();
-  const bool valid = s.valid && s.velocity_B_mps.allFinite();
-  const Eigen::Vector3d v_S =
-      valid ? Eigen::Vector3d(R_S_B * s.velocity_B_mps) : Eigen::Vector3d::Zero();
-  std::string j = "{\"time\":100.0,\"vx\":" + format_double(v_S.x()) +
-                  ",\"vy\":" + format_double(v_S.y()) + ",\"vz\":" + format_double(v_S.z()) +
-                  ",\"fom\":0.002,\"altitude\":1.0,\"transducers\":[";
-  for (size_t b = 0; b < 4; ++b) {
-    const double r = s.beam_range_m[b];
-    const bool beam = std::isfinite(r) && r >= 0;
-    j += (b ? "," : "") + std::string("{\"id\":") + std::to_string(b) +
-         ",\"velocity\":0.0,\"distance\":" + (beam ? format_double(r) : "-1.0") +
-         ",\"rssi\":-30.0,\"nsd\":-95.0,\"beam_valid\":" + (beam ? "true" : "false") + "}";
+  int port = -1;
+  const char* end = rest.data() + rest.size();
+  if (colon == std::string::npos ||
+      std::from_chars(rest.data() + colon + 1, end, port).ptr != end || port < 0 || port > 65535) {
+    throw Error("camera uri '" + uri.text + "': no port 0-65535 after the host (tcp://HOST:PORT)");
   }
-  j += "],\"velocity_valid\":" + std::string(valid ? "true" : "false") +
-       ",\"status\":0,\"format\":\"json_v3.1\",\"type\":\"velocity\",\"time_of_validity\":" +
-       std::to_string(validity_us) +
-       ",\"time_of_transmission\":" + std::to_string(transmission_us) + "}\n";
-  return j;
+  return {rest.substr(0, colon), port};
 }
 
-// The command a client's JSON line names ({"command":"NAME",...}), or empty.
-std::string command_of(const std::string& line) {
-  const std::string key = "\"command\":\"";
-  const size_t at = line.find(key);
-  if (at == std::string::npos) return "";
-  const size_t start = at + key.size();
-  const size_t end = line.find('"', start);
-  return end == std::string::npos ? "" : line.substr(start, end - start);
+// The Water Linked report of one dataset sample: its velocity back in the DVL's frame, its beams'
+// distances, the ping's time of validity and the report's transmission on the DVL's clock.
+drivers::WaterLinkedVelocity velocity_report(const DvlSample& s, const DvlCalibration& calib,
+                                             int64_t validity_us, int64_t transmission_us) {
+  drivers::WaterLinkedVelocity v;
+  v.valid = s.valid && s.velocity_B_mps.allFinite();
+  if (v.valid) {
+    const Eigen::Vector3d v_S = calib.T_body_dvl.linear().transpose() * s.velocity_B_mps;
+    v.velocity_mps = {v_S.x(), v_S.y(), v_S.z()};
+  }
+  v.fom_mps = 0.002;
+  v.altitude_m = 1.0;
+  v.since_last_report_ms = 100.0;
+  for (size_t b = 0; b < s.beam_range_m.size(); ++b) {
+    drivers::WaterLinkedBeam beam;
+    beam.id = static_cast<int>(b);
+    beam.distance_m = s.beam_range_m[b];
+    beam.rssi_dbm = -30;
+    beam.nsd_dbm = -95;
+    beam.valid = std::isfinite(beam.distance_m) && beam.distance_m >= 0;
+    v.beams.push_back(beam);
+  }
+  v.time_of_validity_us = validity_us;
+  v.time_of_transmission_us = transmission_us;
+  return v;
 }
 
 }  // namespace
@@ -107,12 +101,10 @@ struct DeviceStandIns::Impl {
     if (dvl) {
       dvl->accept_new();
       for (const auto& [client, line] : dvl->take_lines()) {
-        const std::string command = command_of(line);
-        if (command.empty() || client >= dvl->clients()) continue;
+        const std::optional<std::string> command = drivers::waterlinked_json_command_name(line);
+        if (!command || client >= dvl->clients()) continue;
         ++counters.commands;
-        dvl->send_to(client, "{\"response_to\":\"" + command +
-                                 "\",\"success\":true,\"error_message\":\"\",\"result\":null,"
-                                 "\"format\":\"json_v3.1\",\"type\":\"response\"}\n");
+        dvl->send_to(client, drivers::waterlinked_json_response(*command, true));
       }
     }
     if (link) {
@@ -123,6 +115,15 @@ struct DeviceStandIns::Impl {
       link_server->accept_new();
       link_server->take_lines();
     }
+  }
+
+  // Answers clients until the steady clock reaches deadline_ns; false when `stop` came first.
+  bool serve_until(int64_t deadline_ns, const std::atomic<bool>& stop) {
+    while (!stop.load() && steady_now_ns() < deadline_ns) {
+      service_clients();
+      std::this_thread::sleep_for(std::chrono::microseconds(500));
+    }
+    return !stop.load();
   }
 
   template <class M>
@@ -137,15 +138,14 @@ struct DeviceStandIns::Impl {
   }
 
   uint32_t boot_ms(int64_t offset_ns) const {
-    return static_cast<uint32_t>((offset_ns + static_cast<int64_t>(params.boot_offset_s * 1e9)) /
-                                 1'000'000);
+    return static_cast<uint32_t>((offset_ns + seconds_to_ns(params.boot_offset_s)) / 1'000'000);
   }
 
   void send(const Scheduled& e, int64_t play_start_ns) {
     switch (e.event) {
       case Event::kFrame: {
         if (!camera) return;
-        const double at_s = static_cast<double>(e.offset_ns) / 1e9;
+        const double at_s = ns_to_seconds(e.offset_ns);
         if (at_s >= params.camera_pause_at_s &&
             at_s < params.camera_pause_at_s + params.camera_pause_s)
           return;
@@ -160,12 +160,11 @@ struct DeviceStandIns::Impl {
         if (!dvl) return;
         // The ping's own time (the report leaves dvl_delay_s later, at the event's time).
         const DvlSample& sample = dataset.dvl0->samples[e.index];
-        const int64_t validity_ns = play_start_ns + (sample.timestamp_ns - t0) +
-                                    static_cast<int64_t>(params.dvl_clock_offset_s * 1e9);
-        const int64_t transmission_ns =
-            validity_ns + static_cast<int64_t>(params.dvl_delay_s * 1e9);
-        dvl->broadcast(velocity_report(sample, dataset.dvl0->calibration, validity_ns / 1000,
-                                       transmission_ns / 1000));
+        const int64_t validity_ns =
+            play_start_ns + (sample.timestamp_ns - t0) + seconds_to_ns(params.dvl_clock_offset_s);
+        const int64_t transmission_ns = validity_ns + seconds_to_ns(params.dvl_delay_s);
+        dvl->broadcast(drivers::waterlinked_json_velocity(velocity_report(
+            sample, dataset.dvl0->calibration, validity_ns / 1000, transmission_ns / 1000)));
         ++counters.dvl_reports;
         return;
       }
@@ -257,72 +256,62 @@ DeviceStandIns::~DeviceStandIns() = default;
 void DeviceStandIns::run(const std::atomic<bool>& stop, double linger_s) {
   Impl& m = *impl_;
   const Dataset& d = m.dataset;
+  // Every sample at its dataset time, then as offsets from the first: a DVL report leaves
+  // dvl_delay_s after its ping; heartbeats every second.
   std::vector<Scheduled> events;
-  int64_t& t0 = m.t0;
-  t0 = d.frames.front().timestamp_ns;
-  if (m.dvl) t0 = std::min(t0, d.dvl0->samples.empty() ? t0 : d.dvl0->samples.front().timestamp_ns);
-  const bool vehicle = m.link || m.link_server;
-  if (vehicle && d.pressure0 && !d.pressure0->empty())
-    t0 = std::min(t0, d.pressure0->front().timestamp_ns);
-  if (vehicle && d.imu0 && !d.imu0->empty()) t0 = std::min(t0, d.imu0->front().timestamp_ns);
-  for (size_t i = 0; i < d.frames.size(); ++i)
-    events.push_back({d.frames[i].timestamp_ns - t0, Event::kFrame, i});
+  for (size_t i = 0; i < d.frames.size(); ++i) {
+    events.push_back({d.frames[i].timestamp_ns, Event::kFrame, i});
+  }
   if (m.dvl) {
     for (size_t i = 0; i < d.dvl0->samples.size(); ++i) {
-      events.push_back(
-          {d.dvl0->samples[i].timestamp_ns - t0 + static_cast<int64_t>(m.params.dvl_delay_s * 1e9),
-           Event::kDvl, i});
+      events.push_back({d.dvl0->samples[i].timestamp_ns, Event::kDvl, i});
     }
   }
-  if (vehicle) {
-    if (d.pressure0) {
-      for (size_t i = 0; i < d.pressure0->size(); ++i)
-        events.push_back({(*d.pressure0)[i].timestamp_ns - t0, Event::kPressure, i});
-    }
-    if (d.imu0) {
-      for (size_t i = 0; i < d.imu0->size(); ++i)
-        events.push_back({(*d.imu0)[i].timestamp_ns - t0, Event::kAttitude, i});
+  const bool vehicle = m.link || m.link_server;
+  if (vehicle && d.pressure0) {
+    for (size_t i = 0; i < d.pressure0->size(); ++i) {
+      events.push_back({(*d.pressure0)[i].timestamp_ns, Event::kPressure, i});
     }
   }
+  if (vehicle && d.imu0) {
+    for (size_t i = 0; i < d.imu0->size(); ++i) {
+      events.push_back({(*d.imu0)[i].timestamp_ns, Event::kAttitude, i});
+    }
+  }
+  m.t0 = std::min_element(events.begin(), events.end(), [](const Scheduled& a, const Scheduled& b) {
+           return a.offset_ns < b.offset_ns;
+         })->offset_ns;
   int64_t end_ns = 0;
-  for (const Scheduled& e : events) end_ns = std::max(end_ns, e.offset_ns);
+  for (Scheduled& e : events) {
+    e.offset_ns -= m.t0;
+    if (e.event == Event::kDvl) e.offset_ns += seconds_to_ns(m.params.dvl_delay_s);
+    end_ns = std::max(end_ns, e.offset_ns);
+  }
   if (vehicle) {
-    for (int64_t t = 0; t <= end_ns; t += 1'000'000'000)
+    for (int64_t t = 0; t <= end_ns; t += 1'000'000'000) {
       events.push_back({t, Event::kHeartbeat, 0});
+    }
   }
   std::stable_sort(events.begin(), events.end(), [](const Scheduled& a, const Scheduled& b) {
     return a.offset_ns < b.offset_ns;
   });
 
-  const int64_t lead_in_end = steady_now_ns() + static_cast<int64_t>(m.params.lead_in_s * 1e9);
-  while (!stop.load() && steady_now_ns() < lead_in_end) {
-    m.service_clients();
-    std::this_thread::sleep_for(std::chrono::milliseconds(1));
-  }
+  m.serve_until(steady_now_ns() + seconds_to_ns(m.params.lead_in_s), stop);
   const int64_t host_start_ns = host_now_ns();
   const int64_t steady_start_ns = steady_now_ns();
   m.host_start_ns.store(host_start_ns);
-  const int64_t disconnect_ns = m.params.dvl_disconnect_at_s < 0
-                                    ? -1
-                                    : static_cast<int64_t>(m.params.dvl_disconnect_at_s * 1e9);
+  const int64_t disconnect_ns =
+      m.params.dvl_disconnect_at_s < 0 ? -1 : seconds_to_ns(m.params.dvl_disconnect_at_s);
   bool disconnected = false;
   for (const Scheduled& e : events) {
-    while (!stop.load() && steady_now_ns() - steady_start_ns < e.offset_ns) {
-      m.service_clients();
-      std::this_thread::sleep_for(std::chrono::microseconds(500));
-    }
-    if (stop.load()) return;
+    if (!m.serve_until(steady_start_ns + e.offset_ns, stop)) return;
     if (!disconnected && disconnect_ns >= 0 && e.offset_ns >= disconnect_ns && m.dvl) {
       m.dvl->disconnect_all();
       disconnected = true;
     }
     m.send(e, host_start_ns);
   }
-  const int64_t linger_end = steady_now_ns() + static_cast<int64_t>(linger_s * 1e9);
-  while (!stop.load() && steady_now_ns() < linger_end) {
-    m.service_clients();
-    std::this_thread::sleep_for(std::chrono::milliseconds(1));
-  }
+  m.serve_until(steady_now_ns() + seconds_to_ns(linger_s), stop);
 }
 
 DeviceStandIns::Ports DeviceStandIns::ports() const {

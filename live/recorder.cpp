@@ -6,6 +6,7 @@
 #include "core/error.h"
 #include "core/log.h"
 #include "core/timing.h"
+#include "core/units.h"
 #include "drivers/nucleus_dvl.h"
 #include "drivers/waterlinked_dvl.h"
 #include "mavlink/messages.h"
@@ -201,8 +202,7 @@ std::vector<SourceSummary> Recorder::summary() const {
 }
 
 std::string Recorder::summary_text() const {
-  const double length_s =
-      static_cast<double>(sources_->end_steady_ns - sources_->start_steady_ns) / 1e9;
+  const double length_s = seconds_between(sources_->start_steady_ns, sources_->end_steady_ns);
   std::string text = "recorded " + format_param_value(length_s) + " s\n";
   for (const SourceSummary& s : summary()) {
     char rate[32];
@@ -213,7 +213,7 @@ std::string Recorder::summary_text() const {
     if (s.clock_offset_ns) {
       char offset[48];
       std::snprintf(offset, sizeof offset, ", host - device clock %.6f s",
-                    static_cast<double>(*s.clock_offset_ns) / 1e9);
+                    ns_to_seconds(*s.clock_offset_ns));
       text += offset;
     }
     text += "; " + s.faults + "\n";

@@ -296,6 +296,46 @@ TEST(WaterLinkedCommands, JsonAndSerialCommandsReadBackAsTheDvlDoes) {
   }());
 }
 
+// The DVL's side (the stand-ins'): the documented report written back reads as the original; a
+// report without lock and a beam without return keep no NaN on the wire; commands are answered.
+TEST(WaterLinkedJson, ReportsAndRepliesWrittenAsTheDvlReadBack) {
+  const WaterLinkedVelocity v = only<WaterLinkedVelocity>(parse_waterlinked_json(kVelocityReport));
+  const WaterLinkedVelocity back =
+      only<WaterLinkedVelocity>(parse_waterlinked_json(waterlinked_json_velocity(v)));
+  EXPECT_EQ(back.velocity_mps, v.velocity_mps);
+  EXPECT_EQ(back.valid, v.valid);
+  EXPECT_EQ(back.fom_mps, v.fom_mps);
+  EXPECT_EQ(back.covariance_m2ps2, v.covariance_m2ps2);
+  EXPECT_EQ(back.altitude_m, v.altitude_m);
+  ASSERT_EQ(back.beams.size(), v.beams.size());
+  for (size_t b = 0; b < v.beams.size(); ++b) {
+    EXPECT_EQ(back.beams[b].id, v.beams[b].id);
+    EXPECT_EQ(back.beams[b].distance_m, v.beams[b].distance_m);
+    EXPECT_EQ(back.beams[b].valid, v.beams[b].valid);
+  }
+  EXPECT_EQ(back.time_of_validity_us, v.time_of_validity_us);
+  EXPECT_EQ(back.time_of_transmission_us, v.time_of_transmission_us);
+  EXPECT_EQ(back.format, "json_v3.2");
+
+  WaterLinkedVelocity lost;
+  lost.beams.push_back({});
+  lost.beams[0].id = 1;
+  const std::string line = waterlinked_json_velocity(lost);
+  EXPECT_EQ(line.find("null"), std::string::npos) << line;
+  const WaterLinkedVelocity lost_back = only<WaterLinkedVelocity>(parse_waterlinked_json(line));
+  EXPECT_FALSE(lost_back.valid);
+  EXPECT_FALSE(lost_back.beams.at(0).valid);
+  EXPECT_EQ(lost_back.format, "json_v3.1");
+
+  EXPECT_EQ(waterlinked_json_command_name(waterlinked_json_set_config({})), "set_config");
+  EXPECT_EQ(waterlinked_json_command_name("{\"command\": 3}"), std::nullopt);
+  EXPECT_EQ(waterlinked_json_command_name("not json"), std::nullopt);
+  const WaterLinkedResponse r = only<WaterLinkedResponse>(
+      parse_waterlinked_json(waterlinked_json_response("calibrate_gyro", true)));
+  EXPECT_EQ(r.response_to, "calibrate_gyro");
+  EXPECT_TRUE(r.success);
+}
+
 TEST(WaterLinkedDvlSample, VelocityIntoTheBodyAndBeamsByTheirIds) {
   WaterLinkedVelocity v = only<WaterLinkedVelocity>(parse_waterlinked_json(kVelocityReport));
   v.velocity_mps = {0.3, -0.1, 0.05};

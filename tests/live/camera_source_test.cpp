@@ -153,6 +153,23 @@ TEST_F(CameraSourceTest, FramesOfTheWrongSizeAreSkippedAndSaid) {
       << camera.last_error();
 }
 
+TEST_F(CameraSourceTest, TheStandInsNameACameraAddressTheyCannotServe) {
+  const Dataset d = make_dataset(1);
+  RecordConfig c = camera_only(d);
+  for (const char* uri : {"tcp://127.0.0.1:x", "tcp://127.0.0.1", "tcp://127.0.0.1:70000"}) {
+    c.camera.uri = parse_camera_uri(uri);
+    try {
+      DeviceStandIns standins(d, c);
+      ADD_FAILURE() << uri << " was accepted";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("no port 0-65535 after the host"), std::string::npos)
+          << e.what();
+    }
+  }
+  c.camera.uri = parse_camera_uri("v4l2:/dev/video0");
+  EXPECT_THROW(DeviceStandIns(d, c), Error);
+}
+
 // A dataset played at its own pace to a consumer that takes every third frame: the others are
 // dropped, never queued.
 TEST_F(CameraSourceTest, ASlowConsumerGetsTheNewestFrameAndDropsAreCounted) {
