@@ -4,27 +4,16 @@
 // up to its last complete row.
 #include <CLI/CLI.hpp>
 
-#include <atomic>
 #include <cmath>
-#include <csignal>
 #include <cstdio>
 #include <limits>
 
 #include "apps/command.h"
+#include "apps/stop_signal.h"
 #include "live/record_config.h"
 #include "live/recorder.h"
 
 namespace pensight::app {
-namespace {
-
-std::atomic<bool> g_stop_recording{false};
-
-extern "C" void stop_recording(int) {
-  g_stop_recording.store(true);
-}
-
-}  // namespace
-
 int cmd_record(const Args& args) {
   CLI::App cli("Record the live camera, DVL and autopilot a CONFIG names into a dataset",
                "pensight record");
@@ -41,12 +30,10 @@ int cmd_record(const Args& args) {
   }
   const live::RecordConfig config = live::read_record_config(config_file);
   live::Recorder recorder(config, out_dir);
-  std::signal(SIGINT, stop_recording);
-  std::signal(SIGTERM, stop_recording);
   std::printf("recording %s into %s%s\n", config.camera.uri.text.c_str(), out_dir.c_str(),
               std::isinf(duration_s) ? " until Ctrl-C" : "");
   std::fflush(stdout);
-  recorder.run(duration_s, g_stop_recording);
+  recorder.run(duration_s, stop_on_signals());
   std::printf("%s", recorder.summary_text().c_str());
   return 0;
 }

@@ -3,25 +3,14 @@
 // real time, so that `pensight record CONFIG.yaml` beside it runs without the hardware.
 #include <CLI/CLI.hpp>
 
-#include <atomic>
-#include <csignal>
 #include <cstdio>
 
 #include "apps/command.h"
+#include "apps/stop_signal.h"
 #include "live/device_standins.h"
 #include "live/record_config.h"
 
 namespace pensight::app {
-namespace {
-
-std::atomic<bool> g_stop_standins{false};
-
-extern "C" void stop_standins(int) {
-  g_stop_standins.store(true);
-}
-
-}  // namespace
-
 int cmd_sim_devices(const Args& args) {
   CLI::App cli(
       "Serve a dataset as live devices (camera stream, Water Linked DVL, ArduSub) on the "
@@ -47,11 +36,9 @@ int cmd_sim_devices(const Args& args) {
   const Dataset dataset = read_dataset(dataset_dir);
   const live::RecordConfig config = live::read_record_config(config_file);
   live::DeviceStandIns standins(dataset, config, p);
-  std::signal(SIGINT, stop_standins);
-  std::signal(SIGTERM, stop_standins);
   std::printf("serving %s at the addresses of %s\n", dataset_dir.c_str(), config_file.c_str());
   std::fflush(stdout);
-  standins.run(g_stop_standins);
+  standins.run(stop_on_signals());
   const live::StandInCounters c = standins.counters();
   std::printf(
       "served %llu frames, %llu DVL reports, %llu attitudes, %llu pressures\n",

@@ -34,6 +34,21 @@ std::string link_faults(const ByteLinkCounters& c) {
          ", idle timeouts " + std::to_string(c.idle_timeouts);
 }
 
+// The link and mounting a DVL driver's config shares with every other (both drivers' configs
+// have these members).
+template <class DriverConfig>
+DriverConfig driver_config(const RecordDvl& d) {
+  DriverConfig c;
+  c.host = d.host;
+  c.port = d.port;
+  c.serial_device = d.serial_device;
+  c.serial = d.serial;
+  c.R_B_S = d.calibration.T_body_dvl.linear();
+  c.tcp = d.tcp;
+  c.clock = d.clock;
+  return c;
+}
+
 // A sensor log's writing: time order kept, the latest clock offset remembered.
 template <class Sample>
 void write_sample(const Sample& s, int64_t& last_ns, SourceSummary& summary, auto&& add) {
@@ -70,30 +85,13 @@ struct Recorder::Sources {
       : config(c),
         writer(out, contents_of(c), DatasetWriteMode::kStreaming),
         camera(c.camera.uri, c.camera.calibration.camera, c.camera.source) {
-    if (c.dvl) {
-      const Eigen::Matrix3d R_B_S = c.dvl->calibration.T_body_dvl.linear();
-      if (c.dvl->kind == DvlKind::kWaterLinked) {
-        drivers::WaterLinkedDvlConfig w;
-        w.host = c.dvl->host;
-        w.port = c.dvl->port;
-        w.serial_device = c.dvl->serial_device;
-        w.serial = c.dvl->serial;
-        w.R_B_S = R_B_S;
-        if (c.dvl->dark_mode) w.set_config.dark_mode_enabled = true;
-        w.tcp = c.dvl->tcp;
-        w.clock = c.dvl->clock;
-        waterlinked = std::make_unique<drivers::WaterLinkedDvl>(w);
-      } else {
-        drivers::NucleusDvlConfig n;
-        n.host = c.dvl->host;
-        n.port = c.dvl->port;
-        n.serial_device = c.dvl->serial_device;
-        n.serial = c.dvl->serial;
-        n.R_B_S = R_B_S;
-        n.tcp = c.dvl->tcp;
-        n.clock = c.dvl->clock;
-        nucleus = std::make_unique<drivers::NucleusDvl>(n);
-      }
+    if (c.dvl && c.dvl->kind == DvlKind::kWaterLinked) {
+      drivers::WaterLinkedDvlConfig w = driver_config<drivers::WaterLinkedDvlConfig>(*c.dvl);
+      if (c.dvl->dark_mode) w.set_config.dark_mode_enabled = true;
+      waterlinked = std::make_unique<drivers::WaterLinkedDvl>(w);
+    } else if (c.dvl) {
+      nucleus =
+          std::make_unique<drivers::NucleusDvl>(driver_config<drivers::NucleusDvlConfig>(*c.dvl));
     }
     if (c.mavlink) {
       mavlink::LinkConfig l;
