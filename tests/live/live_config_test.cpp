@@ -9,19 +9,11 @@
 #include "live/camera_uri.h"
 #include "live/record_config.h"
 #include "pipeline/dataset/calibration_yaml.h"
+#include "tests/support/error_message.h"
 
 namespace pensight::live {
 namespace {
 namespace fs = std::filesystem;
-
-std::string error_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
 
 TEST(CameraUri, EveryFormAndItsTarget) {
   EXPECT_EQ(parse_camera_uri("v4l2:/dev/video0").kind, CameraUriKind::kV4l2);
@@ -45,16 +37,19 @@ TEST(CameraUri, EveryFormAndItsTarget) {
 }
 
 TEST(CameraUri, MistakesAreNamedWithTheAcceptedForms) {
-  EXPECT_NE(error_of([] { parse_camera_uri(""); }).find("empty (accepted: v4l2:"),
+  EXPECT_NE(testing::error_message([] { parse_camera_uri(""); }).find("empty (accepted: v4l2:"),
+            std::string::npos);
+  EXPECT_NE(testing::error_message([] {
+              parse_camera_uri("gst:videotestsrc ! fakesink");
+            }).find("must end in appsink"),
+            std::string::npos);
+  EXPECT_NE(testing::error_message([] { parse_camera_uri("usb:0"); }).find("unknown scheme 'usb:'"),
             std::string::npos);
   EXPECT_NE(
-      error_of([] { parse_camera_uri("gst:videotestsrc ! fakesink"); }).find("must end in appsink"),
+      testing::error_message([] { parse_camera_uri("dataset:"); }).find("nothing after 'dataset:'"),
       std::string::npos);
-  EXPECT_NE(error_of([] { parse_camera_uri("usb:0"); }).find("unknown scheme 'usb:'"),
+  EXPECT_NE(testing::error_message([] { parse_camera_uri("rtsp://"); }).find("no address"),
             std::string::npos);
-  EXPECT_NE(error_of([] { parse_camera_uri("dataset:"); }).find("nothing after 'dataset:'"),
-            std::string::npos);
-  EXPECT_NE(error_of([] { parse_camera_uri("rtsp://"); }).find("no address"), std::string::npos);
 }
 
 class RecordConfigTest : public ::testing::Test {
@@ -124,26 +119,29 @@ TEST_F(RecordConfigTest, DvlAndLinkSectionsWithTheKindsDefaults) {
 }
 
 TEST_F(RecordConfigTest, MistakesNameTheFileAndKey) {
-  EXPECT_NE(error_of([&] {
+  EXPECT_NE(testing::error_message([&] {
               parse(std::string(kMinimal) + "dvl:\n  kind: a50\n");
             }).find("'a50' is not a DVL kind; use waterlinked or nucleus"),
             std::string::npos);
-  EXPECT_NE(error_of([&] {
+  EXPECT_NE(testing::error_message([&] {
               parse(std::string(kMinimal) + "mavlink:\n  endpoint: serial:/dev/x\n");
             }).find("mavlink.endpoint"),
             std::string::npos);
-  EXPECT_NE(error_of([&] {
+  EXPECT_NE(testing::error_message([&] {
               parse(std::string(kMinimal) + "  latency_s: -1\n");
             }).find("camera.latency_s"),
             std::string::npos);
-  EXPECT_NE(error_of([&] { parse(std::string(kMinimal) + "  exposure: 3\n"); }).find("exposure"),
+  EXPECT_NE(testing::error_message([&] {
+              parse(std::string(kMinimal) + "  exposure: 3\n");
+            }).find("exposure"),
             std::string::npos);
-  const std::string missing = error_of([&] {
+  const std::string missing = testing::error_message([&] {
     parse("scene: calib/scene.yaml\ncamera:\n  uri: v4l2:0\n  calibration: calib/nope.yaml\n");
   });
   EXPECT_NE(missing.find("camera.calibration"), std::string::npos) << missing;
   EXPECT_NE(missing.find("nope.yaml"), std::string::npos) << missing;
-  EXPECT_NE(error_of([&] { parse("camera:\n  uri: v4l2:0\n"); }).find("scene"), std::string::npos);
+  EXPECT_NE(testing::error_message([&] { parse("camera:\n  uri: v4l2:0\n"); }).find("scene"),
+            std::string::npos);
 }
 
 TEST(RecordConfigDoc, EveryKeyHasARow) {

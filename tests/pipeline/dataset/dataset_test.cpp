@@ -22,6 +22,7 @@
 #include "pipeline/dataset/global_pose_csv.h"
 #include "pipeline/dataset/png_io.h"
 #include "pipeline/dataset/trajectory_tum.h"
+#include "tests/support/error_message.h"
 #include "tests/support/vulkan_fixture.h"
 
 namespace pensight {
@@ -79,15 +80,6 @@ void write_file(const fs::path& p, const std::string& text) {
 
 std::string read_file(const fs::path& p) {
   return read_file_bytes(p).value_or("(missing)");
-}
-
-std::string error_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "(no error)";
 }
 
 // Captures log messages for the duration of a test, one per line.
@@ -255,7 +247,7 @@ TEST_F(DatasetTest, StreamingWriterLeavesAReadableDatasetWithoutFinish) {
     EXPECT_NE(e.path().filename().string().front(), '.') << e.path();
   }
   // A recording is never written over: not even an earlier one.
-  EXPECT_NE(error_of([&] {
+  EXPECT_NE(testing::error_message([&] {
               DatasetWriter(dir_ / "rec", c, DatasetWriteMode::kStreaming);
             }).find("exists and is not empty"),
             std::string::npos);
@@ -293,7 +285,9 @@ TEST_F(DatasetTest, ReplacesAnEarlierDatasetButNoOtherFolder) {
   EXPECT_EQ(read_dataset(dir_ / "seq").frames.at(0).timestamp_ns, 11);
   fs::create_directories(dir_ / "photos");
   write_file(dir_ / "photos" / "holiday.jpg", "x");
-  EXPECT_NE(error_of([&] { DatasetWriter(dir_ / "photos", contents()); }).find("not a dataset"),
+  EXPECT_NE(testing::error_message([&] {
+              DatasetWriter(dir_ / "photos", contents());
+            }).find("not a dataset"),
             std::string::npos);
   EXPECT_TRUE(fs::exists(dir_ / "photos" / "holiday.jpg"));
 }
@@ -301,11 +295,13 @@ TEST_F(DatasetTest, ReplacesAnEarlierDatasetButNoOtherFolder) {
 TEST_F(DatasetTest, WriterRefusesWrongSizeAndTimeOrder) {
   DatasetWriter w(dir_ / "seq", contents());
   std::mt19937_64 rng(3);
-  EXPECT_NE(error_of([&] { w.add_frame(5, random_frame(rng, 35, 27)); }).find("35x27"),
-            std::string::npos);
+  EXPECT_NE(
+      testing::error_message([&] { w.add_frame(5, random_frame(rng, 35, 27)); }).find("35x27"),
+      std::string::npos);
   w.add_frame(5, random_frame(rng, 36, 27));
-  EXPECT_NE(error_of([&] { w.add_frame(5, random_frame(rng, 36, 27)); }).find("increase"),
-            std::string::npos);
+  EXPECT_NE(
+      testing::error_message([&] { w.add_frame(5, random_frame(rng, 36, 27)); }).find("increase"),
+      std::string::npos);
 }
 
 class DatasetFilesTest : public DatasetTest {
@@ -334,32 +330,35 @@ TEST_F(DatasetFilesTest, MissingSensorFolderMeansAbsentSensor) {
 }
 
 TEST_F(DatasetFilesTest, MissingFolderOrSensorYamlIsNamed) {
-  EXPECT_NE(error_of([&] { read_dataset(dir_ / "nope"); }).find("nope"), std::string::npos);
+  EXPECT_NE(testing::error_message([&] { read_dataset(dir_ / "nope"); }).find("nope"),
+            std::string::npos);
   fs::remove(root_ / "cam0" / "sensor.yaml");
-  EXPECT_NE(error_of([&] { read_dataset(root_); }).find("cam0/sensor.yaml"), std::string::npos);
+  EXPECT_NE(testing::error_message([&] { read_dataset(root_); }).find("cam0/sensor.yaml"),
+            std::string::npos);
 }
 
 TEST_F(DatasetFilesTest, BadYamlAndMissingKeysAreNamed) {
   const fs::path scene = root_ / "scene.yaml";
   write_file(scene, "net_mesh_size_m: [0.03\npen_radius_m: 12\n");
-  EXPECT_NE(error_of([&] { read_dataset(root_); }).find("not valid YAML"), std::string::npos);
+  EXPECT_NE(testing::error_message([&] { read_dataset(root_); }).find("not valid YAML"),
+            std::string::npos);
   write_file(scene, "net_mesh_size_m: 0.03\n");
-  std::string e = error_of([&] { read_dataset(root_); });
+  std::string e = testing::error_message([&] { read_dataset(root_); });
   EXPECT_NE(e.find("'pen_radius_m': missing"), std::string::npos) << e;
   write_file(scene, "net_mesh_size_m: -0.03\npen_radius_m: 12\n");
-  e = error_of([&] { read_dataset(root_); });
+  e = testing::error_message([&] { read_dataset(root_); });
   EXPECT_NE(e.find("scene.yaml: key 'net_mesh_size_m': -0.03 is outside > 0 m (bar length"),
             std::string::npos)
       << e;
   write_file(scene, "net_mesh_size_m: 0.03\npen_radius_m: 12\nnet_mesh_type: hexagonal\n");
-  e = error_of([&] { read_dataset(root_); });
+  e = testing::error_message([&] { read_dataset(root_); });
   EXPECT_NE(e.find("'net_mesh_type': 'hexagonal' is not a mesh type"), std::string::npos) << e;
   write_file(scene, "net_mesh_size_m: 0.03\npen_radius_m: 12\nnet_mesh_angle_deg: 170\n");
-  e = error_of([&] { read_dataset(root_); });
+  e = testing::error_message([&] { read_dataset(root_); });
   EXPECT_NE(e.find("'net_mesh_angle_deg': 170 is outside 30 to 150 deg"), std::string::npos) << e;
   write_file(scene, "net_mesh_size_m: 0.03\npen_radius_m: 12\n");
   write_file(root_ / "cam0" / "sensor.yaml", "sensor_type: camera\nrate_hz: 10\n");
-  e = error_of([&] { read_dataset(root_); });
+  e = testing::error_message([&] { read_dataset(root_); });
   EXPECT_NE(e.find("'resolution': missing"), std::string::npos) << e;
 }
 
@@ -389,7 +388,7 @@ TEST_F(DatasetFilesTest, FlatPanelSceneRoundTripsAndBadPanelsAreNamed) {
   };
   for (const auto& [text, expected] : bad) {
     write_file(scene, base + text);
-    const std::string e = error_of([&] { read_dataset(root_); });
+    const std::string e = testing::error_message([&] { read_dataset(root_); });
     EXPECT_NE(e.find(expected), std::string::npos) << text << " -> " << e;
     EXPECT_NE(e.find("scene.yaml"), std::string::npos) << e;
   }
@@ -463,7 +462,7 @@ TEST_F(DatasetTest, MalformedDvlBeamsNameTheKeyAndBothForms) {
   const fs::path file = dir_ / "sensor.yaml";
   const auto error_for = [&](const std::string& beams) {
     write_file(file, head + "beam_directions: " + beams + "\n");
-    return error_of([&] { read_dvl_yaml(file); });
+    return testing::error_message([&] { read_dvl_yaml(file); });
   };
   for (const char* beams :
        {"[[1, 0, 0], [0, 1, 0], [0, 0, 1]]", "[[1, 0, 0], [0, 1, 0], [0, 0, 1], [1, 0]]",
@@ -488,7 +487,7 @@ TEST_F(DatasetTest, MalformedDvlBeamsNameTheKeyAndBothForms) {
 
 TEST_F(DatasetFilesTest, DatasetWithoutFramesIsRefused) {
   write_file(root_ / "cam0" / "data.csv", "#timestamp [ns],filename\n");
-  const std::string e = error_of([&] { read_dataset(root_); });
+  const std::string e = testing::error_message([&] { read_dataset(root_); });
   EXPECT_NE(e.find("cam0/data.csv: lists no camera frames"), std::string::npos) << e;
 }
 
@@ -544,7 +543,7 @@ TEST_F(DatasetFilesTest, BadSensorLogRowsAreSkippedCountedAndNamed) {
 TEST_F(DatasetFilesTest, MostlyBadSensorLogIsRefusedNamingTheFirstBadRow) {
   write_file(root_ / "pressure0" / "data.csv",
              "#timestamp [ns],depth [m]\n\n100,1.5\n200,abc\n300;1.5\n");
-  const std::string e = error_of([&] { read_dataset(root_); });
+  const std::string e = testing::error_message([&] { read_dataset(root_); });
   EXPECT_NE(e.find("data.csv:4: field 2: expected a number (or nan), got 'abc' (2 of 3 rows are "
                    "bad"),
             std::string::npos)
@@ -556,9 +555,9 @@ TEST_F(DatasetFilesTest, WrongImageSizeIsRefusedOnLoad) {
   cv::imwrite((root_ / "cam0" / "data" / d.frames[1].filename).string(),
               cv::Mat(20, 30, CV_8UC1, cv::Scalar(7)));
   EXPECT_NO_THROW(d.load_frame(0));
-  EXPECT_NE(error_of([&] { d.load_frame(1); }).find("30x20"), std::string::npos);
+  EXPECT_NE(testing::error_message([&] { d.load_frame(1); }).find("30x20"), std::string::npos);
   fs::remove(root_ / "cam0" / "data" / d.frames[0].filename);
-  EXPECT_NE(error_of([&] { d.load_frame(0); }).find("not found"), std::string::npos);
+  EXPECT_NE(testing::error_message([&] { d.load_frame(0); }).find("not found"), std::string::npos);
 }
 
 // A damaged header claiming gigapixels is refused before the decoder allocates them.
@@ -576,9 +575,12 @@ TEST_F(DatasetFilesTest, PngClaimingAHugeSizeIsRefusedBeforeDecoding) {
     std::ofstream out(file, std::ios::binary | std::ios::trunc);
     out << bytes;
   }
-  EXPECT_NE(error_of([&] { read_png_grey8(file); }).find("100000x100000, larger than"),
-            std::string::npos);
-  EXPECT_NE(error_of([&] { d.load_frame(0); }).find("100000x100000 but sensor.yaml says 36x27"),
+  EXPECT_NE(
+      testing::error_message([&] { read_png_grey8(file); }).find("100000x100000, larger than"),
+      std::string::npos);
+  EXPECT_NE(testing::error_message([&] {
+              d.load_frame(0);
+            }).find("100000x100000 but sensor.yaml says 36x27"),
             std::string::npos);
   // Other formats OpenCV could decode (a BMP here) are not read: dataset images are PNG.
   std::vector<uchar> bmp;
@@ -587,7 +589,8 @@ TEST_F(DatasetFilesTest, PngClaimingAHugeSizeIsRefusedBeforeDecoding) {
     std::ofstream out(file, std::ios::binary | std::ios::trunc);
     out.write(reinterpret_cast<const char*>(bmp.data()), static_cast<std::streamsize>(bmp.size()));
   }
-  EXPECT_NE(error_of([&] { d.load_frame(0); }).find("is not a PNG file"), std::string::npos);
+  EXPECT_NE(testing::error_message([&] { d.load_frame(0); }).find("is not a PNG file"),
+            std::string::npos);
 }
 
 TEST_F(DatasetFilesTest, ColourAndSixteenBitFramesBecomeGrey8) {
