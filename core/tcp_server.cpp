@@ -16,9 +16,6 @@
 #include "core/timing.h"
 
 namespace pensight {
-namespace {
-constexpr size_t kMaxPendingBytes = 64 * 1024;
-}  // namespace
 
 TcpServer::TcpServer(const std::string& host, int port, int send_wait_ms)
     : send_wait_ms_(send_wait_ms) {
@@ -52,21 +49,21 @@ TcpServer::~TcpServer() {
   ::close(fd_);
 }
 
-size_t TcpServer::accept_new() {
-  size_t added = 0;
+std::vector<uint64_t> TcpServer::accept_new() {
+  std::vector<uint64_t> added;
   for (;;) {
     const int c = ::accept4(fd_, nullptr, nullptr, SOCK_NONBLOCK | SOCK_CLOEXEC);
     if (c < 0) return added;
     const int one = 1;
     ::setsockopt(c, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
-    clients_.push_back({c, {}});
-    ++added;
+    clients_.push_back({next_id_, c, LineStream()});
+    added.push_back(next_id_++);
   }
 }
 
-void TcpServer::drop(size_t client) {
-  ::close(clients_[client].fd);
-  clients_.erase(clients_.begin() + static_cast<ptrdiff_t>(client));
+void TcpServer::drop(size_t index) {
+  ::close(clients_[index].fd);
+  clients_.erase(clients_.begin() + static_cast<ptrdiff_t>(index));
   ++dropped_;
 }
 
@@ -74,36 +71,36 @@ void TcpServer::disconnect_all() {
   while (!clients_.empty()) drop(clients_.size() - 1);
 }
 
-void TcpServer::send_to(size_t client, std::string_view bytes) {
+bool TcpServer::send_at(size_t index, std::string_view bytes) {
   int error = 0;
-  if (!detail::write_all(clients_[client].fd, bytes, true, send_wait_ms_, &error)) drop(client);
+  if (detail::write_all(clients_[index].fd, bytes, true, send_wait_ms_, &error)) return true;
+  drop(index);
+  return false;
+}
+
+void TcpServer::send_to(uint64_t client, std::string_view bytes) {
+  for (size_t i = 0; i < clients_.size(); ++i) {
+    if (clients_[i].id == client) {
+      send_at(i, bytes);
+      return;
+    }
+  }
 }
 
 void TcpServer::broadcast(std::string_view bytes) {
-  for (size_t i = clients_.size(); i-- > 0;) send_to(i, bytes);
+  for (size_t i = clients_.size(); i-- > 0;) send_at(i, bytes);
 }
 
-std::vector<std::pair<size_t, std::string>> TcpServer::take_lines() {
-  std::vector<std::pair<size_t, std::string>> lines;
+std::vector<std::pair<uint64_t, std::string>> TcpServer::take_lines() {
+  std::vector<std::pair<uint64_t, std::string>> lines;
   for (size_t i = clients_.size(); i-- > 0;) {
     std::vector<uint8_t> bytes;
     int error = 0;
     const detail::FdRead r = detail::read_some(clients_[i].fd, steady_now_ns(), bytes, &error);
-    if (r == detail::FdRead::kClosed || r == detail::FdRead::kFailed) {
-      drop(i);
-      continue;
+    for (std::string& line : clients_[i].lines.feed(bytes)) {
+      lines.emplace_back(clients_[i].id, std::move(line));
     }
-    std::string& pending = clients_[i].pending;
-    pending.append(bytes.begin(), bytes.end());
-    // A client that sends no lines (binary) must not grow this without bound.
-    if (pending.size() > kMaxPendingBytes && pending.find('\n') == std::string::npos)
-      pending.clear();
-    for (size_t end = pending.find('\n'); end != std::string::npos; end = pending.find('\n')) {
-      std::string line = pending.substr(0, end);
-      if (!line.empty() && line.back() == '\r') line.pop_back();
-      lines.emplace_back(i, std::move(line));
-      pending.erase(0, end + 1);
-    }
+    if (r == detail::FdRead::kClosed || r == detail::FdRead::kFailed) drop(i);
   }
   return lines;
 }

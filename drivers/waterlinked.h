@@ -25,7 +25,7 @@
 
 #include "core/dataset_types.h"
 #include "core/device_clock.h"
-#include "drivers/line_stream.h"
+#include "core/line_stream.h"
 
 namespace pensight::drivers {
 

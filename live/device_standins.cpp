@@ -94,15 +94,14 @@ struct DeviceStandIns::Impl {
 
   void service_clients() {
     if (camera) {
-      for (size_t n = camera->accept_new(); n > 0; --n)
-        camera->send_to(camera->clients() - n, y4m_header);
+      for (const uint64_t client : camera->accept_new()) camera->send_to(client, y4m_header);
       camera->take_lines();
     }
     if (dvl) {
       dvl->accept_new();
       for (const auto& [client, line] : dvl->take_lines()) {
         const std::optional<std::string> command = drivers::waterlinked_json_command_name(line);
-        if (!command || client >= dvl->clients()) continue;
+        if (!command) continue;
         ++counters.commands;
         dvl->send_to(client, drivers::waterlinked_json_response(*command, true));
       }

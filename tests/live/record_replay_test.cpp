@@ -74,6 +74,8 @@ TEST(RecordReplay, TheRecordedStandInsGiveTheDirectRunsEstimates) {
     std::printf("%s", recorder.summary_text().c_str());
   }
   serve.join();
+  // The recorder's set_config (dark mode) reached the DVL and was answered.
+  EXPECT_GE(standins.counters().commands, 1u);
 
   const Dataset r = read_dataset(rec);
   ASSERT_EQ(r.frames.size(), d.frames.size());

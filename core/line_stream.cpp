@@ -1,6 +1,6 @@
-#include "drivers/line_stream.h"
+#include "core/line_stream.h"
 
-namespace pensight::drivers {
+namespace pensight {
 
 std::vector<std::string> LineStream::feed(std::span<const uint8_t> bytes) {
   std::vector<std::string> lines;
@@ -27,4 +27,4 @@ std::vector<std::string> LineStream::feed(std::span<const uint8_t> bytes) {
   return lines;
 }
 
-}  // namespace pensight::drivers
+}  // namespace pensight

@@ -1,16 +1,17 @@
 #pragma once
 // A byte stream cut into text lines, as line-oriented devices send them (Water Linked's TCP JSON
-// reports, its serial sentences, NMEA): a line ends at '\n' or '\r' (so "\r\n" and a bare '\r'
-// both end one; the empty line between them is not returned). Bytes may arrive in any chunking.
-// A line longer than max_line_bytes is a corrupt or foreign stream: its bytes up to the next end
-// are dropped and counted, so memory stays bounded. Cost: O(bytes).
+// reports, its serial sentences, NMEA) and their clients send commands (TcpServer): a line ends at
+// '\n' or '\r' (so "\r\n" and a bare '\r' both end one; the empty line between them is not
+// returned). Bytes may arrive in any chunking. A line longer than max_line_bytes is a corrupt or
+// foreign stream: its bytes up to the next end are dropped and counted, so memory stays bounded.
+// Cost: O(bytes).
 #include <cstddef>
 #include <cstdint>
 #include <span>
 #include <string>
 #include <vector>
 
-namespace pensight::drivers {
+namespace pensight {
 
 struct LineStreamCounters {
   size_t lines = 0;           // returned
@@ -39,4 +40,4 @@ class LineStream {
   LineStreamCounters counters_;
 };
 
-}  // namespace pensight::drivers
+}  // namespace pensight
