@@ -157,11 +157,13 @@ struct DeviceStandIns::Impl {
       }
       case Event::kDvl: {
         if (!dvl) return;
-        // The ping's own time (the report leaves dvl_delay_s later, at the event's time).
+        // The ping at the sample's time; the report stamped when it really leaves (dvl_delay_s
+        // later as scheduled, or later still on a busy host), as the DVL stamps it: both on the
+        // DVL's clock.
         const DvlSample& sample = dataset.dvl0->samples[e.index];
-        const int64_t validity_ns =
-            play_start_ns + (sample.timestamp_ns - t0) + seconds_to_ns(params.dvl_clock_offset_s);
-        const int64_t transmission_ns = validity_ns + seconds_to_ns(params.dvl_delay_s);
+        const int64_t dvl_clock_ns = seconds_to_ns(params.dvl_clock_offset_s);
+        const int64_t validity_ns = play_start_ns + (sample.timestamp_ns - t0) + dvl_clock_ns;
+        const int64_t transmission_ns = host_now_ns() + dvl_clock_ns;
         dvl->broadcast(drivers::waterlinked_json_velocity(velocity_report(
             sample, dataset.dvl0->calibration, validity_ns / 1000, transmission_ns / 1000)));
         ++counters.dvl_reports;

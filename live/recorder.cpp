@@ -1,10 +1,7 @@
 #include "live/recorder.h"
 
-#include <cmath>
 #include <limits>
 
-#include "core/error.h"
-#include "core/log.h"
 #include "core/timing.h"
 #include "core/units.h"
 #include "drivers/nucleus_dvl.h"
@@ -49,14 +46,22 @@ DriverConfig driver_config(const RecordDvl& d) {
   return c;
 }
 
-// A sensor log's writing: time order kept, the latest clock offset remembered.
+// One sensor log being written: its summary and its latest time stamp.
+struct Log {
+  SourceSummary summary;
+  int64_t last_ns = std::numeric_limits<int64_t>::min();
+};
+
+// A sample into its log: time order kept (the writer refuses a stamp that does not increase; a
+// live source's is counted instead), the latest clock offset remembered.
 template <class Sample>
-void write_sample(const Sample& s, int64_t& last_ns, SourceSummary& summary, auto&& add) {
-  if (s.timestamp_ns <= last_ns) {
+void write_sample(const Sample& s, Log& log, auto&& add) {
+  SourceSummary& summary = log.summary;
+  if (s.timestamp_ns <= log.last_ns) {
     ++summary.out_of_order;
     return;
   }
-  last_ns = s.timestamp_ns;
+  log.last_ns = s.timestamp_ns;
   add(s);
   ++summary.samples;
   if constexpr (requires { s.device_ns; }) {
@@ -74,11 +79,7 @@ struct Recorder::Sources {
   std::unique_ptr<drivers::NucleusDvl> nucleus;
   std::unique_ptr<mavlink::VehicleLink> link;
   bool rates_requested = false;
-  SourceSummary cam{"cam0"}, dvl{"dvl0"}, pressure{"pressure0"}, imu{"imu0"};
-  int64_t last_frame_ns = std::numeric_limits<int64_t>::min(),
-          last_dvl_ns = std::numeric_limits<int64_t>::min(),
-          last_pressure_ns = std::numeric_limits<int64_t>::min(),
-          last_imu_ns = std::numeric_limits<int64_t>::min();
+  Log cam{{"cam0"}}, dvl{{"dvl0"}}, pressure{{"pressure0"}}, imu{{"imu0"}};
   int64_t start_steady_ns = 0, end_steady_ns = 0;
 
   Sources(const RecordConfig& c, const std::filesystem::path& out)
@@ -105,7 +106,7 @@ struct Recorder::Sources {
 
   void poll_camera(double wait_s) {
     if (std::optional<CameraFrame> f = camera.take(wait_s)) {
-      write_sample(*f, last_frame_ns, cam, [&](const CameraFrame& frame) {
+      write_sample(*f, cam, [&](const CameraFrame& frame) {
         writer.add_frame(frame.timestamp_ns, frame.image);
       });
     }
@@ -116,7 +117,7 @@ struct Recorder::Sources {
     if (waterlinked) samples = waterlinked->poll(0);
     if (nucleus) samples = nucleus->poll(0);
     for (const DvlSample& s : samples) {
-      write_sample(s, last_dvl_ns, dvl, [&](const DvlSample& x) { writer.add_dvl(x); });
+      write_sample(s, dvl, [&](const DvlSample& x) { writer.add_dvl(x); });
     }
   }
 
@@ -133,11 +134,10 @@ struct Recorder::Sources {
       }
     }
     for (const AttitudeSample& s : link->take_attitude_samples()) {
-      write_sample(s, last_imu_ns, imu, [&](const AttitudeSample& x) { writer.add_attitude(x); });
+      write_sample(s, imu, [&](const AttitudeSample& x) { writer.add_attitude(x); });
     }
     for (const PressureSample& s : link->take_pressure_samples()) {
-      write_sample(s, last_pressure_ns, pressure,
-                   [&](const PressureSample& x) { writer.add_pressure(x); });
+      write_sample(s, pressure, [&](const PressureSample& x) { writer.add_pressure(x); });
     }
   }
 };
@@ -163,7 +163,7 @@ void Recorder::run(double duration_s, const std::atomic<bool>& stop) {
 std::vector<SourceSummary> Recorder::summary() const {
   const Sources& s = *sources_;
   std::vector<SourceSummary> out;
-  SourceSummary cam = s.cam;
+  SourceSummary cam = s.cam.summary;
   const CameraCounters c = s.camera.counters();
   cam.faults = "dropped " + std::to_string(c.dropped) + ", wrong size " +
                std::to_string(c.wrong_size) + ", stalls " + std::to_string(c.stalls) +
@@ -171,7 +171,7 @@ std::vector<SourceSummary> Recorder::summary() const {
                std::to_string(c.open_failures);
   out.push_back(cam);
   if (s.waterlinked || s.nucleus) {
-    SourceSummary d = s.dvl;
+    SourceSummary d = s.dvl.summary;
     if (s.waterlinked) {
       const drivers::WaterLinkedCounters& w = s.waterlinked->stream_counters();
       d.faults = "malformed " + std::to_string(w.malformed) + ", checksum failures " +
@@ -191,7 +191,7 @@ std::vector<SourceSummary> Recorder::summary() const {
     const std::string faults = "bad crc " + std::to_string(l.parse.bad_crc) + ", dropped " +
                                std::to_string(l.samples_dropped) + ", link errors " +
                                std::to_string(l.send_errors);
-    SourceSummary p = s.pressure, i = s.imu;
+    SourceSummary p = s.pressure.summary, i = s.imu.summary;
     p.faults = i.faults = faults;
     out.push_back(p);
     out.push_back(i);
