@@ -157,7 +157,8 @@ void VehicleLink::handle(const Frame& f, int64_t now_ns) {
     status_.pressure_ns[static_cast<size_t>(i)] = now_ns;
     if (status_.first_pressure_ns < 0) status_.first_pressure_ns = now_ns;
     status_.pressure[static_cast<size_t>(i)] = p;
-    if (water_pressure_index(status_, config_.water_depth, now_ns) == i) {
+    water_index_ = water_pressure_index(status_, config_.water_depth, now_ns, water_index_);
+    if (water_index_ == i) {
       queue(pressures_, PressureSample{pressure_clock_.to_host_ns(boot_ns(p.time_boot_ms), now_ns),
                                        depth_from_pressure_m(p.press_abs_hpa, config_.water_depth),
                                        boot_ns(p.time_boot_ms)});

@@ -17,6 +17,8 @@ const Param<WaterDepthParams> kWaterDepthParams[] = {
      closed_range(800, 1100), "air pressure at the water's surface"},
     {"max_age_s", &WaterDepthParams::max_age_s, "s", kPositive,
      "a barometer not heard for longer is not used"},
+    {"switch_margin_hpa", &WaterDepthParams::switch_margin_hpa, "hPa", kNonNegative,
+     "automatic choice: another barometer takes over only when it reads this much more"},
 };
 
 }  // namespace
@@ -26,7 +28,7 @@ std::span<const Param<WaterDepthParams>> water_depth_params() {
 }
 
 int water_pressure_index(const VehicleStatus& status, const WaterDepthParams& params,
-                         int64_t now_ns) {
+                         int64_t now_ns, int current) {
   check_params<WaterDepthParams>(params, kWaterDepthParams, "water depth");
   const auto fresh = [&](int i) {
     const int64_t heard = status.pressure_ns[static_cast<size_t>(i)];
@@ -46,6 +48,11 @@ int water_pressure_index(const VehicleStatus& status, const WaterDepthParams& pa
                                      status.pressure[static_cast<size_t>(best)].press_abs_hpa)) {
       best = i;
     }
+  }
+  const auto hpa = [&](int i) { return status.pressure[static_cast<size_t>(i)].press_abs_hpa; };
+  if (current >= 0 && current < 3 && fresh(current) &&
+      hpa(best) - hpa(current) <= params.switch_margin_hpa) {
+    return current;
   }
   return best;
 }

@@ -17,6 +17,10 @@ struct WaterDepthParams {
   double water_density_kgpm3 = 1025.0;  // sea water; fresh water 997
   double surface_pressure_hpa = 1013.25;
   double max_age_s = 2.0;  // a barometer not heard for longer is not used (ArduSub sends 2 Hz)
+  // Automatic choice: another barometer takes over from the chosen one only when it reads this
+  // much more (0.25 m of water), so two sensors near one pressure do not alternate with their
+  // noise (SITL's second barometer reads the water within +-20 hPa of its first).
+  double switch_margin_hpa = 25.0;
 };
 
 // Key, unit, valid range and help of every WaterDepthParams member.
@@ -26,9 +30,11 @@ std::span<const Param<WaterDepthParams>> water_depth_params();
 // within max_age_s. Automatic: of the barometers heard, the one with the highest pressure above
 // zero, since water adds ~100 hPa per metre while a sealed enclosure stays near the pressure it
 // was closed at (at the surface the two agree within a few hPa, a few cm); none until barometers
-// have been heard for max_age_s, so that every one the vehicle sends has spoken.
+// have been heard for max_age_s, so that every one the vehicle sends has spoken. `current`, the
+// index chosen before (-1: none), is kept while it is heard and no other reads more than
+// switch_margin_hpa above it.
 int water_pressure_index(const VehicleStatus& status, const WaterDepthParams& params,
-                         int64_t now_ns);
+                         int64_t now_ns, int current = -1);
 
 // Depth below the surface, m, for an absolute pressure in hPa. Throws pensight::Error naming the
 // key when a parameter is out of its range.

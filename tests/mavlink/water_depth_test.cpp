@@ -48,6 +48,25 @@ TEST(WaterDepth, TheBarometerOfTheWaterIsTheOneReadingMost) {
   EXPECT_EQ(water_pressure_index(barometers(1113.25f, 1003.5f, 0, kS), fixed, kS), -1);
 }
 
+// Two barometers near one pressure (SITL's second reads the water within +-20 hPa of its first):
+// the chosen one is kept until another reads more than the margin above it, or it falls silent.
+TEST(WaterDepth, TheChosenBarometerIsKeptThroughTheOthersNoise) {
+  const WaterDepthParams p;
+  const float m = static_cast<float>(p.switch_margin_hpa);
+  VehicleStatus s = barometers(1051.3f, 1051.3f + m - 1, 0.0f, 10 * kS);
+  EXPECT_EQ(water_pressure_index(s, p, 11 * kS), 1);     // no choice yet: the highest
+  EXPECT_EQ(water_pressure_index(s, p, 11 * kS, 0), 0);  // within the margin above: kept
+  s.pressure[1].press_abs_hpa = 1051.3f + m + 1;         // beyond it: taken over
+  EXPECT_EQ(water_pressure_index(s, p, 11 * kS, 0), 1);
+  s.pressure[1].press_abs_hpa = 1051.3f - m + 1;
+  EXPECT_EQ(water_pressure_index(s, p, 11 * kS, 1), 1);  // kept though it reads less now
+  s.pressure_ns[1] = 8 * kS - 1;                         // silent: the other
+  EXPECT_EQ(water_pressure_index(s, p, 10 * kS, 1), 0);
+  WaterDepthParams eager = p;
+  eager.switch_margin_hpa = 0;
+  EXPECT_EQ(water_pressure_index(barometers(1051.3f, 1052.0f, 0, 3 * kS), eager, 3 * kS, 0), 1);
+}
+
 TEST(WaterDepth, DepthIsThePressureAboveTheSurfacesOverRhoG) {
   WaterDepthParams p;
   EXPECT_NEAR(depth_from_pressure_m(1013.25 + 100.52, p), 1.0, 1e-3);  // 1025 kg/m^3 x g x 1 m
