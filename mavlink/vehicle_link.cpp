@@ -154,11 +154,8 @@ void VehicleLink::handle(const Frame& f, int64_t now_ns) {
              f.msgid == ScaledPressure3::kId) {
     const int i = f.msgid == ScaledPressure::kId ? 0 : f.msgid == ScaledPressure2::kId ? 1 : 2;
     const ScaledPressure p = unpack<ScaledPressure>(f.payload);  // one layout for the three
-    status_.pressure_ns[static_cast<size_t>(i)] = now_ns;
-    if (status_.first_pressure_ns < 0) status_.first_pressure_ns = now_ns;
-    status_.pressure[static_cast<size_t>(i)] = p;
-    water_index_ = water_pressure_index(status_, config_.water_depth, now_ns, water_index_);
-    if (water_index_ == i) {
+    record_barometer(status_, i, p, now_ns, config_.water_depth);
+    if (status_.water_index == i) {
       queue(pressures_, PressureSample{pressure_clock_.to_host_ns(boot_ns(p.time_boot_ms), now_ns),
                                        depth_from_pressure_m(p.press_abs_hpa, config_.water_depth),
                                        boot_ns(p.time_boot_ms)});

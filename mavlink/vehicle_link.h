@@ -119,7 +119,6 @@ class VehicleLink {
   VehicleStatus status_;
   LinkCounters counters_;
   DeviceClock attitude_clock_, pressure_clock_;
-  int water_index_ = -1;  // the barometer last chosen as the water's
   std::vector<AttitudeSample> attitudes_;
   std::vector<PressureSample> pressures_;
 };

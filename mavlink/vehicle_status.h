@@ -21,6 +21,10 @@ struct VehicleStatus {
   std::array<int64_t, 3> pressure_ns = {-1, -1, -1};
   int64_t first_pressure_ns = -1;  // the first of any barometer
   std::array<ScaledPressure, 3> pressure;
+  // Each barometer's pressure averaged over about WaterDepthParams::smoothing_s (hPa), what the
+  // automatic choice of the water's barometer compares (record_barometer, water_depth.h).
+  std::array<double, 3> pressure_average_hpa = {0, 0, 0};
+  int water_index = -1;  // the barometer chosen as the water's, -1: none yet
 };
 
 }  // namespace pensight::mavlink

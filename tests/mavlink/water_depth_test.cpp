@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <random>
 #include <string>
 
 #include "core/error.h"
@@ -20,6 +21,7 @@ VehicleStatus barometers(float p0, float p1, float p2, int64_t heard_ns) {
   s.pressure[0].press_abs_hpa = p0;
   s.pressure[1].press_abs_hpa = p1;
   s.pressure[2].press_abs_hpa = p2;
+  s.pressure_average_hpa = {p0, p1, p2};
   s.pressure_ns = {heard_ns, heard_ns, heard_ns};
   s.first_pressure_ns = 0;
   return s;
@@ -48,23 +50,59 @@ TEST(WaterDepth, TheBarometerOfTheWaterIsTheOneReadingMost) {
   EXPECT_EQ(water_pressure_index(barometers(1113.25f, 1003.5f, 0, kS), fixed, kS), -1);
 }
 
-// Two barometers near one pressure (SITL's second reads the water within +-20 hPa of its first):
-// the chosen one is kept until another reads more than the margin above it, or it falls silent.
-TEST(WaterDepth, TheChosenBarometerIsKeptThroughTheOthersNoise) {
+// Two barometers near one pressure: the chosen one is kept until another's average is more than
+// the margin above its own, or it falls silent.
+TEST(WaterDepth, TheChosenBarometerIsKeptUntilAnotherIsClearlyHigher) {
   const WaterDepthParams p;
-  const float m = static_cast<float>(p.switch_margin_hpa);
-  VehicleStatus s = barometers(1051.3f, 1051.3f + m - 1, 0.0f, 10 * kS);
-  EXPECT_EQ(water_pressure_index(s, p, 11 * kS), 1);     // no choice yet: the highest
-  EXPECT_EQ(water_pressure_index(s, p, 11 * kS, 0), 0);  // within the margin above: kept
-  s.pressure[1].press_abs_hpa = 1051.3f + m + 1;         // beyond it: taken over
-  EXPECT_EQ(water_pressure_index(s, p, 11 * kS, 0), 1);
-  s.pressure[1].press_abs_hpa = 1051.3f - m + 1;
-  EXPECT_EQ(water_pressure_index(s, p, 11 * kS, 1), 1);  // kept though it reads less now
-  s.pressure_ns[1] = 8 * kS - 1;                         // silent: the other
-  EXPECT_EQ(water_pressure_index(s, p, 10 * kS, 1), 0);
-  WaterDepthParams eager = p;
-  eager.switch_margin_hpa = 0;
-  EXPECT_EQ(water_pressure_index(barometers(1051.3f, 1052.0f, 0, 3 * kS), eager, 3 * kS, 0), 1);
+  const double m = p.switch_margin_hpa;
+  VehicleStatus s = barometers(1051.3f, 1051.3f, 0.0f, 10 * kS);
+  s.pressure_average_hpa[1] = 1051.3 + m - 1;
+  EXPECT_EQ(water_pressure_index(s, p, 11 * kS), 1);  // no choice yet: the highest
+  s.water_index = 0;
+  EXPECT_EQ(water_pressure_index(s, p, 11 * kS), 0);  // within the margin above: kept
+  s.pressure_average_hpa[1] = 1051.3 + m + 1;         // beyond it: taken over
+  EXPECT_EQ(water_pressure_index(s, p, 11 * kS), 1);
+  s.water_index = 1;
+  s.pressure_average_hpa[1] = 1051.3 - m + 1;
+  EXPECT_EQ(water_pressure_index(s, p, 11 * kS), 1);  // kept though it reads less now
+  s.pressure_ns[1] = 8 * kS - 1;                      // silent: the other
+  EXPECT_EQ(water_pressure_index(s, p, 10 * kS), 0);
+}
+
+// ArduSub SITL's barometers as recorded: both read the water, the second 18 hPa lower on average
+// with +-20 hPa of noise, at 10 Hz. Its single readings are often the highest; its average never
+// is, so the first stays the water's throughout. Then the vehicle dives with only the second
+// (the Bar30 of a board whose first is the enclosure's air): the second takes over.
+TEST(WaterDepth, ANoisyBarometerDoesNotTakeTheChoiceFromItsNoise) {
+  const WaterDepthParams p;
+  VehicleStatus s;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> noise(-20, 20);
+  int highest_readings = 0, changes = 0, chosen = -1;
+  for (int k = 0; k < 600; ++k) {
+    const int64_t t = k * kS / 10;
+    ScaledPressure first, second;
+    first.press_abs_hpa = 1051.3f;
+    second.press_abs_hpa = static_cast<float>(1033.6 + noise(rng));
+    record_barometer(s, 0, first, t, p);
+    record_barometer(s, 1, second, t, p);
+    highest_readings += second.press_abs_hpa > first.press_abs_hpa;
+    if (s.water_index >= 0 && s.water_index != chosen) {
+      changes += chosen >= 0;
+      chosen = s.water_index;
+    }
+  }
+  EXPECT_EQ(chosen, 0);
+  EXPECT_EQ(changes, 0);
+  EXPECT_GT(highest_readings, 20);  // the highest single reading would have flipped (~6 %)
+  for (int k = 600; k < 700; ++k) {
+    ScaledPressure air, water;
+    air.press_abs_hpa = 1051.3f;
+    water.press_abs_hpa = static_cast<float>(1033.6 + 2.0 * (k - 600));  // 0.2 m/s down
+    record_barometer(s, 0, air, k * kS / 10, p);
+    record_barometer(s, 1, water, k * kS / 10, p);
+  }
+  EXPECT_EQ(s.water_index, 1);
 }
 
 TEST(WaterDepth, DepthIsThePressureAboveTheSurfacesOverRhoG) {
