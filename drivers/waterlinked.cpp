@@ -4,6 +4,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <utility>
 
@@ -19,6 +20,17 @@ WaterLinkedParse malformed(std::string why) {
 
 WaterLinkedParse report(WaterLinkedReport r) {
   return {WaterLinkedLine::kReport, std::move(r), {}};
+}
+
+// Device times are microseconds since the epoch; past kMaxDeviceTimeUs (the year 2262) they do not
+// fit the nanoseconds every sample carries, so such a report is malformed.
+constexpr int64_t kMaxDeviceTimeUs = std::numeric_limits<int64_t>::max() / 1000;
+
+void check_device_time(const std::optional<int64_t>& us, const char* name, std::string& error) {
+  if (us && (*us < 0 || *us > kMaxDeviceTimeUs) && error.empty()) {
+    error = std::string("'") + name + "' (" + std::to_string(*us) + " us) is outside 0.." +
+            std::to_string(kMaxDeviceTimeUs) + " us";
+  }
 }
 
 // --- JSON ----------------------------------------------------------------------------------------
@@ -46,7 +58,7 @@ struct JsonReader {
     const auto it = object.find(key);
     if (it == object.end() || it->is_null()) return std::nullopt;
     if (it->is_number_integer()) return it->get<int64_t>();
-    if (it->is_number_float() && std::isfinite(it->get<double>())) {
+    if (it->is_number_float() && std::abs(it->get<double>()) < 9.2e18) {
       return static_cast<int64_t>(std::llround(it->get<double>()));
     }
     error = std::string("'") + key + "' is not an integer";
@@ -81,6 +93,8 @@ WaterLinkedParse json_velocity(const json& j, bool water_track) {
   v.since_last_report_ms = r.number("time").value_or(kNaN);
   v.time_of_validity_us = r.integer("time_of_validity");
   v.time_of_transmission_us = r.integer("time_of_transmission");
+  check_device_time(v.time_of_validity_us, "time_of_validity", r.error);
+  check_device_time(v.time_of_transmission_us, "time_of_transmission", r.error);
   v.format = r.string("format");
   if (const auto c = j.find("covariance"); c != j.end() && !c->is_null()) {
     bool ok = c->is_array() && c->size() == 3;
@@ -218,6 +232,8 @@ WaterLinkedParse sentence_velocity(std::span<const std::string_view> f, bool wat
   }
   v.time_of_validity_us = s.integer(i++, "time_of_validity");
   v.time_of_transmission_us = s.integer(i++, "time_of_transmission");
+  check_device_time(v.time_of_validity_us, "time_of_validity", s.error);
+  check_device_time(v.time_of_transmission_us, "time_of_transmission", s.error);
   v.since_last_report_ms = s.number(i++, "time");
   v.status = static_cast<int>(s.integer(i, "status").value_or(0));
   if (!s.error.empty()) return malformed(std::move(s.error));
@@ -501,6 +517,9 @@ int64_t waterlinked_ping_host_ns(const WaterLinkedVelocity& report, int64_t arri
   if (!report.time_of_validity_us || !report.time_of_transmission_us) return arrival_ns;
   const int64_t sent_ns = *report.time_of_transmission_us * 1000;
   const int64_t ping_ns = *report.time_of_validity_us * 1000;
+  // A report leaves ~0.2 s after its ping; one said to leave before it, or over 10 s after, has
+  // times that disagree, and its arrival is the better stamp.
+  if (sent_ns < ping_ns || sent_ns - ping_ns > 10'000'000'000) return arrival_ns;
   return clock.to_host_ns(sent_ns, arrival_ns) - (sent_ns - ping_ns);
 }
 

@@ -161,7 +161,8 @@ DvlSample to_dvl_sample(const WaterLinkedVelocity& report, const Eigen::Matrix3d
 // The host time of the ping a velocity report measured: its time_of_validity moved onto the host
 // clock by `clock`, which learns the DVL clock's offset from time_of_transmission and the arrival
 // time (the report leaves ~0.2 s after the ping, so its arrival is that late). A report without
-// both times (wrx, firmware before json_v3) is stamped at its arrival.
+// both times (wrx, firmware before json_v3), or whose ping is said to be after its sending or over
+// 10 s before it, is stamped at its arrival.
 int64_t waterlinked_ping_host_ns(const WaterLinkedVelocity& report, int64_t arrival_ns,
                                  DeviceClock& clock);
 

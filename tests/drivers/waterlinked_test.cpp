@@ -139,6 +139,12 @@ TEST(WaterLinkedJson, BadLinesAreNamedUnknownTypesPassedOver) {
        "'velocity_valid' is not true or false"},
       {R"({"vx":0,"vy":0,"vz":0,"velocity_valid":true,"covariance":[1,2],"type":"velocity"})",
        "'covariance' is not a 3x3 array of numbers"},
+      {R"({"vx":0,"vy":0,"vz":0,"velocity_valid":true,"time_of_validity":9300000000000000,)"
+       R"("type":"velocity"})",
+       "'time_of_validity' (9300000000000000 us) is outside 0..9223372036854775 us"},
+      {R"({"vx":0,"vy":0,"vz":0,"velocity_valid":true,"time_of_transmission":-1,)"
+       R"("type":"velocity"})",
+       "'time_of_transmission' (-1 us) is outside 0..9223372036854775 us"},
   };
   for (const auto& [line, why] : bad) {
     const WaterLinkedParse p = parse_waterlinked_json(line);
@@ -384,6 +390,10 @@ TEST(WaterLinkedClock, ThePingIsStampedWithin5msThroughTheDvlsClock) {
   EXPECT_GE(arrival_late_ms, 190.0);
   WaterLinkedVelocity old;  // wrx: no times, stamped at arrival
   EXPECT_EQ(waterlinked_ping_host_ns(old, 123, clock), 123);
+  WaterLinkedVelocity disagreeing;  // sent before its ping: stamped at arrival
+  disagreeing.time_of_validity_us = 2'000'000;
+  disagreeing.time_of_transmission_us = 1'000'000;
+  EXPECT_EQ(waterlinked_ping_host_ns(disagreeing, 456, clock), 456);
 }
 
 }  // namespace
