@@ -1,11 +1,14 @@
 #include "pipeline/fft/net_detector.h"
 
 #include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
 #include <optional>
 
 #include "core/error.h"
 #include "core/threads.h"
 #include "core/timing.h"
+#include "pipeline/fft/fine_mesh_probe.h"
 #include "pipeline/fft/grid_plan.h"
 #include "pipeline/fft/lattice_chirp.h"
 #include "pipeline/fft/net_detector_params.h"
@@ -48,6 +51,11 @@ struct VulkanStage {
 
 constexpr int kMeshAngleRounds = 3;
 constexpr double kMeshAngleSettled_rad = 0.0035;  // 0.2 deg: a range change below 0.2 %
+// The chirp correction is computed on the fitted plane, so where it moves that plane it is made
+// again on the new one: a plane off by a few degrees on a steep frame (few ROIs, 45-50 deg)
+// under-corrects by a few percent of range. Frontal frames move < 0.1 deg and stop at one step.
+constexpr int kChirpRounds = 3;
+constexpr double kChirpSettled_rad = 0.0087;  // 0.5 deg
 
 }  // namespace
 
@@ -60,6 +68,7 @@ struct NetDetector::Impl {
   std::string description;
   std::optional<kernels::FftRoiCpu> cpu;
   std::optional<VulkanStage> vulkan;
+  std::optional<FineMeshProbe> fine_mesh;
   MeshAngleFilter mesh_filter{std::nullopt};
   TexturePatch previous_patch;  // the previous frame's, for NetDetection::texture
 
@@ -80,8 +89,8 @@ struct NetDetector::Impl {
   // The valid ROIs' lattices corrected for their chirp on the plane of `pose`, the opening angle
   // measured again from them (the chirp biases the bars' angle as it does their length: up to
   // 3 deg on a frame 30 deg oblique), their points and the pose again. The first fit stays where
-  // the second loses the plane.
-  void correct_chirp(NetDetection& d, MeshAngleFilter& filter) const {
+  // the second loses the plane. Returns the angle the plane's normal moved by (0 when it stays).
+  double correct_chirp(NetDetection& d, MeshAngleFilter& filter) const {
     const Eigen::Vector3d normal =
         net_plane_normal(std::tan(d.pose.psi_net_rad), std::tan(d.pose.pitch_net_rad));
     const ChirpModelParams model{.window = shape.window,
@@ -103,9 +112,12 @@ struct NetDetector::Impl {
       }
     }
     FftRelativePose pose = relative_pose_fft(points, config.pose);
-    if (!pose.valid()) return;
+    if (!pose.valid()) return 0;
+    const Eigen::Vector3d moved =
+        net_plane_normal(std::tan(pose.psi_net_rad), std::tan(pose.pitch_net_rad));
     d.points = std::move(points);
     d.pose = std::move(pose);
+    return std::acos(std::clamp(std::abs(moved.normalized().dot(normal.normalized())), 0.0, 1.0));
   }
 
   // The frame's points, opening angle and pose from its lattices, modelled with `filter`'s angle
@@ -135,7 +147,10 @@ struct NetDetector::Impl {
       modelled = angle;
     }
     d.pose = relative_pose_fft(d.points, config.pose);
-    if (config.chirp_correction && d.pose.valid()) correct_chirp(d, filter);
+    if (!config.chirp_correction || !d.pose.valid()) return;
+    for (int round = 0; round < kChirpRounds; ++round) {
+      if (correct_chirp(d, filter) < kChirpSettled_rad) break;
+    }
   }
 
 #if PENSIGHT_HAS_CUDA
@@ -195,6 +210,7 @@ NetDetector::NetDetector(const PinholeCamera& camera, const NetDetectorConfig& c
              .fft_size = m.config.fft_size,
              .window = m.config.window};
   m.choose(device);
+  m.fine_mesh.emplace(m.shape, m.config.peaks, m.config.points.min_quality);
   // The planned grid is part of what a user needs to read a run (grid_plan.h).
   m.description += ", " + std::to_string(m.config.grid.rows) + "x" +
                    std::to_string(m.config.grid.cols) + " ROIs of " +
@@ -241,6 +257,16 @@ NetDetection NetDetector::detect(const ImageU8& image, int64_t timestamp_ns) {
   }
   d.fft_ms = sw.elapsed_ms();
   sw.restart();
+  if (std::optional<std::string> why = m.fine_mesh->too_fine(image)) {
+    // The lattices are aliases: no points, no pose, and the carried opening angle untouched.
+    d.points.assign(m.rois.size(), RoiNetPoint{});
+    d.pose.status = FftPoseStatus::kMeshTooFine;
+    d.pose.reason = std::move(*why);
+    d.pose.inlier.assign(m.rois.size(), 0);
+    d.mesh_angle_rad = m.mesh_filter.has_estimate() ? m.mesh_filter.angle_rad() : kNaN;
+    d.pose_ms = sw.elapsed_ms();
+    return d;
+  }
   m.solve(d, m.mesh_filter);
   // The carried opening angle is a prior, never a gate: a frame that disagrees with it or that it
   // cannot explain (a new panel, a diamond section, another pen) is solved on its own, and that

@@ -1,0 +1,35 @@
+#include "pipeline/fft/fine_mesh_probe.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace pensight {
+
+FineMeshProbe::FineMeshProbe(const kernels::FftRoiShape& grid, const kernels::PeakParams& peaks,
+                             double min_quality)
+    : grid_(grid), min_quality_(min_quality) {
+  if (grid.roi_size_px <= grid.fft_size) return;
+  band_max_cpp_ = double{peaks.max_nyquist_share} * grid.fft_size / 2 / grid.roi_size_px;
+  kernels::FftRoiShape native = grid;
+  native.roi_size_px = grid.fft_size;
+  origin_ = {(grid.width - grid.fft_size) / 2, (grid.height - grid.fft_size) / 2};
+  probe_.emplace(native, peaks, 1, kernels::FftPlanning::kQuick);
+}
+
+std::optional<std::string> FineMeshProbe::too_fine(const ImageU8& image) {
+  if (!probe_) return std::nullopt;
+  const kernels::RoiLattice l = probe_->run(image, {&origin_, 1}).front();
+  if (!(l.quality >= min_quality_)) return std::nullopt;
+  const double f_cpp = std::max(std::hypot(l.f1x, l.f1y), std::hypot(l.f2x, l.f2y));
+  if (!(f_cpp > band_max_cpp_)) return std::nullopt;
+  char reason[256];
+  std::snprintf(reason, sizeof reason,
+                "mesh period %.1f px: too fine for ROIs of %d px analysed at FFT %d (periods "
+                "down to %.1f px); ROIs of %d px (grid.roi_size_px, --roi-size) analyse it at "
+                "its own pixels",
+                1 / f_cpp, grid_.roi_size_px, grid_.fft_size, 1 / band_max_cpp_, grid_.fft_size);
+  return std::string(reason);
+}
+
+}  // namespace pensight

@@ -1,0 +1,37 @@
+#pragma once
+// Whether a frame's mesh is finer than the grid's resampled ROIs hold. Where a ROI of R px is
+// resampled to an FFT of F < R, a lattice finer than the band (max_nyquist_share x F / 2 cycles
+// per ROI) folds back into it as a coarser one and reads as a nearer net: a 3 px mesh on 533 px
+// ROIs at FFT 256 (a 30 mm net 8 m from a 1280x720 camera) read 3.6 m on every frame. One ROI of
+// F px at the frame's centre, analysed at its own pixels, sees such a lattice at its true period;
+// the frame then gets a reason instead of a pose.
+//
+// Cost: one F x F FFT on the CPU per frame (~0.2 ms at 256), and only for resampled grids.
+#include <optional>
+#include <string>
+
+#include "core/image.h"
+#include "kernels/fft_roi/fft_roi.h"
+
+namespace pensight {
+
+class FineMeshProbe {
+ public:
+  // `grid`: the detector's shape; `min_quality`: a probe lattice weaker than this is no net.
+  // Does nothing (too_fine() is always empty) when the grid does not resample.
+  FineMeshProbe(const kernels::FftRoiShape& grid, const kernels::PeakParams& peaks,
+                double min_quality);
+
+  // The reason, naming the period and the fix, when the probe's lattice is finer than the grid's
+  // band; empty otherwise. `image` has the grid's size.
+  std::optional<std::string> too_fine(const ImageU8& image);
+
+ private:
+  kernels::FftRoiShape grid_;
+  double min_quality_ = 0;
+  double band_max_cpp_ = 0;  // the finest lattice the grid holds, cycles per image pixel
+  kernels::RoiOrigin origin_;
+  std::optional<kernels::FftRoiCpu> probe_;
+};
+
+}  // namespace pensight

@@ -1,0 +1,82 @@
+// A mesh finer than the planned grid's resampled ROIs hold (fine_mesh_probe.h): on a 1280x720
+// camera the grid is 533 px ROIs at FFT 256, which hold periods down to 4.6 px. A finer lattice
+// folds back into their band as a coarser one and would read as a nearer net; the frame gets a
+// reason naming the period instead of a pose. Coarser lattices and grids that do not resample
+// are left alone.
+#include "pipeline/fft/fine_mesh_probe.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <random>
+#include <string>
+
+#include "pipeline/fft/net_detector.h"
+#include "tests/support/test_seed.h"
+#include "tests/support/vulkan_fixture.h"
+
+namespace pensight {
+namespace {
+
+// Twines along both axes with a random phase, slightly rotated, and read noise.
+ImageU8 lattice_image(int w, int h, double period_px, std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> phase(0, 2 * std::numbers::pi), turn(-0.1, 0.1);
+  std::normal_distribution<double> noise(0, 2);
+  const double p1 = phase(rng), p2 = phase(rng), a = turn(rng);
+  const double k = 2 * std::numbers::pi / period_px, c = std::cos(a), s = std::sin(a);
+  ImageU8 image(w, h);
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      const double u = c * x + s * y, v = -s * x + c * y;
+      const double g = 110 + 50 * (std::cos(k * u + p1) + std::cos(k * v + p2)) + noise(rng);
+      image.at(x, y) = static_cast<uint8_t>(std::clamp(g, 0.0, 255.0));
+    }
+  }
+  return image;
+}
+
+double period_in(const std::string& reason) {
+  return std::stod(reason.substr(reason.find("mesh period ") + 12));
+}
+
+NetDetectorConfig cpu_config() {
+  NetDetectorConfig c;
+  c.backend = Backend::kCpu;
+  c.cpu_threads = 1;
+  return c;
+}
+
+TEST(FineMeshProbe, ALatticeFinerThanTheGridHoldsIsNamedInsteadOfAPose) {
+  std::mt19937_64 rng(testing::fresh_seed());
+  const PinholeCamera camera = default_field_of_view(1280, 720);
+  NetDetector detector(camera, cpu_config(), testing::test_device());
+  ASSERT_EQ(detector.config().grid.roi_size_px, 533);
+  ASSERT_EQ(detector.config().fft_size, 256);
+  const double period_px = std::uniform_real_distribution<double>(2.8, 4.2)(rng);
+  const NetDetection d = detector.detect(lattice_image(1280, 720, period_px, rng));
+  EXPECT_EQ(d.pose.status, FftPoseStatus::kMeshTooFine) << d.pose.reason;
+  EXPECT_NEAR(period_in(d.pose.reason), period_px, 0.1) << d.pose.reason;
+  EXPECT_NE(d.pose.reason.find("too fine for ROIs of 533 px analysed at FFT 256 (periods down to "
+                               "4.6 px)"),
+            std::string::npos)
+      << d.pose.reason;
+  EXPECT_TRUE(std::isnan(d.pose.d_net_m));
+  for (const RoiNetPoint& p : d.points) EXPECT_FALSE(p.valid());
+}
+
+TEST(FineMeshProbe, CoarserLatticesAndGridsThatDoNotResampleAreLeftAlone) {
+  std::mt19937_64 rng(testing::fresh_seed());
+  const kernels::FftRoiShape resampled{.width = 1280, .height = 720, .roi_size_px = 533};
+  FineMeshProbe probe(resampled, {}, 0.03);
+  const double coarse_px = std::uniform_real_distribution<double>(5.5, 40)(rng);
+  EXPECT_FALSE(probe.too_fine(lattice_image(1280, 720, coarse_px, rng))) << coarse_px;
+  EXPECT_FALSE(probe.too_fine(ImageU8(1280, 720, 90)));  // no net
+  // 256 px ROIs at FFT 256 see a 3 px lattice at its own pixels: nothing folds.
+  FineMeshProbe native({.width = 1280, .height = 720, .roi_size_px = 256}, {}, 0.03);
+  EXPECT_FALSE(native.too_fine(lattice_image(1280, 720, 3.0, rng)));
+}
+
+}  // namespace
+}  // namespace pensight
