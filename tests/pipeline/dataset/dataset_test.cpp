@@ -23,6 +23,7 @@
 #include "pipeline/dataset/png_io.h"
 #include "pipeline/dataset/trajectory_tum.h"
 #include "tests/support/error_message.h"
+#include "tests/support/log_capture.h"
 #include "tests/support/vulkan_fixture.h"
 
 namespace pensight {
@@ -81,19 +82,6 @@ void write_file(const fs::path& p, const std::string& text) {
 std::string read_file(const fs::path& p) {
   return read_file_bytes(p).value_or("(missing)");
 }
-
-// Captures log messages for the duration of a test, one per line.
-class LogCapture {
- public:
-  LogCapture() {
-    set_log_sink([this](LogLevel, std::string_view m) { text_ += std::string(m) + "\n"; });
-  }
-  ~LogCapture() { set_log_sink(nullptr); }
-  const std::string& text() const { return text_; }
-
- private:
-  std::string text_;
-};
 
 size_t count_of(const std::string& text, const std::string& part) {
   size_t n = 0;
@@ -221,7 +209,7 @@ TEST_F(DatasetTest, StreamingWriterLeavesAReadableDatasetWithoutFinish) {
     ASSERT_TRUE(mid.dvl0);
     EXPECT_EQ(mid.dvl0->samples.size(), 1u);
   }
-  LogCapture log;
+  testing::LogCapture log;
   const Dataset d = read_dataset(dir_ / "rec");
   ASSERT_EQ(d.frames.size(), 2u);
   EXPECT_EQ(d.load_frame(0).pixels, frame.pixels);
@@ -409,7 +397,7 @@ TEST_F(DatasetFilesTest, KeysOfOtherToolsAreReadWithOneNotePerFile) {
              "foo: {bar: 1}\n");
   write_file(root_ / "cam0" / "sensor.yaml",
              camera_yaml(contents().cam0) + "rostopic: /cam0/image_raw\n");
-  LogCapture log;
+  testing::LogCapture log;
   const Dataset d = read_dataset(root_);
   EXPECT_DOUBLE_EQ(d.scene.bar_length_m, 0.031);
   EXPECT_DOUBLE_EQ(d.scene.pen_radius_m, 25);
@@ -443,7 +431,7 @@ TEST_F(DatasetTest, DvlBeamsAsListReadLikeTheMatrix) {
   text = text.substr(0, text.find("beam_directions:")) + list + "T_BD: {}\n";
   const fs::path list_file = dir_ / "list.yaml";
   write_file(list_file, text);
-  LogCapture log;
+  testing::LogCapture log;
   const DvlCalibration a = read_dvl_yaml(matrix_file);
   const DvlCalibration b = read_dvl_yaml(list_file);
   for (size_t i = 0; i < 4; ++i) {
@@ -515,7 +503,7 @@ TEST_F(DatasetFilesTest, BadSensorLogRowsAreSkippedCountedAndNamed) {
   write_file(root / "dvl0" / "data.csv", dvl);
   write_file(root / "pressure0" / "data.csv", pressure);
   write_file(root / "imu0" / "attitude.csv", attitude);
-  LogCapture log;
+  testing::LogCapture log;
   const Dataset d = read_dataset(root);
   EXPECT_EQ(d.dvl0->samples.size(), 21u);
   EXPECT_EQ(d.pressure0->size(), 21u);

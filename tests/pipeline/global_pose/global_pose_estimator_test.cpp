@@ -13,6 +13,7 @@
 #include "pipeline/global_pose/attitude_series.h"
 #include "pipeline/global_pose/published_global_pose.h"
 #include "tests/pipeline/global_pose/pen_sim.h"
+#include "tests/support/log_capture.h"
 #include "tests/support/vulkan_fixture.h"
 #include "tools/evaluation/evaluation.h"
 
@@ -119,21 +120,6 @@ Errors run_published(const sim::Sequence& seq, double radius) {
   sim::replay(seq, v);
   return c.errors();
 }
-
-// Captures warnings for the duration of a test.
-class LogCapture {
- public:
-  LogCapture() {
-    set_log_sink([this](LogLevel level, std::string_view m) {
-      if (level >= LogLevel::kWarning) text_ += std::string(m) + "\n";
-    });
-  }
-  ~LogCapture() { set_log_sink(nullptr); }
-  const std::string& text() const { return text_; }
-
- private:
-  std::string text_;
-};
 
 TEST(GlobalPoseEstimator, AccuracyAndDriftVersusPublished) {
   std::mt19937_64 rng(testing::fresh_seed());
@@ -340,7 +326,7 @@ TEST(GlobalPoseEstimator, BadVisionFrameIsRejected) {
 TEST(GlobalPoseEstimator, RunsWithoutDvlAndSaysSo) {
   sim::Sequence seq = fresh_sequence(60);
   seq.dvl.clear();
-  LogCapture log;
+  testing::LogCapture log(LogLevel::kWarning);
   auto cfg = estimator_config(12.0);
   cfg.has_dvl = false;
   GlobalPoseEstimator est(cfg);
@@ -368,7 +354,7 @@ TEST(GlobalPoseEstimator, NaNVelocitiesAreSkippedAndCounted) {
     }
     ++spoiled;
   }
-  LogCapture log;
+  testing::LogCapture log(LogLevel::kWarning);
   GlobalPoseEstimator est(estimator_config(12.0));
   const Errors e = run_estimator(seq, est);
   EXPECT_EQ(est.counters().dvl_velocity.invalid, spoiled);
@@ -408,7 +394,7 @@ TEST(GlobalPoseEstimator, NaNTextureStepsAreSkippedAndCounted) {
 TEST(GlobalPoseEstimator, RunsWithoutAttitudeAndSaysSo) {
   sim::Sequence seq = fresh_sequence(60);
   seq.attitude.clear();
-  LogCapture log;
+  testing::LogCapture log(LogLevel::kWarning);
   auto cfg = estimator_config(12.0);
   cfg.has_attitude = false;
   GlobalPoseEstimator est(cfg);
@@ -427,7 +413,7 @@ TEST(GlobalPoseEstimator, WithoutDvlAndAttitudeRhoIsNaN) {
   sim::Sequence seq = fresh_sequence(60);
   seq.attitude.clear();
   seq.dvl.clear();
-  LogCapture log;
+  testing::LogCapture log(LogLevel::kWarning);
   auto cfg = estimator_config(12.0);
   cfg.has_attitude = false;
   cfg.has_dvl = false;
@@ -461,7 +447,7 @@ TEST(GlobalPoseEstimator, WithoutDvlAndAttitudeRhoIsNaN) {
 TEST(GlobalPoseEstimator, WithoutPressureDepthIsNaN) {
   sim::Sequence seq = fresh_sequence(20);
   seq.depth.clear();
-  LogCapture log;
+  testing::LogCapture log(LogLevel::kWarning);
   auto cfg = estimator_config(12.0);
   cfg.has_pressure = false;
   GlobalPoseEstimator est(cfg);
@@ -547,7 +533,7 @@ TEST(GlobalPoseEstimator, BodyAndCameraPoseInThePen) {
   seq.depth.clear();
   auto no_depth = estimator_config(12.0);
   no_depth.has_pressure = false;
-  LogCapture log;
+  testing::LogCapture log(LogLevel::kWarning);
   GlobalPoseEstimator est_no_depth(no_depth);
   int with_r_g = 0, with_finite_pose = 0;
   v.depth = nullptr;
@@ -793,7 +779,7 @@ TEST(GlobalPoseEstimator, AgreeingRejectedFixesReinitialise) {
   GlobalPoseEstimatorConfig cfg = estimator_config(12.0);
   cfg.use_dvl_plane = false;
   cfg.use_vision_relative = false;
-  LogCapture log;
+  testing::LogCapture log(LogLevel::kWarning);
   GlobalPoseEstimator est(cfg);
   const Errors e = run_estimator(seq, est);
   const GlobalPoseCounters c = est.counters();
