@@ -301,14 +301,18 @@ void DeviceStandIns::run(const std::atomic<bool>& stop, double linger_s) {
   const int64_t host_start_ns = host_now_ns();
   const int64_t steady_start_ns = steady_now_ns();
   m.host_start_ns.store(host_start_ns);
-  const int64_t disconnect_ns =
-      m.params.dvl_disconnect_at_s < 0 ? -1 : seconds_to_ns(m.params.dvl_disconnect_at_s);
-  bool disconnected = false;
+  // A fault at its time, once (never where its time is negative or there is no DVL).
+  const auto due = [&](double at_s, bool& done, int64_t offset_ns) {
+    if (done || at_s < 0 || !m.dvl || offset_ns < seconds_to_ns(at_s)) return false;
+    return done = true;
+  };
+  bool disconnected = false, malformed = false;
   for (const Scheduled& e : events) {
     if (!m.serve_until(steady_start_ns + e.offset_ns, stop)) return;
-    if (!disconnected && disconnect_ns >= 0 && e.offset_ns >= disconnect_ns && m.dvl) {
-      m.dvl->disconnect_all();
-      disconnected = true;
+    if (due(m.params.dvl_disconnect_at_s, disconnected, e.offset_ns)) m.dvl->disconnect_all();
+    if (due(m.params.dvl_malformed_at_s, malformed, e.offset_ns)) {
+      m.dvl->broadcast(R"({"type":"velocity","vx":"fast","vy":0,"vz":0,"velocity_valid":true})"
+                       "\n");
     }
     m.send(e, host_start_ns);
   }

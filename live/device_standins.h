@@ -30,6 +30,7 @@ struct StandInParams {
   double camera_pause_at_s = -1;
   double camera_pause_s = 0;
   double dvl_disconnect_at_s = -1;  // every DVL client's connection closed at this time
+  double dvl_malformed_at_s = -1;   // a velocity report with a text for vx sent at this time
 };
 
 struct StandInCounters {

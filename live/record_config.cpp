@@ -57,6 +57,12 @@ const Param<RecordDvl> kDvlParams[] = {
      "the camera"},
 };
 
+const Param<RecordConfig> kSessionParams[] = {
+    {"silence_s", &RecordConfig::silence_s, "s", closed_range(0.1, 600),
+     "a source without a sample for this long is said while recording, and again when it "
+     "resumes"},
+};
+
 const Param<RecordMavlink> kMavlinkParams[] = {
     {"attitude_rate_hz", &RecordMavlink::attitude_rate_hz, "Hz", closed_range(0.1, 100),
      "ATTITUDE rate asked of the vehicle (MAV_CMD_SET_MESSAGE_INTERVAL)"},
@@ -152,6 +158,7 @@ RecordConfig read_config(const YamlMap& root, const fs::path& base_dir) {
     c.mavlink = read_mavlink(*link);
     link->check_unknown_keys();
   }
+  read_params(root, std::span<const Param<RecordConfig>>(kSessionParams), c);
   root.check_unknown_keys();
   return c;
 }
@@ -177,6 +184,7 @@ RecordConfig read_record_config(const fs::path& file) {
 
 std::string record_config_param_rows() {
   std::string rows = text_rows(std::span(&kSceneKey, 1), "");
+  rows += param_table_rows(std::span<const Param<RecordConfig>>(kSessionParams), {}, "");
   rows += text_rows(kCameraKeys, "camera.");
   rows += param_table_rows(camera_source_params(), {}, "camera.");
   rows += text_rows(kDvlKeys, "dvl.");

@@ -64,6 +64,7 @@ struct RecordConfig {
   RecordCamera camera;
   std::optional<RecordDvl> dvl;
   std::optional<RecordMavlink> mavlink;
+  double silence_s = 3;  // a source without a sample this long is said, and again when it resumes
 };
 
 // Reads `file`. Throws pensight::Error naming the file and key for anything missing, unknown,

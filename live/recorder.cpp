@@ -1,7 +1,10 @@
 #include "live/recorder.h"
 
+#include <cstdio>
 #include <limits>
+#include <map>
 
+#include "core/log.h"
 #include "core/timing.h"
 #include "core/units.h"
 #include "drivers/nucleus_dvl.h"
@@ -12,6 +15,9 @@
 
 namespace pensight::live {
 namespace {
+
+// Faults are said at most this often per source, so a flapping link does not flood the log.
+constexpr int64_t kFaultCheck_ns = 1'000'000'000;
 
 DatasetContents contents_of(const RecordConfig& c) {
   DatasetContents d;
@@ -25,10 +31,31 @@ DatasetContents contents_of(const RecordConfig& c) {
   return d;
 }
 
-std::string link_faults(const ByteLinkCounters& c) {
-  return "connects " + std::to_string(c.connects) + ", connect failures " +
-         std::to_string(c.connect_failures) + ", drops " + std::to_string(c.drops) +
-         ", idle timeouts " + std::to_string(c.idle_timeouts);
+void add_link_faults(std::vector<FaultCount>& faults, const ByteLinkCounters& c) {
+  faults.insert(faults.end(), {{"connects", c.connects},
+                               {"connect failures", c.connect_failures},
+                               {"drops", c.drops},
+                               {"idle timeouts", c.idle_timeouts}});
+}
+
+// "drops 1, malformed 0"
+std::string faults_text(const std::vector<FaultCount>& faults) {
+  std::string text;
+  for (const FaultCount& f : faults) {
+    text += (text.empty() ? "" : ", ") + f.name + " " + std::to_string(f.count);
+  }
+  return text;
+}
+
+std::string seconds_text(double s) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.1f s", s);
+  return text;
+}
+
+// Counters that are not faults: a connection made is said only after the first.
+bool is_fault(const FaultCount& f, uint64_t before) {
+  return f.name != "connects" || before > 0;
 }
 
 // The link and mounting a DVL driver's config shares with every other (both drivers' configs
@@ -46,10 +73,13 @@ DriverConfig driver_config(const RecordDvl& d) {
   return c;
 }
 
-// One sensor log being written: its summary and its latest time stamp.
+// One sensor log being written: its summary, its latest time stamp, and when its latest sample
+// arrived (steady clock; the recording's start before the first).
 struct Log {
   SourceSummary summary;
   int64_t last_ns = std::numeric_limits<int64_t>::min();
+  int64_t arrived_steady_ns = 0;
+  bool silent = false;  // said to be silent and not yet said to be back
 };
 
 // A sample into its log: time order kept (the writer refuses a stamp that does not increase; a
@@ -64,6 +94,13 @@ void write_sample(const Sample& s, Log& log, auto&& add) {
   log.last_ns = s.timestamp_ns;
   add(s);
   ++summary.samples;
+  const int64_t now_ns = steady_now_ns();
+  if (log.silent) {
+    log_info(summary.name + ": samples again after " +
+             seconds_text(seconds_between(log.arrived_steady_ns, now_ns)));
+    log.silent = false;
+  }
+  log.arrived_steady_ns = now_ns;
   if constexpr (requires { s.device_ns; }) {
     if (s.device_ns) summary.clock_offset_ns = s.timestamp_ns - *s.device_ns;
   }
@@ -79,6 +116,7 @@ struct Recorder::Sources {
   std::unique_ptr<drivers::NucleusDvl> nucleus;
   std::unique_ptr<mavlink::VehicleLink> link;
   bool rates_requested = false;
+  std::map<std::string, std::vector<FaultCount>> said;  // per source, as last said
   Log cam{{"cam0"}}, dvl{{"dvl0"}}, pressure{{"pressure0"}}, imu{{"imu0"}};
   int64_t start_steady_ns = 0, end_steady_ns = 0;
 
@@ -101,6 +139,74 @@ struct Recorder::Sources {
       l.water_depth = c.mavlink->water_depth;
       l.boot_clock = c.mavlink->clock;
       link = std::make_unique<mavlink::VehicleLink>(l);
+    }
+  }
+
+  std::vector<SourceSummary> summary() const {
+    std::vector<SourceSummary> out;
+    SourceSummary c = cam.summary;
+    const CameraCounters k = camera.counters();
+    c.faults = {{"dropped", k.dropped},
+                {"wrong size", k.wrong_size},
+                {"stalls", k.stalls},
+                {"reconnects", k.reconnects},
+                {"open failures", k.open_failures}};
+    out.push_back(c);
+    if (waterlinked || nucleus) {
+      SourceSummary d = dvl.summary;
+      if (waterlinked) {
+        const drivers::WaterLinkedCounters& w = waterlinked->stream_counters();
+        d.faults = {{"malformed", w.malformed},
+                    {"checksum failures", w.checksum_failures},
+                    {"water track skipped", waterlinked->counters().water_track_skipped}};
+        add_link_faults(d.faults, waterlinked->connection_counters());
+      } else {
+        const drivers::NucleusStreamCounters& n = nucleus->stream_counters();
+        d.faults = {{"checksum failures", n.checksum_failures}, {"skipped bytes", n.skipped_bytes}};
+        add_link_faults(d.faults, nucleus->connection_counters());
+      }
+      out.push_back(d);
+    }
+    if (link) {
+      const mavlink::LinkCounters l = link->counters();
+      SourceSummary p = pressure.summary, i = imu.summary;
+      p.faults = i.faults = {{"bad crc", l.parse.bad_crc},
+                             {"dropped", l.samples_dropped},
+                             {"link errors", l.send_errors}};
+      out.push_back(p);
+      out.push_back(i);
+    }
+    return out;
+  }
+
+  // Said while recording: each source's counters that grew since they were last said, and a
+  // source silent for silence_s. pressure0 and imu0 share the link's counters: said once, as
+  // "mavlink".
+  void say_faults(int64_t now_ns) {
+    for (const SourceSummary& s : summary()) {
+      const std::string who = s.name == "pressure0" || s.name == "imu0" ? "mavlink" : s.name;
+      std::vector<FaultCount>& before = said[who];
+      std::string grew;
+      for (size_t i = 0; i < s.faults.size(); ++i) {
+        const uint64_t was = i < before.size() ? before[i].count : 0;
+        if (s.faults[i].count > was && is_fault(s.faults[i], was)) {
+          grew += (grew.empty() ? "" : ", ") + s.faults[i].name + " +" +
+                  std::to_string(s.faults[i].count - was) + " (" +
+                  std::to_string(s.faults[i].count) + ")";
+        }
+      }
+      if (!grew.empty()) log_warning(who + ": " + grew);
+      before = s.faults;
+    }
+    const int64_t silence_ns = seconds_to_ns(config.silence_s);
+    for (Log* log : {&cam, &dvl, &pressure, &imu}) {
+      const bool active = log == &cam || (log == &dvl && (waterlinked || nucleus)) ||
+                          ((log == &pressure || log == &imu) && link);
+      if (!active || log->silent || now_ns - log->arrived_steady_ns < silence_ns) continue;
+      log->silent = true;
+      log_warning(log->summary.name + ": no sample for " +
+                  seconds_text(seconds_between(log->arrived_steady_ns, now_ns)) +
+                  (log->summary.samples == 0 ? " since the recording started" : ""));
     }
   }
 
@@ -150,53 +256,24 @@ Recorder::~Recorder() = default;
 void Recorder::run(double duration_s, const std::atomic<bool>& stop) {
   Sources& s = *sources_;
   s.start_steady_ns = steady_now_ns();
+  for (Log* log : {&s.cam, &s.dvl, &s.pressure, &s.imu}) log->arrived_steady_ns = s.start_steady_ns;
   const double end_ns = static_cast<double>(s.start_steady_ns) + duration_s * 1e9;
+  int64_t next_check_ns = s.start_steady_ns;
   while (!stop.load() && static_cast<double>(steady_now_ns()) < end_ns && !s.camera.finished()) {
     s.poll_camera(0.002);
     s.poll_dvl();
     s.poll_link();
+    if (const int64_t now_ns = steady_now_ns(); now_ns >= next_check_ns) {
+      s.say_faults(now_ns);
+      next_check_ns = now_ns + kFaultCheck_ns;
+    }
   }
   s.end_steady_ns = steady_now_ns();
   s.writer.finish();
 }
 
 std::vector<SourceSummary> Recorder::summary() const {
-  const Sources& s = *sources_;
-  std::vector<SourceSummary> out;
-  SourceSummary cam = s.cam.summary;
-  const CameraCounters c = s.camera.counters();
-  cam.faults = "dropped " + std::to_string(c.dropped) + ", wrong size " +
-               std::to_string(c.wrong_size) + ", stalls " + std::to_string(c.stalls) +
-               ", reconnects " + std::to_string(c.reconnects) + ", open failures " +
-               std::to_string(c.open_failures);
-  out.push_back(cam);
-  if (s.waterlinked || s.nucleus) {
-    SourceSummary d = s.dvl.summary;
-    if (s.waterlinked) {
-      const drivers::WaterLinkedCounters& w = s.waterlinked->stream_counters();
-      d.faults = "malformed " + std::to_string(w.malformed) + ", checksum failures " +
-                 std::to_string(w.checksum_failures) + ", water track skipped " +
-                 std::to_string(s.waterlinked->counters().water_track_skipped) + ", " +
-                 link_faults(s.waterlinked->connection_counters());
-    } else {
-      const drivers::NucleusStreamCounters& n = s.nucleus->stream_counters();
-      d.faults = "checksum failures " + std::to_string(n.checksum_failures) + ", skipped bytes " +
-                 std::to_string(n.skipped_bytes) + ", " +
-                 link_faults(s.nucleus->connection_counters());
-    }
-    out.push_back(d);
-  }
-  if (s.link) {
-    const mavlink::LinkCounters l = s.link->counters();
-    const std::string faults = "bad crc " + std::to_string(l.parse.bad_crc) + ", dropped " +
-                               std::to_string(l.samples_dropped) + ", link errors " +
-                               std::to_string(l.send_errors);
-    SourceSummary p = s.pressure.summary, i = s.imu.summary;
-    p.faults = i.faults = faults;
-    out.push_back(p);
-    out.push_back(i);
-  }
-  return out;
+  return sources_->summary();
 }
 
 std::string Recorder::summary_text() const {
@@ -214,7 +291,7 @@ std::string Recorder::summary_text() const {
                     ns_to_seconds(*s.clock_offset_ns));
       text += offset;
     }
-    text += "; " + s.faults + "\n";
+    text += "; " + faults_text(s.faults) + "\n";
   }
   return text;
 }

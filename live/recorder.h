@@ -3,23 +3,32 @@
 // shared layout as they arrive (cam0, dvl0, pressure0 from the water's barometer, imu0 from
 // ATTITUDE; each log with its samples' raw device times in a last column). The dataset is
 // streamed (DatasetWriter's kStreaming): a recorder that is killed leaves a readable dataset up to
-// its last complete row. Faults of the devices are counted and said once by their sources, never
-// thrown after construction; summary() tells each source's rate, drops, errors and clock offset.
+// its last complete row. Faults of the devices are counted, never thrown after construction:
+// while recording, each source's counters that grew are said (at most once a second per source),
+// as is a source without a sample for silence_s and its return; summary() tells each source's
+// rate, drops, errors and clock offset.
 #include <atomic>
 #include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "live/record_config.h"
 
 namespace pensight::live {
 
+struct FaultCount {
+  std::string name;  // e.g. "drops", "malformed"
+  uint64_t count = 0;
+};
+
 struct SourceSummary {
   std::string name;                        // "cam0", "dvl0", "pressure0", "imu0"
   uint64_t samples = 0;                    // written
   uint64_t out_of_order = 0;               // a time stamp not after the previous one: not written
-  std::string faults;                      // the source's counters of drops and errors, in words
+  std::vector<FaultCount> faults;          // the source's counters of drops and errors
   std::optional<int64_t> clock_offset_ns;  // host stamp - device time of the last sample
 };
 
