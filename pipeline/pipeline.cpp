@@ -446,14 +446,6 @@ global_pose::GlobalPoseCounters Pipeline::global_pose_counters() const {
   return impl_->estimator.counters();
 }
 
-const std::vector<kernels::RoiOrigin>& Pipeline::rois() const {
-  return impl_->detector.rois();
-}
-
-int Pipeline::roi_size_px() const {
-  return impl_->detector.config().grid.roi_size_px;
-}
-
 std::string Pipeline::backend_description() const {
   return impl_->detector.description();
 }

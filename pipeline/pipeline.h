@@ -143,9 +143,6 @@ class Pipeline {
   std::string backend_description() const;
   // The dense-depth stage's backend, network size and GFLOP; empty when the stage is off.
   std::string depth_description() const;
-  // The detector's ROI grid (top-left corners, grid order) and ROI side, e.g. for overlays.
-  const std::vector<kernels::RoiOrigin>& rois() const;
-  int roi_size_px() const;
   // The global-pose estimator's counters once finish() returned; throws pensight::Error before.
   global_pose::GlobalPoseCounters global_pose_counters() const;
 

@@ -110,12 +110,9 @@ class RunWriter {
   }
 
   // Overlays of frames 0, every_nth, 2 every_nth, ... into `dir`.
-  void overlays(std::filesystem::path dir, std::vector<kernels::RoiOrigin> rois, int roi_size_px,
-                size_t every_nth) {
+  void overlays(std::filesystem::path dir, size_t every_nth) {
     std::filesystem::create_directories(dir);
     overlay_dir_ = std::move(dir);
-    rois_ = std::move(rois);
-    roi_size_px_ = roi_size_px;
     overlay_every_ = std::max<size_t>(every_nth, 1);
   }
 
@@ -186,7 +183,7 @@ class RunWriter {
       if (!overlay_dir_.empty() && next_ % overlay_every_ == 0 && r.image) {
         const std::filesystem::path name =
             std::filesystem::path(d_.frames[next_].filename).stem().string() + ".png";
-        write_overlay_png(overlay_dir_ / name, *r.image, r.detection, rois_, roi_size_px_);
+        write_overlay_png(overlay_dir_ / name, *r.image, r.detection);
       }
     }
     count_outcomes(r.counters, diag);
@@ -271,8 +268,6 @@ class RunWriter {
   std::vector<DiagnosticsRow> diagnostics_rows_;
   std::vector<std::string> skipped_;   // per frame: why it could not be loaded, or empty
   std::filesystem::path overlay_dir_;  // empty: no overlays
-  std::vector<kernels::RoiOrigin> rois_;
-  int roi_size_px_ = 0;
   size_t overlay_every_ = 1;
   std::filesystem::path depth_dir_;
   size_t next_ = 0;  // frames with a row
@@ -351,7 +346,7 @@ RunSummary run_dataset(const Dataset& dataset, const std::filesystem::path& out_
   summary.backend = pipeline.backend_description();
   summary.depth_backend = pipeline.depth_description();
   if (options.depth) writer.depth_pngs(out_dir / "depth");
-  writer.overlays(out_dir / "overlays", pipeline.rois(), pipeline.roi_size_px(),
+  writer.overlays(out_dir / "overlays",
                   options.overlays ? 1 : (total + kReportOverlays - 1) / kReportOverlays);
 
   const auto start = std::chrono::steady_clock::now();

@@ -26,8 +26,7 @@ std::optional<std::string> FineMeshProbe::too_fine(const ImageU8& image) {
   char reason[256];
   std::snprintf(reason, sizeof reason,
                 "mesh period %.1f px: too fine for ROIs of %d px analysed at FFT %d (periods "
-                "down to %.1f px); ROIs of %d px (grid.roi_size_px, --roi-size) analyse it at "
-                "its own pixels",
+                "down to %.1f px); analysed on ROIs of %d px",
                 1 / f_cpp, grid_.roi_size_px, grid_.fft_size, 1 / band_max_cpp_, grid_.fft_size);
   return std::string(reason);
 }

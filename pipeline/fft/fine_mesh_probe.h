@@ -4,7 +4,7 @@
 // per ROI) folds back into it as a coarser one and reads as a nearer net: a 3 px mesh on 533 px
 // ROIs at FFT 256 (a 30 mm net 8 m from a 1280x720 camera) read 3.6 m on every frame. One ROI of
 // F px at the frame's centre, analysed at its own pixels, sees such a lattice at its true period;
-// the frame then gets a reason instead of a pose.
+// NetDetector then analyses the frame on ROIs of F px (not resampled) instead.
 //
 // Cost: one F x F FFT on the CPU per frame (~0.2 ms at 256), and only for resampled grids.
 #include <optional>

@@ -69,6 +69,10 @@ struct NetDetector::Impl {
   std::optional<kernels::FftRoiCpu> cpu;
   std::optional<VulkanStage> vulkan;
   std::optional<FineMeshProbe> fine_mesh;
+  // Native ROIs of the FFT's side for frames whose mesh the planned ROIs cannot hold; made on the
+  // first such frame. It has no probe of its own (its ROIs are not resampled).
+  std::unique_ptr<NetDetector> native;
+  Device* native_device = nullptr;
   MeshAngleFilter mesh_filter{std::nullopt};
   TexturePatch previous_patch;  // the previous frame's, for NetDetection::texture
 
@@ -211,6 +215,7 @@ NetDetector::NetDetector(const PinholeCamera& camera, const NetDetectorConfig& c
              .window = m.config.window};
   m.choose(device);
   m.fine_mesh.emplace(m.shape, m.config.peaks, m.config.points.min_quality);
+  m.native_device = &device;
   // The planned grid is part of what a user needs to read a run (grid_plan.h).
   m.description += ", " + std::to_string(m.config.grid.rows) + "x" +
                    std::to_string(m.config.grid.cols) + " ROIs of " +
@@ -239,9 +244,27 @@ NetDetection NetDetector::detect(const ImageU8& image, int64_t timestamp_ns) {
   Impl& m = *impl_;
   check_image_size(image.width, image.height, m.camera, "NetDetector", "image",
                    " (the resolution of cam0/sensor.yaml)");
+  Stopwatch sw;
+  if (std::optional<std::string> why = m.fine_mesh->too_fine(image)) {
+    // The planned grid would read aliases: the frame is analysed on native ROIs instead, and its
+    // reason names both where those give no pose either.
+    const double probe_ms = sw.elapsed_ms();
+    if (!m.native) {
+      NetDetectorConfig native = m.config;
+      native.grid.roi_size_px = m.config.fft_size;
+      m.native = std::make_unique<NetDetector>(m.camera, native, *m.native_device);
+    }
+    NetDetection n = m.native->detect(image, timestamp_ns);
+    n.pose_ms += probe_ms;
+    if (!n.pose.valid()) n.pose.reason = *why + "; on those: " + n.pose.reason;
+    return n;
+  }
   NetDetection d;
   d.timestamp_ns = timestamp_ns;
-  Stopwatch sw;
+  d.rois = m.rois;
+  d.roi_size_px = m.shape.roi_size_px;
+  const double probe_ms = sw.elapsed_ms();
+  sw.restart();
   switch (m.backend) {
     case Backend::kVulkan:
       d.lattices = m.vulkan->run(image);
@@ -257,16 +280,6 @@ NetDetection NetDetector::detect(const ImageU8& image, int64_t timestamp_ns) {
   }
   d.fft_ms = sw.elapsed_ms();
   sw.restart();
-  if (std::optional<std::string> why = m.fine_mesh->too_fine(image)) {
-    // The lattices are aliases: no points, no pose, and the carried opening angle untouched.
-    d.points.assign(m.rois.size(), RoiNetPoint{});
-    d.pose.status = FftPoseStatus::kMeshTooFine;
-    d.pose.reason = std::move(*why);
-    d.pose.inlier.assign(m.rois.size(), 0);
-    d.mesh_angle_rad = m.mesh_filter.has_estimate() ? m.mesh_filter.angle_rad() : kNaN;
-    d.pose_ms = sw.elapsed_ms();
-    return d;
-  }
   m.solve(d, m.mesh_filter);
   // The carried opening angle is a prior, never a gate: a frame that disagrees with it or that it
   // cannot explain (a new panel, a diamond section, another pen) is solved on its own, and that
@@ -292,7 +305,7 @@ NetDetection NetDetector::detect(const ImageU8& image, int64_t timestamp_ns) {
                              m.config.bar_length_m, m.config.texture);
     m.previous_patch = std::move(patch);
   }
-  d.pose_ms = sw.elapsed_ms();
+  d.pose_ms = probe_ms + sw.elapsed_ms();
   return d;
 }
 

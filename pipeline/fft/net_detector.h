@@ -48,7 +48,11 @@ struct NetDetectorConfig {
 };
 
 struct NetDetection {
-  int64_t timestamp_ns = 0;                   // the frame's, passed through
+  int64_t timestamp_ns = 0;  // the frame's, passed through
+  // The grid this frame was analysed on: the planned one, or native ROIs of the FFT's side where
+  // the mesh is finer than the planned ROIs hold (fine_mesh_probe.h).
+  std::vector<kernels::RoiOrigin> rois;
+  int roi_size_px = 0;
   std::vector<kernels::RoiLattice> lattices;  // per ROI, grid order
   std::vector<RoiNetPoint> points;            // per ROI, grid order
   // Priors for depth completion on the inlier ROIs' local surfaces (depth_priors.h); empty
@@ -65,7 +69,7 @@ struct NetDetection {
   MeshAngleMeasurement mesh_angle_frame;   // this frame's own measurement
   int reduced_rois = 0;                    // ROIs whose spectral basis held a diagonal
   double fft_ms = 0;                       // lattice stage incl. upload/download (wall clock)
-  double pose_ms = 0;                      // net points + relative pose
+  double pose_ms = 0;                      // the fine-mesh probe, net points, relative pose
 };
 
 class NetDetector {

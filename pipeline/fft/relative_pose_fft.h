@@ -69,7 +69,6 @@ enum class FftPoseStatus {
   kTooOblique,     // beyond max_obliquity_rad
   kExtrapolated,   // net points too far from the optical axis for the obliquity
   kTiltsDisagree,  // the ROIs' own tilts contradict the plane (a lattice harmonic)
-  kMeshTooFine,    // the mesh is finer than the grid's ROIs hold (fine_mesh_probe.h)
 };
 
 struct FftRelativePose {

@@ -125,14 +125,14 @@ std::string pose_text(const FftRelativePose& pose) {
 }  // namespace
 
 void write_overlay_png(const std::filesystem::path& file, const ImageU8& frame,
-                       const NetDetection& detection, std::span<const kernels::RoiOrigin> rois,
-                       int roi_size_px) {
+                       const NetDetection& detection) {
+  const std::vector<kernels::RoiOrigin>& rois = detection.rois;
+  const int roi_size_px = detection.roi_size_px;
   if (frame.empty()) throw Error("overlay '" + file.string() + "': the frame is empty");
   if (detection.points.size() != rois.size()) {
     throw Error("overlay '" + file.string() + "': the detection has " +
-                std::to_string(detection.points.size()) + " ROIs but " +
-                std::to_string(rois.size()) +
-                " ROI origins were given; pass the detector's NetDetector::rois()");
+                std::to_string(detection.points.size()) + " points but " +
+                std::to_string(rois.size()) + " ROIs; pass a NetDetector::detect() result");
   }
   cv::Mat image;
   cv::cvtColor(

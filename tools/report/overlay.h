@@ -11,12 +11,10 @@
 
 namespace pensight {
 
-// Writes `file` whole as a colour PNG of the frame's size. `rois` and `roi_size_px` are the
-// detector's grid (NetDetector::rois(), NetDetectorConfig::grid.roi_size_px). Throws
-// pensight::Error when the frame is empty, the ROI count differs from the detection's, or the file
-// cannot be written.
+// Writes `file` whole as a colour PNG of the frame's size, with the grid the detection was made
+// on (NetDetection::rois, roi_size_px). Throws pensight::Error when the frame is empty, the
+// detection's points and ROIs differ in number, or the file cannot be written.
 void write_overlay_png(const std::filesystem::path& file, const ImageU8& frame,
-                       const NetDetection& detection, std::span<const kernels::RoiOrigin> rois,
-                       int roi_size_px);
+                       const NetDetection& detection);
 
 }  // namespace pensight

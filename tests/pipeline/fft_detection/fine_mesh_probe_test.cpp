@@ -1,15 +1,17 @@
 // A mesh finer than the planned grid's resampled ROIs hold (fine_mesh_probe.h): on a 1280x720
 // camera the grid is 533 px ROIs at FFT 256, which hold periods down to 4.6 px. A finer lattice
-// folds back into their band as a coarser one and would read as a nearer net; the frame gets a
-// reason naming the period instead of a pose. Coarser lattices and grids that do not resample
-// are left alone.
+// folds back into their band as a coarser one and would read as a nearer net; the probe names it
+// and the detector analyses the frame on native 256 px ROIs, which read its true distance.
+// Coarser lattices and grids that do not resample are left alone.
 #include "pipeline/fft/fine_mesh_probe.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
+#include <optional>
 #include <random>
 #include <string>
 
@@ -48,22 +50,34 @@ NetDetectorConfig cpu_config() {
   return c;
 }
 
-TEST(FineMeshProbe, ALatticeFinerThanTheGridHoldsIsNamedInsteadOfAPose) {
+TEST(FineMeshProbe, ALatticeFinerThanTheGridHoldsIsReadOnNativeRois) {
   std::mt19937_64 rng(testing::fresh_seed());
   const PinholeCamera camera = default_field_of_view(1280, 720);
-  NetDetector detector(camera, cpu_config(), testing::test_device());
+  NetDetectorConfig config = cpu_config();
+  NetDetector detector(camera, config, testing::test_device());
   ASSERT_EQ(detector.config().grid.roi_size_px, 533);
   ASSERT_EQ(detector.config().fft_size, 256);
   const double period_px = std::uniform_real_distribution<double>(2.8, 4.2)(rng);
-  const NetDetection d = detector.detect(lattice_image(1280, 720, period_px, rng));
-  EXPECT_EQ(d.pose.status, FftPoseStatus::kMeshTooFine) << d.pose.reason;
-  EXPECT_NEAR(period_in(d.pose.reason), period_px, 0.1) << d.pose.reason;
-  EXPECT_NE(d.pose.reason.find("too fine for ROIs of 533 px analysed at FFT 256 (periods down to "
-                               "4.6 px)"),
+  const ImageU8 image = lattice_image(1280, 720, period_px, rng);
+
+  FineMeshProbe probe({.width = 1280, .height = 720, .roi_size_px = 533}, {},
+                      config.points.min_quality);
+  const std::optional<std::string> why = probe.too_fine(image);
+  ASSERT_TRUE(why);
+  EXPECT_NEAR(period_in(*why), period_px, 0.1) << *why;
+  EXPECT_NE(why->find("too fine for ROIs of 533 px analysed at FFT 256 (periods down to 4.6 px); "
+                      "analysed on ROIs of 256 px"),
             std::string::npos)
-      << d.pose.reason;
-  EXPECT_TRUE(std::isnan(d.pose.d_net_m));
-  for (const RoiNetPoint& p : d.points) EXPECT_FALSE(p.valid());
+      << *why;
+
+  // The bars' true distance: fx x bar / period (the lattice is frontal).
+  const double truth_m = camera.fx_px * detector.config().bar_length_m / period_px;
+  const NetDetection d = detector.detect(image);
+  EXPECT_EQ(d.roi_size_px, 256);
+  EXPECT_EQ(d.rois.size(), d.points.size());
+  ASSERT_TRUE(d.pose.valid()) << d.pose.reason;
+  std::printf("period %.2f px: d_net %.3f m, truth %.3f m\n", period_px, d.pose.d_net_m, truth_m);
+  EXPECT_NEAR(d.pose.d_net_m / truth_m, 1.0, 0.02);
 }
 
 TEST(FineMeshProbe, CoarserLatticesAndGridsThatDoNotResampleAreLeftAlone) {

@@ -72,8 +72,7 @@ class ReportTest : public ::testing::Test {
       const NetDetection d = detector.detect(frame, kStart_ns + i * kFrame_ns);
       char name[32];
       std::snprintf(name, sizeof name, "%06d.png", i);
-      write_overlay_png(dir / name, frame, d, detector.rois(),
-                        NetDetectorConfig{}.grid.roi_size_px);
+      write_overlay_png(dir / name, frame, d);
     }
   }
 
@@ -155,6 +154,8 @@ TEST_F(ReportTest, OverlayIsAColourPngOfTheFrameWithTheRoiGrid) {
   const ImageU8 frame(cam.width_px, cam.height_px, 128);
   const auto rois = kernels::roi_grid(cam.width_px, cam.height_px, {});
   NetDetection d;
+  d.rois = rois;
+  d.roi_size_px = 300;
   d.points.resize(rois.size());
   d.pose = {FftPoseStatus::kValid,
             1.2,
@@ -175,7 +176,7 @@ TEST_F(ReportTest, OverlayIsAColourPngOfTheFrameWithTheRoiGrid) {
     d.pose.inlier[i] = i < 10;
   }
   const fs::path file = dir_ / "overlay.png";
-  write_overlay_png(file, frame, d, rois, 300);
+  write_overlay_png(file, frame, d);
   const cv::Mat image = cv::imread(file.string(), cv::IMREAD_UNCHANGED);
   ASSERT_FALSE(image.empty());
   EXPECT_EQ(image.cols, cam.width_px);
@@ -190,8 +191,8 @@ TEST_F(ReportTest, OverlayIsAColourPngOfTheFrameWithTheRoiGrid) {
   }
 
   d.points.pop_back();
-  EXPECT_THROW(write_overlay_png(file, frame, d, rois, 300), Error);
-  EXPECT_THROW(write_overlay_png(file, ImageU8{}, d, rois, 300), Error);
+  EXPECT_THROW(write_overlay_png(file, frame, d), Error);
+  EXPECT_THROW(write_overlay_png(file, ImageU8{}, d), Error);
 }
 
 TEST_F(ReportTest, OverlaysOfDetectedNets) {
