@@ -23,6 +23,11 @@ std::optional<GlobalPoseEstimator::WallPose> GlobalPoseEstimator::pose_from_fix(
 LockCheck GlobalPoseEstimator::check_lock_at(const PenFix& fix, double rho_rad,
                                              int64_t t_ns) const {
   LockCheck check = check_lock(fix, cfg_.lock);
+  // An oblique fix within max_abs_psi_r_with_plane_rad locks only where the DVL plane agrees.
+  const LockCheck oblique = check;
+  const bool needs_plane = check.verdict == LockVerdict::kOblique &&
+                           std::abs(fix.psi_r_rad) <= cfg_.lock.max_abs_psi_r_with_plane_rad;
+  if (needs_plane) check = {};
   const auto pose = pose_from_fix(wall_fix(fix), rho_rad);
   if (check.lockable() && !pose)
     check = {LockVerdict::kMissesThePanel,
@@ -30,7 +35,8 @@ LockCheck GlobalPoseEstimator::check_lock_at(const PenFix& fix, double rho_rad,
   const bool recent_plane =
       state_.plane_ns != kNever &&
       std::abs(seconds_between(state_.plane_ns, t_ns)) <= cfg_.lock.max_plane_age_s;
-  if (!check.lockable() || !recent_plane || !cfg_.dvl_beams) return check;
+  if (!check.lockable()) return check;
+  if (!recent_plane || !cfg_.dvl_beams) return needs_plane ? oblique : check;
   StateVector x = StateVector::Zero();
   x.head<2>() = pose->xy_m;
   x(kPsi) = pose->psi_rad;

@@ -126,6 +126,8 @@ const Param<LockRule> kLockRuleParams[] = {
      "largest standard deviation of r_g the fit gives"},
     {"max_abs_psi_r_rad", &LockRule::max_abs_psi_r_rad, "rad", kPositive,
      "facing the net within this (oblique ROIs are worse)"},
+    {"max_abs_psi_r_with_plane_rad", &LockRule::max_abs_psi_r_with_plane_rad, "rad", kPositive,
+     "beyond max_abs_psi_r_rad, up to this where a recent DVL net plane agrees with the fix"},
     {"max_plane_age_s", &LockRule::max_plane_age_s, "s", kNonNegative,
      "a DVL net plane measured this recently must agree with the fix"},
     {"plane_distance_tol_m", &LockRule::plane_distance_tol_m, "m", kPositive,

@@ -15,6 +15,9 @@ struct LockRule {
   double max_residual_rms_m = 0.04;      // of the inliers to the fitted circle
   double max_r_sigma_m = 0.05;           // the fit's own standard deviation of r_g
   double max_abs_psi_r_rad = 0.45;       // facing the net within ~25 deg (oblique ROIs are worse)
+  // Beyond it, up to this, where a recent DVL net plane agrees (estimator side): the DVL's beams
+  // measure the plane apart from the ROIs whose obliquity makes the fit less sure.
+  double max_abs_psi_r_with_plane_rad = 1.0;  // ~57 deg
   // Checked against the DVL net plane when one was measured this recently (estimator side).
   double max_plane_age_s = 0.3;
   double plane_distance_tol_m = 0.25;
