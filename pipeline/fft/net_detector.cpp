@@ -121,7 +121,7 @@ struct NetDetector::Impl {
         net_plane_normal(std::tan(pose.psi_net_rad), std::tan(pose.pitch_net_rad));
     d.points = std::move(points);
     d.pose = std::move(pose);
-    return std::acos(std::clamp(std::abs(moved.normalized().dot(normal.normalized())), 0.0, 1.0));
+    return std::acos(std::min(1.0, moved.dot(normal)));  // both unit, towards the camera
   }
 
   // The frame's points, opening angle and pose from its lattices, modelled with `filter`'s angle
