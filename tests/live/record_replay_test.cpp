@@ -4,21 +4,26 @@
 // rendered dataset run directly; the DVL's samples land within 5 ms of their true host time.
 // Devices that misbehave mid-recording (a DVL that drops its connection and sends a malformed
 // line, an autopilot that never speaks) are said while recording, and the recording goes on.
+// `pensight record` killed mid-recording leaves a dataset that reads to its last complete row.
 #include <arpa/inet.h>
 #include <gtest/gtest.h>
 #include <netinet/in.h>
+#include <signal.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cmath>
+#include <fstream>
 #include <regex>
 #include <thread>
 
 #include "core/units.h"
 #include "live/device_standins.h"
 #include "live/recorder.h"
+#include "tests/support/child_process.h"
 #include "tests/support/log_capture.h"
 #include "tests/support/rendered_run.h"
 
@@ -204,6 +209,74 @@ TEST(RecordFaults, ADroppedDvlAMalformedLineAndASilentAutopilotAreSaidAndRecordi
   EXPECT_GE(after_drop, 3) << "samples after the reconnection";
   ASSERT_GE(summary.size(), 2u);
   EXPECT_EQ(summary[1].name, "dvl0");
+}
+
+// The lines in `file` (0 while it does not exist).
+size_t lines_in(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  return static_cast<size_t>(
+      std::count(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>(), '\n'));
+}
+
+// The `pensight record` program, killed (SIGKILL: no handler runs, as at a power cut or the OOM
+// killer) halfway through the stand-ins' data: the dataset reads, every frame row has its image
+// and it is the device's frame, and the DVL, pressure and attitude rows recorded so far parse.
+TEST(RecordKilled, APensightRecordKilledMidRecordingLeavesAReadableDataset) {
+  const testing::RenderedDataset rendered(testing::shipped_scenario("follow.yaml", 3.0));
+  const Dataset& d = rendered.dataset();
+  RecordConfig config = loopback_config(d);
+  DeviceStandIns standins(d, config);
+  connect_to(config, standins);
+  const std::filesystem::path data = rendered.dir() / "data";
+  const std::filesystem::path session = rendered.dir() / "live.yaml";
+  {
+    std::ofstream yaml(session);
+    yaml << "scene: " << (data / "scene.yaml").string()
+         << "\ncamera:\n  uri: " << config.camera.uri.text
+         << "\n  calibration: " << (data / "cam0/sensor.yaml").string()
+         << "\ndvl:\n  kind: waterlinked\n  host: 127.0.0.1\n  port: " << config.dvl->port
+         << "\n  calibration: " << (data / "dvl0/sensor.yaml").string()
+         << "\nmavlink:\n  endpoint: " << config.mavlink->endpoint
+         << "\n  water_depth:\n    pressure_source: " << config.mavlink->water_depth.pressure_source
+         << "\n";
+  }
+
+  std::atomic<bool> stop{false};
+  std::thread serve([&] { standins.run(stop); });
+  const std::filesystem::path rec = rendered.dir() / "killed";
+  size_t rows_seen = 0;
+  {
+    testing::ChildProcess record({PENSIGHT_CLI, "record", session.string(), "--out", rec.string()},
+                                 rendered.dir() / "record.log");
+    // Half the frames, the header line aside; the stand-ins play them in real time after 1 s.
+    const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+    while (rows_seen < d.frames.size() / 2 + 1 && record.running() &&
+           std::chrono::steady_clock::now() < give_up) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+      rows_seen = lines_in(rec / "cam0" / "data.csv");
+    }
+    ASSERT_TRUE(record.running()) << record.log();
+    EXPECT_EQ(record.kill(), 128 + SIGKILL);
+    std::printf("killed with %zu lines in cam0/data.csv\n%s", rows_seen, record.log().c_str());
+  }
+  stop = true;
+  serve.join();
+
+  const Dataset r = read_dataset(rec);
+  ASSERT_GE(r.frames.size(), d.frames.size() / 2);
+  ASSERT_LT(r.frames.size(), d.frames.size());
+  for (size_t i = 0; i < r.frames.size(); ++i) {
+    ASSERT_EQ(r.load_frame(i).width, d.cam0.camera.width_px) << "frame " << i;
+  }
+  const Image first = r.load_frame(0);
+  const bool from_the_stream = std::any_of(d.frames.begin(), d.frames.end(), [&](const auto& f) {
+    return d.load_frame(static_cast<size_t>(&f - d.frames.data())).pixels == first.pixels;
+  });
+  EXPECT_TRUE(from_the_stream) << "the first recorded frame is none of the dataset's";
+  ASSERT_TRUE(r.dvl0 && r.pressure0 && r.imu0);
+  EXPECT_GE(r.dvl0->samples.size(), 1u);
+  EXPECT_GE(r.pressure0->size(), 1u);
+  EXPECT_GE(r.imu0->size(), 1u);
 }
 
 }  // namespace

@@ -1,4 +1,4 @@
-#include "tests/ros/child_process.h"
+#include "tests/support/child_process.h"
 
 #include <fcntl.h>
 #include <signal.h>
@@ -62,6 +62,12 @@ std::optional<int> ChildProcess::wait(std::chrono::milliseconds timeout) {
 std::optional<int> ChildProcess::stop(std::chrono::milliseconds timeout) {
   if (!status_) ::kill(-pid_, SIGINT);
   return wait(timeout);
+}
+
+int ChildProcess::kill() {
+  if (!status_) ::kill(-pid_, SIGKILL);
+  // A killed process ends at once; the wait only reaps it.
+  return wait(std::chrono::seconds(10)).value_or(128 + SIGKILL);
 }
 
 bool ChildProcess::running() {

@@ -1,7 +1,7 @@
 #pragma once
-// A program the ROS tests start and stop (roscore, pensight_node, rosbag play): its own process
-// group, so stopping it stops what it started (roscore's rosmaster and rosout), with stdout and
-// stderr in a log file.
+// A program a test starts and stops (roscore, pensight_node, rosbag play, `pensight record`): its
+// own process group, so stopping it stops what it started (roscore's rosmaster and rosout), with
+// stdout and stderr in a log file.
 #include <sys/types.h>
 
 #include <chrono>
@@ -27,6 +27,9 @@ class ChildProcess {
   std::optional<int> wait(std::chrono::milliseconds timeout);
   // SIGINT to the group (as Ctrl-C), then wait(timeout).
   std::optional<int> stop(std::chrono::milliseconds timeout);
+  // SIGKILL to the group (a power cut, the OOM killer): nothing of the process runs after it.
+  // Returns the exit status, 128 + SIGKILL unless it had ended before.
+  int kill();
   bool running();
   // What the process wrote so far.
   std::string log() const;
