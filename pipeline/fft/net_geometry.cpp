@@ -86,6 +86,7 @@ RoiNetPoint roi_net_point(const kernels::RoiLattice& lattice, kernels::RoiOrigin
                 "; set net_mesh_angle_deg in scene.yaml");
   }
   RoiNetPoint out;
+  out.origin = origin;
   out.quality = lattice.quality;
   // The lattice was measured where the ROI's energy is: on the net part of a ROI at its edge.
   out.centre_px =

@@ -64,6 +64,7 @@ const char* to_string(RoiStatus status);
 
 struct RoiNetPoint {
   RoiStatus status = RoiStatus::kNoLattice;
+  kernels::RoiOrigin origin;  // the ROI's top-left pixel: a grid column's ROIs share its x
   Eigen::Vector2d centre_px = Eigen::Vector2d::Zero();  // ROI centre + energy centroid offset
   // Image lattice vectors at the centre: the reduced basis (the bars), lattice2 signed so that the
   // two make the cell's acute angle on the net (per the normal hint, else in the image).

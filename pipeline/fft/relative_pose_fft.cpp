@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <limits>
 #include <optional>
+#include <set>
 #include <utility>
 #include <vector>
 
@@ -47,6 +48,38 @@ Eigen::Matrix<double, 6, 1> paraboloid_basis(const Eigen::Vector3d& p) {
   Eigen::Matrix<double, 6, 1> phi;
   phi << 1, p.x(), p.y(), p.x() * p.x(), p.x() * p.y(), p.y() * p.y();
   return phi;
+}
+
+// A quadratic term along a direction is fitted only where the samples sit in at least this many
+// grid columns (x^2), rows (y^2) or both (x y): in three, x^2 interpolates the three columns'
+// means exactly and follows their noise, which the paraboloid's value on the optical axis
+// extrapolates (an oblique view whose net is seen in three columns read 8 % off, 4 % with a plane).
+constexpr size_t kMinCurvaturePositions = 4;
+
+// The paraboloid through the set, with the curvature terms its ROIs' spread measures (the others
+// zero).
+Eigen::Matrix<double, 6, 1> fit_paraboloid(const std::vector<Sample>& s,
+                                           const std::vector<int>& set,
+                                           std::span<const RoiNetPoint> rois) {
+  std::set<int32_t> columns, rows;
+  for (int i : set) {
+    columns.insert(rois[s[i].roi].origin.x);
+    rows.insert(rois[s[i].roi].origin.y);
+  }
+  const bool xx = columns.size() >= kMinCurvaturePositions;
+  const bool yy = rows.size() >= kMinCurvaturePositions;
+  Eigen::Matrix<double, 6, 1> terms;
+  terms << 1, 1, 1, xx, xx && yy, yy;
+  Eigen::Matrix<double, 6, 6> ata = Eigen::Matrix<double, 6, 6>::Zero();
+  Eigen::Matrix<double, 6, 1> atb = Eigen::Matrix<double, 6, 1>::Zero();
+  for (int i : set) {
+    const Eigen::Matrix<double, 6, 1> phi = paraboloid_basis(s[i].p).cwiseProduct(terms);
+    ata += s[i].w * phi * phi.transpose();
+    atb += s[i].w * phi * s[i].p.z();
+  }
+  for (int k = 3; k < 6; ++k)
+    if (terms(k) == 0) ata(k, k) = 1;  // its coefficient solves to 0
+  return ata.ldlt().solve(atb);
 }
 
 template <int K>
@@ -319,9 +352,10 @@ double squared_residuals(const std::vector<Sample>& s, const std::vector<int>& s
   return sq;
 }
 
-bool two_panels_fit_better(const std::vector<Sample>& s, const std::vector<int>& in_a,
-                           const Eigen::Vector3d& a, const std::vector<int>& in_b,
-                           const Eigen::Vector3d& b, const RelativePoseFftParams& params) {
+bool two_panels_fit_better(const std::vector<Sample>& s, std::span<const RoiNetPoint> rois,
+                           const std::vector<int>& in_a, const Eigen::Vector3d& a,
+                           const std::vector<int>& in_b, const Eigen::Vector3d& b,
+                           const RelativePoseFftParams& params) {
   std::vector<int> both = in_a;
   both.insert(both.end(), in_b.begin(), in_b.end());
   const double n = static_cast<double>(both.size());
@@ -329,7 +363,7 @@ bool two_panels_fit_better(const std::vector<Sample>& s, const std::vector<int>&
       squared_residuals<3>(s, in_a, a, plane_basis) + squared_residuals<3>(s, in_b, b, plane_basis);
   const double one =
       static_cast<int>(both.size()) >= params.min_paraboloid_rois
-          ? squared_residuals<6>(s, both, fit<6>(s, both, paraboloid_basis), paraboloid_basis)
+          ? squared_residuals<6>(s, both, fit_paraboloid(s, both, rois), paraboloid_basis)
           : squared_residuals<3>(s, both, fit<3>(s, both, plane_basis), plane_basis);
   return std::sqrt(two / n) <= kFoldResidualShare * std::sqrt(one / n);
 }
@@ -345,13 +379,13 @@ struct TwoPanels {
 // Whether planes a and b through the two sets are two panels meeting in a fold: at least
 // min_fold_angle_rad apart, meeting where their ROIs are (meet_in_a_fold), and fitting them
 // better than one smooth surface (two_panels_fit_better).
-bool is_fold(const std::vector<Sample>& s, const std::vector<int>& in_a, const Eigen::Vector3d& a,
-             const std::vector<int>& in_b, const Eigen::Vector3d& b,
-             const RelativePoseFftParams& params) {
+bool is_fold(const std::vector<Sample>& s, std::span<const RoiNetPoint> rois,
+             const std::vector<int>& in_a, const Eigen::Vector3d& a, const std::vector<int>& in_b,
+             const Eigen::Vector3d& b, const RelativePoseFftParams& params) {
   const double cos_angle = net_plane_normal(a(1), a(2)).dot(net_plane_normal(b(1), b(2)));
   return cos_angle <= std::cos(params.min_fold_angle_rad) &&
          meet_in_a_fold(s, in_a, a, in_b, b, params.inlier_rel) &&
-         two_panels_fit_better(s, in_a, a, in_b, b, params);
+         two_panels_fit_better(s, rois, in_a, a, in_b, b, params);
 }
 
 std::optional<TwoPanels> fold_within(const std::vector<Sample>& s,
@@ -392,7 +426,8 @@ std::optional<TwoPanels> fold_within(const std::vector<Sample>& s,
   }
   two.plane = fit<3>(s, two.in, plane_basis);
   two.fold.plane = fit<3>(s, two.fold.in, plane_basis);
-  if (!is_fold(s, two.in, two.plane, two.fold.in, two.fold.plane, params)) return std::nullopt;
+  if (!is_fold(s, rois, two.in, two.plane, two.fold.in, two.fold.plane, params))
+    return std::nullopt;
   return two;
 }
 
@@ -412,7 +447,7 @@ std::optional<Fold> find_fold(const std::vector<Sample>& s, std::span<const RoiN
   fold.in = consensus_among(s, rest, rois, params.inlier_rel, min_cos);
   if (static_cast<int>(fold.in.size()) < need) return std::nullopt;
   fold.plane = fit<3>(s, fold.in, plane_basis);
-  if (!is_fold(s, in, plane, fold.in, fold.plane, params)) return std::nullopt;
+  if (!is_fold(s, rois, in, plane, fold.in, fold.plane, params)) return std::nullopt;
   return fold;
 }
 
@@ -562,7 +597,7 @@ FftRelativePose solve(std::span<const RoiNetPoint> rois, const RelativePoseFftPa
   }
   double sq = squared_residuals<3>(s, in, plane, plane_basis);
   if (static_cast<int>(in.size()) >= params.min_paraboloid_rois) {
-    const auto q = fit<6>(s, in, paraboloid_basis);
+    const auto q = fit_paraboloid(s, in, rois);
     if (std::abs(q(0) - plane(0)) <= params.max_curvature_share * plane(0)) {
       pose.d_net_m = q(0);
       sq = squared_residuals<6>(s, in, q, paraboloid_basis);

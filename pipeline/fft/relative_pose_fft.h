@@ -3,7 +3,8 @@
 // plane z = a x + b y + c through the valid 3D points in C gives psi_net = atan(a) and
 // pitch_net = atan(b) (signs as in ../shared/dataset-format.md); a weighted paraboloid
 // z = c0 + a x + b y + q1 x^2 + q2 x y + q3 y^2 through the same inliers gives d_net = c0, the
-// net's depth on the optical axis (x = y = 0), which follows a curved pen wall.
+// net's depth on the optical axis (x = y = 0), which follows a curved pen wall; a curvature term
+// only where the inliers sit in at least 4 grid columns (x^2), rows (y^2) or both (x y).
 // Outlier ROIs (a harmonic taken for the fundamental, a fish, a reflection) are removed by an
 // exhaustive three-point consensus before the fit. The plane's slopes are then fused with the
 // inliers' own tilts (RoiNetPoint::normals_C), which need no baseline: where the net covers only

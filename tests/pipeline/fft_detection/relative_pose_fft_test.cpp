@@ -29,6 +29,7 @@ std::vector<RoiNetPoint> grid_points(Surface surface) {
     RoiNetPoint p;
     p.status = RoiStatus::kValid;
     p.quality = 0.2;
+    p.origin = o;
     p.centre_px = {o.x + 149.5, o.y + 149.5};
     p.p_C = at(p.centre_px);
     p.range_m = p.p_C.norm();
