@@ -32,7 +32,7 @@ DatasetContents contents_of(const RecordConfig& c) {
 }
 
 void add_link_faults(std::vector<FaultCount>& faults, const ByteLinkCounters& c) {
-  faults.insert(faults.end(), {{"connects", c.connects},
+  faults.insert(faults.end(), {{"connects", c.connects, true},
                                {"connect failures", c.connect_failures},
                                {"drops", c.drops},
                                {"idle timeouts", c.idle_timeouts}});
@@ -53,9 +53,9 @@ std::string seconds_text(double s) {
   return text;
 }
 
-// Counters that are not faults: a connection made is said only after the first.
+// Whether a counter that grew from `before` is a fault to say.
 bool is_fault(const FaultCount& f, uint64_t before) {
-  return f.name != "connects" || before > 0;
+  return !f.first_is_expected || before > 0;
 }
 
 // The link and mounting a DVL driver's config shares with every other (both drivers' configs
@@ -80,6 +80,7 @@ struct Log {
   int64_t last_ns = std::numeric_limits<int64_t>::min();
   int64_t arrived_steady_ns = 0;
   bool silent = false;  // said to be silent and not yet said to be back
+  bool active = false;  // the session has this source
 };
 
 // A sample into its log: time order kept (the writer refuses a stamp that does not increase; a
@@ -140,6 +141,9 @@ struct Recorder::Sources {
       l.boot_clock = c.mavlink->clock;
       link = std::make_unique<mavlink::VehicleLink>(l);
     }
+    cam.active = true;
+    dvl.active = waterlinked || nucleus;
+    pressure.active = imu.active = link != nullptr;
   }
 
   std::vector<SourceSummary> summary() const {
@@ -152,7 +156,7 @@ struct Recorder::Sources {
                 {"reconnects", k.reconnects},
                 {"open failures", k.open_failures}};
     out.push_back(c);
-    if (waterlinked || nucleus) {
+    if (dvl.active) {
       SourceSummary d = dvl.summary;
       if (waterlinked) {
         const drivers::WaterLinkedCounters& w = waterlinked->stream_counters();
@@ -167,7 +171,7 @@ struct Recorder::Sources {
       }
       out.push_back(d);
     }
-    if (link) {
+    if (pressure.active) {
       const mavlink::LinkCounters l = link->counters();
       SourceSummary p = pressure.summary, i = imu.summary;
       p.faults = i.faults = {{"bad crc", l.parse.bad_crc},
@@ -200,9 +204,7 @@ struct Recorder::Sources {
     }
     const int64_t silence_ns = seconds_to_ns(config.silence_s);
     for (Log* log : {&cam, &dvl, &pressure, &imu}) {
-      const bool active = log == &cam || (log == &dvl && (waterlinked || nucleus)) ||
-                          ((log == &pressure || log == &imu) && link);
-      if (!active || log->silent || now_ns - log->arrived_steady_ns < silence_ns) continue;
+      if (!log->active || log->silent || now_ns - log->arrived_steady_ns < silence_ns) continue;
       log->silent = true;
       log_warning(log->summary.name + ": no sample for " +
                   seconds_text(seconds_between(log->arrived_steady_ns, now_ns)) +

@@ -22,6 +22,7 @@ namespace pensight::live {
 struct FaultCount {
   std::string name;  // e.g. "drops", "malformed"
   uint64_t count = 0;
+  bool first_is_expected = false;  // "connects": the first is the connection, not a fault
 };
 
 struct SourceSummary {

@@ -197,6 +197,7 @@ TEST(RecordFaults, ADroppedDvlAMalformedLineAndASilentAutopilotAreSaidAndRecordi
     EXPECT_TRUE(std::regex_search(said, silent)) << log_name;
   }
   EXPECT_EQ(said.find("cam0: no sample"), std::string::npos);
+  EXPECT_EQ(said.find("connects +1 (1)"), std::string::npos) << "the first connection said";
 
   const Dataset r = read_dataset(rec);
   EXPECT_EQ(r.frames.size(), d.frames.size());

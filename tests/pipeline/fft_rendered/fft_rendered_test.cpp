@@ -26,8 +26,9 @@ struct Case {
 // Measured over seeds 1-8 (docs/validation-log.md 2026-12-06), with a margin: ropes 117-119
 // of 121 frames with a pose, none more than 20 % off, d_net median 0.17-0.28 %, p95 1.89-2.47 %
 // (issue 37 asks 2 %: open), psi median 0.35-0.41 deg. Oblique frames over seeds 1-60
-// (2026-12-07): all with a pose, d_net median 0.68-2.31 %, max 2.2-5.1 %. The changing net (2026-12-06): 65 of 65 frames with a pose,
-// d_net median 0.11-0.14 %, p95 0.34-0.41 %, the changes' first frames at most 0.42 % off.
+// (2026-12-07): all with a pose, d_net median 0.68-2.31 %, max 2.2-5.1 %. The changing net
+// (2026-12-06): 65 of 65 frames with a pose, d_net median 0.11-0.14 %, p95 0.34-0.41 %, the
+// changes' first frames at most 0.42 % off.
 constexpr size_t kMinRopesEstimated = 110;
 constexpr double kMaxRopesP95 = 0.03;
 constexpr double kMaxObliqueMedian = 0.03, kMaxObliqueMax = 0.06;
