@@ -2,6 +2,7 @@
 
 #include "core/timing.h"
 
+#include <string>
 #include <utility>
 
 namespace pensight::drivers {
@@ -24,13 +25,24 @@ NucleusDvl::NucleusDvl(NucleusDvlConfig config)
     : config_(std::move(config)),
       link_(make_byte_link(config_.serial_device, config_.serial, config_.host, config_.port,
                            config_.tcp)),
+      session_(config_.command),
       clock_(config_.clock) {}
 
 std::vector<DvlSample> NucleusDvl::poll(double timeout_s) {
   std::vector<DvlSample> samples;
-  const std::vector<uint8_t> bytes = link_->read(timeout_s);
+  std::vector<uint8_t> bytes = link_->read(timeout_s);
   const int64_t arrival_ns = host_now_ns();
-  if (link_->take_new_connection()) stream_.restart();
+  if (link_->take_new_connection()) {
+    stream_.restart();
+    const std::string first =
+        config_.start ? session_.restart(config_.serial_device.empty(), steady_now_ns()) : "";
+    if (!first.empty()) link_->write(first);
+  }
+  if (config_.start) {
+    NucleusCommandSession::Step step = session_.feed(bytes, steady_now_ns());
+    if (!step.send.empty()) link_->write(step.send);
+    bytes = std::move(step.stream);
+  }
   for (const NucleusPacket& p : stream_.feed(bytes)) {
     const std::optional<NucleusTrack> track = decode_nucleus_track(p);
     if (!track) {

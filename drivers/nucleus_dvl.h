@@ -1,11 +1,13 @@
 #pragma once
-// A Nortek Nucleus 1000 on its TCP data port (9002), or on its serial line, as a source of the
-// pipeline's DvlSamples: the connection kept up (TcpClient, SerialPort), each bottom-track record
-// stamped at its own time on the host's clock (system_clock, ns since the Unix epoch; the Nucleus's
-// clock mapped by a DeviceClock, POSIX or not) and rotated into the body. Water-track records
-// (velocity through the water) and the other records are counted and left out. The Nucleus streams
-// once measuring: started from its web interface or command port (9000), which this source does not
-// drive. Faults are counted (counters()), never thrown.
+// A Nortek Nucleus 1000 on its TCP data port (9002), its command port (9000), or its serial line,
+// as a source of the pipeline's DvlSamples: the connection kept up (TcpClient, SerialPort), each
+// bottom-track record stamped at its own time on the host's clock (system_clock, ns since the Unix
+// epoch; the Nucleus's clock mapped by a DeviceClock, POSIX or not) and rotated into the body.
+// Water-track records (velocity through the water) and the other records are counted and left out.
+// The Nucleus streams once measuring: with `start`, this source logs in, sets the Nucleus's clock
+// and starts it on every connection (NucleusCommandSession), the records following on that
+// connection; without, it was started elsewhere (its web interface) and port 9002 carries them.
+// Faults are counted (counters()), never thrown.
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -19,6 +21,7 @@
 #include "core/device_clock.h"
 #include "core/serial_port.h"
 #include "core/tcp_client.h"
+#include "drivers/nucleus_commands.h"
 #include "drivers/nucleus_stream.h"
 
 namespace pensight::drivers {
@@ -39,6 +42,8 @@ struct NucleusDvlConfig {
   Eigen::Matrix3d R_B_S = Eigen::Matrix3d::Identity();  // dvl0/sensor.yaml's T_BS rotation
   TcpClientParams tcp;
   DeviceClockParams clock;
+  bool start = false;  // drive the command interface (port: kNucleusCommandPort over TCP)
+  NucleusCommandParams command;
 };
 
 struct NucleusDvlCounters {
@@ -59,11 +64,15 @@ class NucleusDvl {
   const NucleusDvlCounters& counters() const { return counters_; }
   const NucleusStreamCounters& stream_counters() const { return stream_.counters(); }
   const ByteLinkCounters& connection_counters() const { return link_->counters(); }
+  const NucleusCommandCounters& command_counters() const { return session_.counters(); }
+  // The latest fault of the connection, and of the commands with `start`.
   const std::string& last_error() const { return link_->last_error(); }
+  const std::string& last_command_error() const { return session_.last_error(); }
 
  private:
   NucleusDvlConfig config_;
   std::unique_ptr<ByteLink> link_;
+  NucleusCommandSession session_;
   NucleusStream stream_;
   DeviceClock clock_;
   NucleusDvlCounters counters_;

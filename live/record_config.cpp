@@ -39,6 +39,7 @@ constexpr TextKey kDvlKeys[] = {
     {"serial_device", "none",
      "a serial device (/dev/ttyUSB0): the DVL's serial line instead of TCP"},
     {"calibration", "required", "a dvl0/sensor.yaml: T_BS and the beam directions"},
+    {"password", "nortek", "Nucleus with start: the command port's password (Nortek's default)"},
 };
 constexpr TextKey kMavlinkKeys[] = {
     {"endpoint", "udpin:0.0.0.0:14550",
@@ -48,7 +49,13 @@ constexpr TextKey kMavlinkKeys[] = {
 
 const Param<RecordDvl> kDvlParams[] = {
     {"port", &RecordDvl::port, "", closed_range(0, 65535),
-     "TCP port; 0: the kind's data port (16171 Water Linked, 9002 Nucleus)"},
+     "TCP port; 0: the kind's (16171 Water Linked; Nucleus 9002, with start 9000)"},
+    {"start",
+     &RecordDvl::start,
+     "",
+     {},
+     "Nucleus: on every connection log in on the command port, stop, set its clock to the host's "
+     "UTC and START; the records follow there. Off: it was started elsewhere (web interface)"},
     {"dark_mode",
      &RecordDvl::dark_mode,
      "",
@@ -110,7 +117,14 @@ RecordDvl read_dvl(const YamlMap& m, const fs::path& base_dir) {
   const bool wl = d.kind == DvlKind::kWaterLinked;
   d.host = m.string("host",
                     wl ? drivers::WaterLinkedDvlConfig{}.host : drivers::NucleusDvlConfig{}.host);
-  if (d.port == 0) d.port = wl ? drivers::kWaterLinkedTcpPort : drivers::kNucleusDataPort;
+  if (wl && d.start)
+    m.fail("start", "a Water Linked DVL measures once powered; start is for a nucleus");
+  if (d.port == 0) {
+    d.port = wl        ? drivers::kWaterLinkedTcpPort
+             : d.start ? drivers::kNucleusCommandPort
+                       : drivers::kNucleusDataPort;
+  }
+  d.nucleus_command.password = m.string("password", d.nucleus_command.password);
   d.serial_device = m.string("serial_device", "");
   d.calibration = read_named_file(m, "calibration", base_dir, read_dvl_yaml);
   if (const auto s = m.optional_map("serial")) read_params(*s, serial_port_params(), d.serial);

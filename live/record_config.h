@@ -23,6 +23,7 @@
 #include "core/device_clock.h"
 #include "core/serial_port.h"
 #include "core/tcp_client.h"
+#include "drivers/nucleus_commands.h"
 #include "live/camera_source.h"
 #include "live/camera_uri.h"
 #include "mavlink/water_depth.h"
@@ -46,6 +47,8 @@ struct RecordDvl {
   SerialPortParams serial;
   DvlCalibration calibration;
   bool dark_mode = true;  // Water Linked: the LED does not flash into the camera
+  bool start = false;     // Nucleus: log in on the command port and start it on every connection
+  drivers::NucleusCommandParams nucleus_command;
   TcpClientParams tcp;
   DeviceClockParams clock;
 };

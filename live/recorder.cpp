@@ -130,8 +130,10 @@ struct Recorder::Sources {
       if (c.dvl->dark_mode) w.set_config.dark_mode_enabled = true;
       waterlinked = std::make_unique<drivers::WaterLinkedDvl>(w);
     } else if (c.dvl) {
-      nucleus =
-          std::make_unique<drivers::NucleusDvl>(driver_config<drivers::NucleusDvlConfig>(*c.dvl));
+      drivers::NucleusDvlConfig n = driver_config<drivers::NucleusDvlConfig>(*c.dvl);
+      n.start = c.dvl->start;
+      n.command = c.dvl->nucleus_command;
+      nucleus = std::make_unique<drivers::NucleusDvl>(n);
     }
     if (c.mavlink) {
       mavlink::LinkConfig l;
@@ -166,7 +168,10 @@ struct Recorder::Sources {
         add_link_faults(d.faults, waterlinked->connection_counters());
       } else {
         const drivers::NucleusStreamCounters& n = nucleus->stream_counters();
-        d.faults = {{"checksum failures", n.checksum_failures}, {"skipped bytes", n.skipped_bytes}};
+        d.faults = {{"checksum failures", n.checksum_failures},
+                    {"skipped bytes", n.skipped_bytes},
+                    {"command failures", nucleus->command_counters().failures, false,
+                     nucleus->last_command_error()}};
         add_link_faults(d.faults, nucleus->connection_counters());
       }
       out.push_back(d);
@@ -196,7 +201,8 @@ struct Recorder::Sources {
         if (s.faults[i].count > was && is_fault(s.faults[i], was)) {
           grew += (grew.empty() ? "" : ", ") + s.faults[i].name + " +" +
                   std::to_string(s.faults[i].count - was) + " (" +
-                  std::to_string(s.faults[i].count) + ")";
+                  std::to_string(s.faults[i].count) + ")" +
+                  (s.faults[i].reason.empty() ? "" : ": " + s.faults[i].reason);
         }
       }
       if (!grew.empty()) log_warning(who + ": " + grew);

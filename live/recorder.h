@@ -23,6 +23,7 @@ struct FaultCount {
   std::string name;  // e.g. "drops", "malformed"
   uint64_t count = 0;
   bool first_is_expected = false;  // "connects": the first is the connection, not a fault
+  std::string reason;              // the latest one in words, where the source keeps it
 };
 
 struct SourceSummary {

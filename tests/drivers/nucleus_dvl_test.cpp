@@ -6,6 +6,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -96,6 +97,49 @@ TEST(NucleusDvl, NortekRecordingOverTcpAcrossADrop) {
       EXPECT_GE(samples[i].timestamp_ns, samples[i - 1].timestamp_ns) << i;
     }
   }
+}
+
+// With start, on its command port: the stand-in asks for the password, answers STOP, SETCLOCKSTR
+// and START as a Nucleus does, then streams Nortek's recording on the same connection.
+TEST(NucleusDvl, StartedOnItsCommandPort) {
+  const std::vector<uint8_t> bytes = nucleus_recording();
+  testing::LoopbackServer nucleus;
+  std::vector<std::string> commands;
+  std::thread server([&] {
+    const int c = nucleus.accept_one();
+    testing::LoopbackServer::send_all(c, std::string("Please enter password:\r\n"));
+    commands.push_back(testing::LoopbackServer::read_line(c));
+    testing::LoopbackServer::send_all(c, std::string("\r\nWelcome to Nortek Nucleus1000\r\n"));
+    for (int i = 0; i < 3; ++i) {
+      commands.push_back(testing::LoopbackServer::read_line(c));
+      testing::LoopbackServer::send_all(c, std::string("OK\r\n"));
+    }
+    testing::LoopbackServer::send_all(c, bytes);
+    testing::LoopbackServer::read_line(c);  // until the client closes
+    ::close(c);
+  });
+  NucleusDvlConfig config;
+  config.host = "127.0.0.1";
+  config.port = nucleus.port();
+  config.start = true;
+  {
+    NucleusDvl dvl(config);
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+    while (dvl.counters().samples < 287 && std::chrono::steady_clock::now() < deadline)
+      dvl.poll(0.05);
+    EXPECT_EQ(dvl.counters().samples, 287u);
+    EXPECT_EQ(dvl.counters().water_track_skipped, 287u);
+    EXPECT_EQ(dvl.stream_counters().skipped_bytes, 0u);
+    EXPECT_EQ(dvl.stream_counters().checksum_failures, 0u);
+    EXPECT_EQ(dvl.command_counters().starts, 1u);
+    EXPECT_EQ(dvl.command_counters().failures, 0u) << dvl.last_command_error();
+  }
+  server.join();
+  ASSERT_EQ(commands.size(), 4u);
+  EXPECT_EQ(commands[0], "nortek\r");
+  EXPECT_EQ(commands[1], "STOP\r");
+  EXPECT_EQ(commands[2].rfind("SETCLOCKSTR,TIME=\"", 0), 0u) << commands[2];
+  EXPECT_EQ(commands[3], "START\r");
 }
 
 // The same stream on a serial line (a pseudo-terminal for the UART): the first 40 kB of the

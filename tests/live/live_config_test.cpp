@@ -116,6 +116,19 @@ TEST_F(RecordConfigTest, DvlAndLinkSectionsWithTheKindsDefaults) {
   EXPECT_EQ(w.dvl->host, "192.168.194.95");
   EXPECT_EQ(w.dvl->port, 16171);
   EXPECT_TRUE(w.dvl->dark_mode);
+  EXPECT_FALSE(c.dvl->start);
+  // Started on its command port: 9000 and Nortek's default password unless given.
+  const RecordConfig n = parse(std::string(kMinimal) +
+                               "dvl:\n  kind: nucleus\n  start: true\n  calibration: "
+                               "calib/dvl0.yaml\n");
+  EXPECT_TRUE(n.dvl->start);
+  EXPECT_EQ(n.dvl->port, 9000);
+  EXPECT_EQ(n.dvl->nucleus_command.password, "nortek");
+  EXPECT_EQ(parse(std::string(kMinimal) +
+                  "dvl:\n  kind: nucleus\n  start: true\n  password: x1\n  port: 9100\n"
+                  "  calibration: calib/dvl0.yaml\n")
+                .dvl->nucleus_command.password,
+            "x1");
 }
 
 TEST_F(RecordConfigTest, MistakesNameTheFileAndKey) {
@@ -142,13 +155,18 @@ TEST_F(RecordConfigTest, MistakesNameTheFileAndKey) {
   EXPECT_NE(missing.find("nope.yaml"), std::string::npos) << missing;
   EXPECT_NE(testing::error_message([&] { parse("camera:\n  uri: v4l2:0\n"); }).find("scene"),
             std::string::npos);
+  EXPECT_NE(testing::error_message([&] {
+              parse(std::string(kMinimal) +
+                    "dvl:\n  kind: waterlinked\n  start: true\n  calibration: calib/dvl0.yaml\n");
+            }).find("dvl.start"),
+            std::string::npos);
 }
 
 TEST(RecordConfigDoc, EveryKeyHasARow) {
   const std::string rows = record_config_param_rows();
   for (const char* key : {"`scene`", "`camera.uri`", "`camera.latency_s`", "`dvl.kind`",
-                          "`dvl.port`", "`dvl.tcp.idle_timeout_s`", "`dvl.serial.baud`",
-                          "`dvl.clock.window_s`", "`mavlink.endpoint`",
+                          "`dvl.port`", "`dvl.start`", "`dvl.password`", "`dvl.tcp.idle_timeout_s`",
+                          "`dvl.serial.baud`", "`dvl.clock.window_s`", "`mavlink.endpoint`",
                           "`mavlink.water_depth.pressure_source`", "`mavlink.clock.max_jump_s`"}) {
     EXPECT_NE(rows.find(key), std::string::npos) << key;
   }
