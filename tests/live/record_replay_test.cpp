@@ -3,7 +3,8 @@
 // UDP), recorded by the Recorder, then run through the pipeline, gives the estimates of the
 // rendered dataset run directly; the DVL's samples land within 5 ms of their true host time.
 // Devices that misbehave mid-recording (a DVL that drops its connection and sends a malformed
-// line, an autopilot that never speaks) are said while recording, and the recording goes on.
+// line, an autopilot that never speaks, a Nucleus that refuses the password) are said while
+// recording, and the recording goes on.
 // `pensight record` killed mid-recording leaves a dataset that reads to its last complete row.
 #include <arpa/inet.h>
 #include <gtest/gtest.h>
@@ -25,6 +26,7 @@
 #include "live/recorder.h"
 #include "tests/support/child_process.h"
 #include "tests/support/log_capture.h"
+#include "tests/support/loopback_server.h"
 #include "tests/support/rendered_run.h"
 
 namespace pensight::live {
@@ -210,6 +212,50 @@ TEST(RecordFaults, ADroppedDvlAMalformedLineAndASilentAutopilotAreSaidAndRecordi
   EXPECT_GE(after_drop, 3) << "samples after the reconnection";
   ASSERT_GE(summary.size(), 2u);
   EXPECT_EQ(summary[1].name, "dvl0");
+}
+
+// A Nucleus to be started on its command port that refuses the password: said while recording,
+// with the key that fixes it; the camera's frames are recorded all the same.
+TEST(RecordFaults, ANucleusThatRefusesThePasswordIsSaidWithTheKeyToSet) {
+  const testing::RenderedDataset rendered(testing::shipped_scenario("follow.yaml", 2.0));
+  const Dataset& d = rendered.dataset();
+  ASSERT_TRUE(d.dvl0);
+  RecordConfig config;
+  config.scene = d.scene;
+  config.camera.uri = parse_camera_uri("dataset:" + (rendered.dir() / "data").string());
+  config.camera.calibration = d.cam0;
+  testing::LoopbackServer nucleus;
+  config.dvl = RecordDvl{};
+  config.dvl->kind = DvlKind::kNucleus;
+  config.dvl->host = "127.0.0.1";
+  config.dvl->port = nucleus.port();
+  config.dvl->calibration = d.dvl0->calibration;
+  config.dvl->start = true;
+  std::string password;
+  std::thread device([&] {
+    const int c = nucleus.accept_one();
+    const std::string prompt = "Please enter password:\r\n";
+    testing::LoopbackServer::send_all(c, prompt);
+    password = testing::LoopbackServer::read_line(c);
+    testing::LoopbackServer::send_all(c, prompt);
+    testing::LoopbackServer::read_line(c);  // until the recorder closes
+    ::close(c);
+  });
+  testing::LogCapture log(LogLevel::kInfo);
+  std::atomic<bool> stop{false};
+  const std::filesystem::path rec = rendered.dir() / "rec";
+  {
+    Recorder recorder(config, rec);
+    recorder.run(5.0, stop);  // the camera's 2 s of frames end it
+  }
+  device.join();
+  EXPECT_EQ(password, "nortek\r");
+  const std::string said = log.text();
+  EXPECT_NE(said.find("dvl0: command failures +1 (1): the Nucleus refused the password; set "
+                      "dvl.password"),
+            std::string::npos)
+      << said;
+  EXPECT_EQ(read_dataset(rec).frames.size(), d.frames.size());
 }
 
 // The lines in `file` (0 while it does not exist).
