@@ -176,6 +176,27 @@ TEST(RelativePoseFft, ParaboloidFollowsACurvedWall) {
   EXPECT_NEAR(pose.psi_net_rad, 0.0, 1e-6);
 }
 
+// The net seen in three ROI columns whose ranges read +1.5, -1.5, +1.5 % (a column's bias, as on
+// steep frames): an x^2 term would pass through the three columns' means and, 1-2 columns away,
+// put d_net several per cent off on the optical axis; without it d_net stays within the bias.
+TEST(RelativePoseFft, ThreeColumnsFitNoCurvatureAcrossThem) {
+  const NetPlane truth{0.3, 0.0, 1.5};
+  std::vector<RoiNetPoint> pts = points_on(truth);
+  const double bias[] = {0.015, -0.015, 0.015};
+  for (size_t i = 0; i < pts.size(); ++i) {
+    const size_t column = i % 6;
+    if (column < 3) {
+      pts[i].status = RoiStatus::kPartial;
+    } else {
+      pts[i].p_C *= 1 + bias[column - 3];
+    }
+  }
+  const FftRelativePose pose = relative_pose_fft(pts);
+  ASSERT_TRUE(pose.valid()) << pose.reason;
+  EXPECT_EQ(pose.inlier_rois, 15);
+  EXPECT_NEAR(pose.d_net_m, truth.d_m, 0.015 * truth.d_m);
+}
+
 // Half the image on the net (two ROI columns): 0.7 % range noise on a 84 px baseline leaves the
 // plane's psi degrees off; the per-ROI tilts (here 0.01 slope noise) bring it closer.
 TEST(RelativePoseFft, RoiTiltsHelpAShortBaseline) {
