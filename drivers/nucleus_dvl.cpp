@@ -32,15 +32,15 @@ std::vector<DvlSample> NucleusDvl::poll(double timeout_s) {
   std::vector<DvlSample> samples;
   std::vector<uint8_t> bytes = link_->read(timeout_s);
   const int64_t arrival_ns = host_now_ns();
-  if (link_->take_new_connection()) {
-    stream_.restart();
-    const std::string first =
-        config_.start ? session_.restart(config_.serial_device.empty(), steady_now_ns()) : "";
-    if (!first.empty()) link_->write(first);
-  }
+  const bool new_connection = link_->take_new_connection();
+  if (new_connection) stream_.restart();
   if (config_.start) {
-    NucleusCommandSession::Step step = session_.feed(bytes, steady_now_ns());
-    if (!step.send.empty()) link_->write(step.send);
+    const int64_t now_ns = steady_now_ns();
+    const std::string send =
+        new_connection ? session_.restart(config_.serial_device.empty(), now_ns) : "";
+    NucleusCommandSession::Step step = session_.feed(bytes, now_ns);
+    for (const std::string& command : {send, step.send})
+      if (!command.empty()) link_->write(command);
     bytes = std::move(step.stream);
   }
   for (const NucleusPacket& p : stream_.feed(bytes)) {

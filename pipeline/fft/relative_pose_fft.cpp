@@ -27,17 +27,20 @@ FftRelativePose invalid(size_t rois, int valid_rois, FftPoseStatus status, std::
           std::move(reason)};
 }
 
-// Weighted least squares of z on the given regressors of (x, y).
-template <int K>
+// Weighted least squares of z on the given regressors of (x, y); a regressor that is zero on every
+// sample (a term left out) solves to 0.
+template <int K, class Basis>
 Eigen::Matrix<double, K, 1> fit(const std::vector<Sample>& s, const std::vector<int>& idx,
-                                Eigen::Matrix<double, K, 1> (*basis)(const Eigen::Vector3d&)) {
+                                Basis basis) {
   Eigen::Matrix<double, K, K> ata = Eigen::Matrix<double, K, K>::Zero();
   Eigen::Matrix<double, K, 1> atb = Eigen::Matrix<double, K, 1>::Zero();
   for (int i : idx) {
-    const auto phi = basis(s[i].p);
+    const Eigen::Matrix<double, K, 1> phi = basis(s[i].p);
     ata += s[i].w * phi * phi.transpose();
     atb += s[i].w * phi * s[i].p.z();
   }
+  for (int k = 0; k < K; ++k)
+    if (ata(k, k) == 0) ata(k, k) = 1;
   return ata.ldlt().solve(atb);
 }
 
@@ -70,16 +73,10 @@ Eigen::Matrix<double, 6, 1> fit_paraboloid(const std::vector<Sample>& s,
   const bool yy = rows.size() >= kMinCurvaturePositions;
   Eigen::Matrix<double, 6, 1> terms;
   terms << 1, 1, 1, xx, xx && yy, yy;
-  Eigen::Matrix<double, 6, 6> ata = Eigen::Matrix<double, 6, 6>::Zero();
-  Eigen::Matrix<double, 6, 1> atb = Eigen::Matrix<double, 6, 1>::Zero();
-  for (int i : set) {
-    const Eigen::Matrix<double, 6, 1> phi = paraboloid_basis(s[i].p).cwiseProduct(terms);
-    ata += s[i].w * phi * phi.transpose();
-    atb += s[i].w * phi * s[i].p.z();
-  }
-  for (int k = 3; k < 6; ++k)
-    if (terms(k) == 0) ata(k, k) = 1;  // its coefficient solves to 0
-  return ata.ldlt().solve(atb);
+  // The product is evaluated here: an Eigen expression would refer to the basis's temporary.
+  return fit<6>(s, set, [&](const Eigen::Vector3d& p) -> Eigen::Matrix<double, 6, 1> {
+    return paraboloid_basis(p).cwiseProduct(terms);
+  });
 }
 
 template <int K>

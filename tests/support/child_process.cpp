@@ -37,10 +37,7 @@ ChildProcess::ChildProcess(const std::vector<std::string>& argv, const std::file
 }
 
 ChildProcess::~ChildProcess() {
-  if (!stop(std::chrono::seconds(5))) {
-    ::kill(-pid_, SIGKILL);
-    wait(std::chrono::seconds(5));
-  }
+  if (!stop(std::chrono::seconds(5))) kill();
 }
 
 std::optional<int> ChildProcess::wait(std::chrono::milliseconds timeout) {
