@@ -280,6 +280,7 @@ NetDetectorConfig detector_config(const SceneConfig& scene, NetDetectorConfig ba
   base.bar_length_m = scene.bar_length_m;
   base.mesh_type = scene.net_mesh_type;
   base.mesh_angle_rad = scene.net_mesh_angle_rad;
+  base.pose.wall_curvature_per_m = net_curvature_per_m(scene);
   return base;
 }
 

@@ -110,7 +110,11 @@ const Param<RelativePoseFftParams> kPoseParams[] = {
      "largest lever of d_net's extrapolation from the inlier nearest the optical axis"},
     {"max_tilt_disagreement_rad", &RelativePoseFftParams::max_tilt_disagreement_rad, "rad",
      range_above_zero_to(kRightAngle_rad),
-     "largest median angle between the inliers' own normals and the plane's (else no pose)"},
+     "largest median angle between the inliers' own normals and the plane's, or the wall's "
+     "where the paraboloid through them curves like it (else no pose)"},
+    {"wall_curvature_per_m", &RelativePoseFftParams::wall_curvature_per_m, "1/m",
+     closed_range(0, 10),
+     "the net wall's horizontal curvature: scene.yaml's 1 / pen_radius_m, 0 on a flat panel"},
     {"min_fold_angle_rad", &RelativePoseFftParams::min_fold_angle_rad, "rad",
      range_above_zero_to(kRightAngle_rad),
      "ROIs off the plane on a second plane tilted at least this much: a fold, the pose from the "

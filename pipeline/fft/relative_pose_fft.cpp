@@ -210,12 +210,21 @@ double ray_depth(const Eigen::Vector3d& plane, double xn, double yn) {
   return den > 0 && z > 0 ? z : std::numeric_limits<double>::infinity();
 }
 
-// The median angle between the inliers' own normals and the plane's; 0 when none has normals.
-double median_tilt_disagreement(const Eigen::Vector3d& plane, const std::vector<Sample>& s,
-                                const std::vector<int>& in, std::span<const RoiNetPoint> rois) {
-  const Eigen::Vector3d normal = net_plane_normal(plane(1), plane(2));
+// The unit normal of the surface z = c . paraboloid_basis (a plane: the last three zero) at the
+// point p_C, pointing like net_plane_normal.
+Eigen::Vector3d surface_normal(const Eigen::Matrix<double, 6, 1>& c, const Eigen::Vector3d& p_C) {
+  return net_plane_normal(c(1) + 2 * c(3) * p_C.x() + c(4) * p_C.y(),
+                          c(2) + c(4) * p_C.x() + 2 * c(5) * p_C.y());
+}
+
+// The median angle between the inliers' own normals and the surface's at their points; 0 when
+// none has normals.
+double median_tilt_disagreement(const Eigen::Matrix<double, 6, 1>& surface,
+                                const std::vector<Sample>& s, const std::vector<int>& in,
+                                std::span<const RoiNetPoint> rois) {
   std::vector<double> angles;
   for (int i : in) {
+    const Eigen::Vector3d normal = surface_normal(surface, s[i].p);
     if (const auto m = nearer_normal(rois[s[i].roi], normal)) {
       angles.push_back(std::acos(std::min(1.0, std::abs(m->dot(normal)))));
     }
@@ -448,6 +457,24 @@ std::optional<Fold> find_fold(const std::vector<Sample>& s, std::span<const RoiN
   return fold;
 }
 
+// A wall's section through the optical axis at obliquity a curves 1 / cos^3 a times as much
+// as the wall; this margin over that covers the paraboloid's own error (at 6.5 m from a 12 m
+// pen wall it reads 0.078-0.087 /m for 0.083).
+constexpr double kWallCurvatureMargin = 1.5;
+
+// Whether the paraboloid (c, a, b, q1, q2, q3) curves no more than the pen wall
+// (RelativePoseFftParams::wall_curvature_per_m) seen at its obliquity: a fold, a bulge or a
+// seam's kink seen as one smooth surface curves several times more (0.5-0.7 /m by the folds of
+// scenarios/fold.yaml on a 12 m wall), and its normals would vouch for ROIs on two panels.
+bool curved_like_the_wall(const Eigen::Matrix<double, 6, 1>& q,
+                          const RelativePoseFftParams& params) {
+  const double cos_obliquity = std::min(std::abs(net_plane_normal(q(1), 0).z()),
+                                        std::abs(net_plane_normal(0, q(2)).z()));
+  const double limit = kWallCurvatureMargin * params.wall_curvature_per_m /
+                       (cos_obliquity * cos_obliquity * cos_obliquity);
+  return std::abs(2 * q(3)) <= limit && std::abs(q(4)) <= limit && std::abs(2 * q(5)) <= limit;
+}
+
 // The fused plane's checks (see RelativePoseFftParams): the extrapolation lever and the median
 // disagreement of the inliers' own tilts (0 when not checked), and the reason when either is
 // beyond its limit.
@@ -458,9 +485,9 @@ struct PlaneChecks {
   double tilt_disagreement_rad = 0;
 };
 
-PlaneChecks check_plane(const Eigen::Vector3d& plane, const std::vector<Sample>& s,
-                        const std::vector<int>& in, std::span<const RoiNetPoint> rois,
-                        const RelativePoseFftParams& params) {
+PlaneChecks check_plane(const Eigen::Vector3d& plane, const Eigen::Matrix<double, 6, 1>& surface,
+                        const std::vector<Sample>& s, const std::vector<int>& in,
+                        std::span<const RoiNetPoint> rois, const RelativePoseFftParams& params) {
   PlaneChecks c;
   const double gain_x = 1 + plane(1) * plane(1), gain_y = 1 + plane(2) * plane(2);  // 1/cos^2
   c.lever = std::numeric_limits<double>::infinity();
@@ -479,7 +506,15 @@ PlaneChecks check_plane(const Eigen::Vector3d& plane, const std::vector<Sample>&
     return c;
   }
   if (!params.check_tilts) return c;
-  c.tilt_disagreement_rad = median_tilt_disagreement(plane, s, in, rois);
+  // The tilts agree with the plane or with the pen wall through the points: a wall 6 m away turns
+  // its normal by +-14 deg across a wide view, which each ROI sees and one plane does not.
+  Eigen::Matrix<double, 6, 1> flat = Eigen::Matrix<double, 6, 1>::Zero();
+  flat.head<3>() = plane;
+  c.tilt_disagreement_rad = median_tilt_disagreement(flat, s, in, rois);
+  if (surface != flat && curved_like_the_wall(surface, params)) {
+    c.tilt_disagreement_rad =
+        std::min(c.tilt_disagreement_rad, median_tilt_disagreement(surface, s, in, rois));
+  }
   if (c.tilt_disagreement_rad > params.max_tilt_disagreement_rad) {
     char text[160];
     std::snprintf(text, sizeof text,
@@ -569,12 +604,24 @@ FftRelativePose solve(std::span<const RoiNetPoint> rois, const RelativePoseFftPa
                        " deg; limit " +
                        std::to_string(std::lround(rad_to_deg(params.max_obliquity_rad))) + ")");
   }
-  PlaneChecks checks = check_plane(plane, s, in, rois, params);
+  // d_net's surface: the paraboloid where enough inliers measure the wall's curvature and it
+  // stays near the plane on the optical axis, else the plane.
+  Eigen::Matrix<double, 6, 1> surface = Eigen::Matrix<double, 6, 1>::Zero();
+  surface.head<3>() = plane;
+  bool curved = false;
+  if (static_cast<int>(in.size()) >= params.min_paraboloid_rois) {
+    const auto q = fit_paraboloid(s, in, rois);
+    if (std::abs(q(0) - plane(0)) <= params.max_curvature_share * plane(0)) {
+      surface = q;
+      curved = true;
+    }
+  }
+  PlaneChecks checks = check_plane(plane, surface, s, in, rois, params);
   if (checks.status != FftPoseStatus::kValid) {
     return invalid(rois.size(), valid, checks.status, std::move(checks.reason));
   }
   FftRelativePose pose{FftPoseStatus::kValid,
-                       plane(0),
+                       surface(0),
                        psi,
                        pitch,
                        valid,
@@ -592,14 +639,8 @@ FftRelativePose solve(std::span<const RoiNetPoint> rois, const RelativePoseFftPa
       pose.other_tilt[q.roi] = 1;
     }
   }
-  double sq = squared_residuals<3>(s, in, plane, plane_basis);
-  if (static_cast<int>(in.size()) >= params.min_paraboloid_rois) {
-    const auto q = fit_paraboloid(s, in, rois);
-    if (std::abs(q(0) - plane(0)) <= params.max_curvature_share * plane(0)) {
-      pose.d_net_m = q(0);
-      sq = squared_residuals<6>(s, in, q, paraboloid_basis);
-    }
-  }
+  const double sq = curved ? squared_residuals<6>(s, in, surface, paraboloid_basis)
+                           : squared_residuals<3>(s, in, plane, plane_basis);
   pose.rms_residual_m = std::sqrt(sq / static_cast<double>(in.size()));
   const double inliers = static_cast<double>(in.size());
   pose.quality = std::min(1.0, inliers / params.full_support_rois) * (inliers / valid) *

@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "core/dataset_types.h"
 #include "core/units.h"
 #include "pipeline/fft/net_geometry.h"
 
@@ -42,6 +43,10 @@ struct RelativePoseFftParams {
   // for the fundamental in every ROI still fits a plane, but not the ROIs' tilts (19 deg at
   // 79 deg); 360 synthetic frames within the envelope stayed below 5 deg.
   double max_tilt_disagreement_rad = 0.14;  // 8 deg
+  // The pen wall's horizontal curvature (scene.yaml: 1 / pen_radius_m, 0 on a flat panel). The
+  // inliers' tilts may agree with the paraboloid through them instead of the plane when it curves
+  // no more than such a wall.
+  double wall_curvature_per_m = 1 / kDefaultPenRadius_m;
   // A ROI whose own tilt is further than this from a candidate plane's does not support it (a
   // rope, seam, fold or fish across the ROI); the pose comes from the ROIs that agree, and from
   // the points alone when too few do.

@@ -160,20 +160,51 @@ TEST(RelativePoseFft, AFoldGivesThePoseOfThePanelOnTheAxis) {
   }
 }
 
+// Net points on a vertical cylinder of `radius` seen from inside, d_m ahead on the optical axis.
+std::vector<RoiNetPoint> points_on_wall(double radius, double d_m) {
+  return grid_points([&](const Eigen::Vector3d& r) {
+    // Ray (t r) meets the vertical cylinder x^2 + (z + R - d)^2 = R^2.
+    const double qa = r.x() * r.x() + 1, qb = 2 * (radius - d_m),
+                 qc = (radius - d_m) * (radius - d_m) - radius * radius;
+    return (-qb + std::sqrt(qb * qb - 4 * qa * qc)) / (2 * qa);
+  });
+}
+
 // A pen wall of radius 12 m seen from inside bends towards the camera at the sides; the
 // paraboloid keeps d_net on the optical axis where a plane would put it too close.
 TEST(RelativePoseFft, ParaboloidFollowsACurvedWall) {
-  const double radius = 12, d = 2.5;
-  const auto pts = grid_points([&](const Eigen::Vector3d& r) {
-    // Ray (t r) meets the vertical cylinder x^2 + (z + R - d)^2 = R^2.
-    const double qa = r.x() * r.x() + 1, qb = 2 * (radius - d),
-                 qc = (radius - d) * (radius - d) - radius * radius;
-    return (-qb + std::sqrt(qb * qb - 4 * qa * qc)) / (2 * qa);
-  });
+  const double d = 2.5;
+  const auto pts = points_on_wall(12, d);
   const FftRelativePose pose = relative_pose_fft(pts);
   ASSERT_TRUE(pose.valid()) << pose.reason;
   EXPECT_NEAR(pose.d_net_m, d, 0.005 * d);
   EXPECT_NEAR(pose.psi_net_rad, 0.0, 1e-6);
+}
+
+// The same wall 6.5 m away: its normal turns by +-17 deg across the view and the ROIs' own tilts
+// follow it. They agree with the wall the paraboloid measures (a pose), not with a flat panel's
+// (none); a surface that curves 4x more than the wall (a 3 m bulge) does not vouch for its ROIs'
+// tilts.
+TEST(RelativePoseFft, RoiTiltsAgreeWithTheWallTheyAreOn) {
+  RelativePoseFftParams params;
+  params.wall_curvature_per_m = 1 / 12.0;
+  const auto far_wall = points_on_wall(12, 6.5);
+  const FftRelativePose pose = relative_pose_fft(far_wall, params);
+  ASSERT_TRUE(pose.valid()) << pose.reason;
+  EXPECT_NEAR(pose.d_net_m, 6.5, 0.005 * 6.5);
+  EXPECT_NEAR(pose.psi_net_rad, 0.0, 1e-6);
+  params.wall_curvature_per_m = 0;
+  const FftRelativePose flat = relative_pose_fft(far_wall, params);
+  EXPECT_FALSE(flat.valid());
+  EXPECT_NE(flat.reason.find("tilts disagree"), std::string::npos) << flat.reason;
+
+  params.wall_curvature_per_m = 1 / 12.0;
+  const auto bulge = points_on_wall(3, 2.5);
+  EXPECT_FALSE(relative_pose_fft(bulge, params).valid());
+  params.wall_curvature_per_m = 1 / 3.0;
+  const FftRelativePose on_bulge = relative_pose_fft(bulge, params);
+  ASSERT_TRUE(on_bulge.valid()) << on_bulge.reason;
+  EXPECT_NEAR(on_bulge.d_net_m, 2.5, 0.005 * 2.5);
 }
 
 // The net seen in three ROI columns whose ranges read +1.5, -1.5, +1.5 % (a column's bias, as on

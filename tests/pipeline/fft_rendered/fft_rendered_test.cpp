@@ -32,9 +32,9 @@ struct Case {
 constexpr size_t kMinRopesEstimated = 110;
 constexpr double kMaxRopesP95 = 0.03;
 constexpr double kMaxObliqueMedian = 0.03, kMaxObliqueMax = 0.06;
-// Seeds 1-40: 4-10 of 11 frames with a pose (the rest refused by the ROIs' tilt check, whose
-// per-ROI tilts are noisy on 4 px bars), median <= 0.19 %, max <= 0.39 %.
-constexpr double kMinFarShare = 0.2, kMaxFarMedian = 0.005, kMaxFarMax = 0.01;
+// Seeds 1-40 (2026-12-07): 11 of 11 frames with a pose on every seed (4-10 before the ROIs'
+// tilts were compared with the curved wall's normals), median <= 0.19 %, max <= 0.37 %.
+constexpr double kMinFarShare = 0.9, kMaxFarMedian = 0.005, kMaxFarMax = 0.01;
 constexpr size_t kMinChangingEstimated = 63;
 constexpr double kMaxChangingP95 = 0.01;
 
@@ -165,7 +165,8 @@ TEST(FftRendered, AChangingNetRecoversOnItsFirstFrame) {
 // measurable frames, none on the frames without a net, d_net median <= 0.5 % and psi median <=
 // 0.5 deg. Measured (docs/validation-log.md 2026-12-06): 29 of 29 frames on every size and seed,
 // d_net medians 0.07-0.30 %, psi medians 0.22-0.33 deg; at 320x180 the far frames' bars are
-// 2.3-3 px.
+// 2.3-3 px. Frames above 1920x1080 are rendered at 5 Hz (the same 4 s, half the frames): a 4K
+// frame takes ~2.5 s to render on lavapipe, and the view changes little in 0.1 s.
 struct CameraSize {
   int width, height;
 };
@@ -181,11 +182,12 @@ TEST_P(FftRenderedCamera, APoseFromAnyFrameSize) {
   sim::Scenario s = testing::shipped_scenario("sweep.yaml", 4.0);
   s.seed = testing::fresh_seed();
   s.camera.calibration.camera = default_field_of_view(c.width, c.height);
+  if (c.width * c.height > 1920 * 1080) s.camera.calibration.rate_hz = 5;
   sim::validate(s);
   const testing::RenderedRun run = testing::render_and_run(s);
   const NetPoseAccuracy a = score_net_pose(run.dataset, run.rows, NetPoseSource::kFft);
   std::printf("%dx%d: %s", c.width, c.height, describe(a).c_str());
-  ASSERT_GE(a.measurable, 20u);
+  ASSERT_GE(static_cast<double>(a.measurable), 2 * s.camera.calibration.rate_hz);
   EXPECT_GE(static_cast<double>(a.measurable_estimated), 0.95 * static_cast<double>(a.measurable));
   EXPECT_LE(a.d_net_rel.median, 0.005);
   EXPECT_LE(a.psi_net_deg.median, 0.5);
