@@ -468,8 +468,8 @@ constexpr double kWallCurvatureMargin = 1.5;
 // scenarios/fold.yaml on a 12 m wall), and its normals would vouch for ROIs on two panels.
 bool curved_like_the_wall(const Eigen::Matrix<double, 6, 1>& q,
                           const RelativePoseFftParams& params) {
-  const double cos_obliquity = std::min(std::abs(net_plane_normal(q(1), 0).z()),
-                                        std::abs(net_plane_normal(0, q(2)).z()));
+  const double cos_obliquity =
+      std::min(std::abs(net_plane_normal(q(1), 0).z()), std::abs(net_plane_normal(0, q(2)).z()));
   const double limit = kWallCurvatureMargin * params.wall_curvature_per_m /
                        (cos_obliquity * cos_obliquity * cos_obliquity);
   return std::abs(2 * q(3)) <= limit && std::abs(q(4)) <= limit && std::abs(2 * q(5)) <= limit;
