@@ -19,32 +19,33 @@ double angle_between(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
 
 MeshAngleMeasurement measure_mesh_angle(std::span<const RoiNetPoint> rois,
                                         std::span<const uint8_t> use,
-                                        const Eigen::Vector3d& normal_C,
+                                        std::span<const Eigen::Vector3d> normals_C,
                                         const PinholeCamera& camera, std::optional<MeshType> type,
                                         const MeshAngleParams& params) {
   MeshAngleMeasurement out;
-  const Eigen::Vector3d n = normal_C.normalized();
-  // The net's up and right in its plane, from the camera's.
-  const Eigen::Vector3d up = (-Eigen::Vector3d::UnitY() + n.y() * n).normalized();
-  const Eigen::Vector3d right =
-      up.cross(n).dot(Eigen::Vector3d::UnitX()) >= 0 ? up.cross(n) : n.cross(up);
   struct Cell {
-    Eigen::Vector3d b1, b2;    // unit bars, b2 signed for the acute angle
-    Eigen::Vector3d bisector;  // of the acute angle
+    Eigen::Vector3d b1, b2;     // unit bars, b2 signed for the acute angle
+    Eigen::Vector3d bisector;   // of the acute angle
+    Eigen::Vector3d up, right;  // the net's, where the ROI sees it
   };
   std::vector<Cell> cells;
   std::vector<double> bisector_offsets;  // of the acute bisector from the nearest of up / right
-  for (size_t i = 0; i < rois.size() && i < use.size(); ++i) {
+  for (size_t i = 0; i < rois.size() && i < use.size() && i < normals_C.size(); ++i) {
     if (!use[i] || !rois[i].valid()) continue;
+    const Eigen::Vector3d n = normals_C[i].normalized();
     auto bars = bars_on_plane(rois[i], camera, rois[i].p_C, n);
     const double l1 = bars[0].norm(), l2 = bars[1].norm();
     if (!(l1 > 0 && l2 > 0) || std::abs(l1 - l2) > params.max_bar_mismatch * std::max(l1, l2)) {
       continue;
     }
-    Cell c{bars[0] / l1, bars[1] / l2, Eigen::Vector3d::Zero()};
+    Cell c{bars[0] / l1, bars[1] / l2, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(),
+           Eigen::Vector3d::Zero()};
     if (c.b1.dot(c.b2) < 0) c.b2 = -c.b2;
     c.bisector = (c.b1 + c.b2).normalized();
-    const double to_up = std::acos(std::min(1.0, std::abs(c.bisector.dot(up))));
+    // The net's up and right in its plane there, from the camera's.
+    c.up = (-Eigen::Vector3d::UnitY() + n.y() * n).normalized();
+    c.right = c.up.cross(n).dot(Eigen::Vector3d::UnitX()) >= 0 ? c.up.cross(n) : n.cross(c.up);
+    const double to_up = std::acos(std::min(1.0, std::abs(c.bisector.dot(c.up))));
     bisector_offsets.push_back(std::min(to_up, std::numbers::pi / 2 - to_up));
     cells.push_back(c);
   }
@@ -55,9 +56,10 @@ MeshAngleMeasurement measure_mesh_angle(std::span<const RoiNetPoint> rois,
   const bool clear =
       std::abs(bisector_offset - params.diamond_bisector_rad) >= params.type_evidence_margin_rad;
   out.type = type && !clear ? *type : seen;
-  const Eigen::Vector3d reference = out.type == MeshType::kDiamond ? up : (up + right).normalized();
   std::vector<double> angles;
   for (const Cell& c : cells) {
+    const Eigen::Vector3d reference =
+        out.type == MeshType::kDiamond ? c.up : (c.up + c.right).normalized();
     // Of the cell's two angles, the one whose bisector is nearer the reference.
     const Eigen::Vector3d obtuse_bisector = (c.b1 - c.b2).normalized();
     const double acute = angle_between(c.b1, c.b2);

@@ -45,15 +45,17 @@ struct MeshAngleMeasurement {
   bool valid() const { return rois > 0; }
 };
 
-// Precondition: normal_C is the net plane's unit normal in C. `use`: per ROI, 1 where the ROI
-// is on the plane (FftRelativePose::inlier). `type`: the mesh type expected (scene.yaml), a prior:
-// it decides where the bisectors do not, and a frame that clearly shows the other type (a diamond
-// section of a square net, another pen) is measured as what it shows. A square-type reference on a
-// diamond cell lies halfway between its two angles, so each ROI would pick either.
+// Precondition: normals_C holds, per ROI, the net's unit normal in C where the ROI sees it (the
+// plane's, or a curved wall's there: FftRelativePose::surface_C; a diamond's angle read on the
+// plane of a 12 m wall 2.5 m away opens by 0.8 deg at the sides). `use`: per ROI, 1 where the
+// ROI is on the net (FftRelativePose::inlier). `type`: the mesh type expected (scene.yaml), a
+// prior: it decides where the bisectors do not, and a frame that clearly shows the other type (a
+// diamond section of a square net, another pen) is measured as what it shows. A square-type
+// reference on a diamond cell lies halfway between its two angles, so each ROI would pick either.
 // Fewer than min_rois usable ROIs: an invalid measurement. Cost: two ray casts per bar per ROI.
 MeshAngleMeasurement measure_mesh_angle(std::span<const RoiNetPoint> rois,
                                         std::span<const uint8_t> use,
-                                        const Eigen::Vector3d& normal_C,
+                                        std::span<const Eigen::Vector3d> normals_C,
                                         const PinholeCamera& camera, std::optional<MeshType> type,
                                         const MeshAngleParams& params = {});
 

@@ -76,6 +76,16 @@ struct NetDetector::Impl {
   MeshAngleFilter mesh_filter{std::nullopt};
   TexturePatch previous_patch;  // the previous frame's, for NetDetection::texture
 
+  // Per point, the normal of the pose's net surface there.
+  static std::vector<Eigen::Vector3d> normals_on(const FftRelativePose& pose,
+                                                 std::span<const RoiNetPoint> points) {
+    std::vector<Eigen::Vector3d> normals;
+    normals.reserve(points.size());
+    for (const RoiNetPoint& p : points)
+      normals.push_back(net_surface_normal(pose.surface_C, p.p_C));
+    return normals;
+  }
+
   // Net points of every ROI's lattice for a cell of the given opening angle.
   std::vector<RoiNetPoint> model_points(const std::vector<kernels::RoiLattice>& lattices,
                                         double opening_angle_rad,
@@ -108,8 +118,9 @@ struct NetDetector::Impl {
     }
     std::vector<RoiNetPoint> points = model_points(corrected, filter.angle_rad(), &normal);
     if (d.mesh_angle_frame.valid()) {  // the filter took this frame's measurement: refine it
-      const MeshAngleMeasurement angle = measure_mesh_angle(points, d.pose.inlier, normal, camera,
-                                                            config.mesh_type, config.mesh_angle);
+      const MeshAngleMeasurement angle =
+          measure_mesh_angle(points, d.pose.inlier, normals_on(d.pose, points), camera,
+                             config.mesh_type, config.mesh_angle);
       if (angle.valid()) {
         d.mesh_angle_frame = angle;
         points = model_points(corrected, filter.refine(angle), &normal);
@@ -141,8 +152,8 @@ struct NetDetector::Impl {
       if (!plane.valid()) break;
       const Eigen::Vector3d normal =
           net_plane_normal(std::tan(plane.psi_net_rad), std::tan(plane.pitch_net_rad));
-      d.mesh_angle_frame = measure_mesh_angle(d.points, plane.inlier, normal, camera,
-                                              config.mesh_type, config.mesh_angle);
+      d.mesh_angle_frame = measure_mesh_angle(d.points, plane.inlier, normals_on(plane, d.points),
+                                              camera, config.mesh_type, config.mesh_angle);
       if (!d.mesh_angle_frame.valid()) break;
       const double angle =
           round == 0 ? filter.update(d.mesh_angle_frame) : filter.refine(d.mesh_angle_frame);

@@ -210,13 +210,6 @@ double ray_depth(const Eigen::Vector3d& plane, double xn, double yn) {
   return den > 0 && z > 0 ? z : std::numeric_limits<double>::infinity();
 }
 
-// The unit normal of the surface z = c . paraboloid_basis (a plane: the last three zero) at the
-// point p_C, pointing like net_plane_normal.
-Eigen::Vector3d surface_normal(const Eigen::Matrix<double, 6, 1>& c, const Eigen::Vector3d& p_C) {
-  return net_plane_normal(c(1) + 2 * c(3) * p_C.x() + c(4) * p_C.y(),
-                          c(2) + c(4) * p_C.x() + 2 * c(5) * p_C.y());
-}
-
 // The median angle between the inliers' own normals and the surface's at their points; 0 when
 // none has normals.
 double median_tilt_disagreement(const Eigen::Matrix<double, 6, 1>& surface,
@@ -224,7 +217,7 @@ double median_tilt_disagreement(const Eigen::Matrix<double, 6, 1>& surface,
                                 std::span<const RoiNetPoint> rois) {
   std::vector<double> angles;
   for (int i : in) {
-    const Eigen::Vector3d normal = surface_normal(surface, s[i].p);
+    const Eigen::Vector3d normal = net_surface_normal(surface, s[i].p);
     if (const auto m = nearer_normal(rois[s[i].roi], normal)) {
       angles.push_back(std::acos(std::min(1.0, std::abs(m->dot(normal)))));
     }
@@ -539,6 +532,12 @@ Eigen::Vector3d net_plane_normal(double slope_x, double slope_y) {
   return Eigen::Vector3d(slope_x, slope_y, -1).normalized();
 }
 
+Eigen::Vector3d net_surface_normal(const Eigen::Matrix<double, 6, 1>& c,
+                                   const Eigen::Vector3d& p_C) {
+  return net_plane_normal(c(1) + 2 * c(3) * p_C.x() + c(4) * p_C.y(),
+                          c(2) + c(4) * p_C.x() + 2 * c(5) * p_C.y());
+}
+
 namespace {
 
 // The pose from the ROIs whose points and (min_cos > -1) own tilts agree with one plane.
@@ -596,14 +595,6 @@ FftRelativePose solve(std::span<const RoiNetPoint> rois, const RelativePoseFftPa
   }
   if (params.fuse_roi_tilt) fuse_roi_tilt(plane, s, in, rois);
 
-  const auto [psi, pitch] = net_angles_from_plane_C(plane(1), plane(2));
-  if (std::abs(psi) > params.max_obliquity_rad || std::abs(pitch) > params.max_obliquity_rad) {
-    return invalid(rois.size(), valid, FftPoseStatus::kTooOblique,
-                   "net too oblique (psi " + std::to_string(std::lround(rad_to_deg(psi))) +
-                       " deg, pitch " + std::to_string(std::lround(rad_to_deg(pitch))) +
-                       " deg; limit " +
-                       std::to_string(std::lround(rad_to_deg(params.max_obliquity_rad))) + ")");
-  }
   // d_net's surface: the paraboloid where enough inliers measure the wall's curvature and it
   // stays near the plane on the optical axis, else the plane.
   Eigen::Matrix<double, 6, 1> surface = Eigen::Matrix<double, 6, 1>::Zero();
@@ -615,6 +606,22 @@ FftRelativePose solve(std::span<const RoiNetPoint> rois, const RelativePoseFftPa
       surface = q;
       curved = true;
     }
+  }
+  // The net's angles where the optical axis meets it: on a surface that curves like the pen wall,
+  // its slope there along each direction it curves in; else the plane's. A plane through a curved
+  // wall's points has the slope of a chord: 3 deg off at 5.6 m from a 12 m wall seen by a wide
+  // camera. A paraboloid through a bulging net close up (a real one at 0.36 m) turns its slopes
+  // with the bulge, 2 deg apart between the frame and its half-size copy; the plane's agree.
+  const bool wall = curved && curved_like_the_wall(surface, params);
+  const auto [psi, pitch] =
+      net_angles_from_plane_C(wall && surface(3) != 0 ? surface(1) : plane(1),
+                              wall && surface(5) != 0 ? surface(2) : plane(2));
+  if (std::abs(psi) > params.max_obliquity_rad || std::abs(pitch) > params.max_obliquity_rad) {
+    return invalid(rois.size(), valid, FftPoseStatus::kTooOblique,
+                   "net too oblique (psi " + std::to_string(std::lround(rad_to_deg(psi))) +
+                       " deg, pitch " + std::to_string(std::lround(rad_to_deg(pitch))) +
+                       " deg; limit " +
+                       std::to_string(std::lround(rad_to_deg(params.max_obliquity_rad))) + ")");
   }
   PlaneChecks checks = check_plane(plane, surface, s, in, rois, params);
   if (checks.status != FftPoseStatus::kValid) {
@@ -629,6 +636,8 @@ FftRelativePose solve(std::span<const RoiNetPoint> rois, const RelativePoseFftPa
                        0,
                        std::vector<uint8_t>(rois.size(), 0),
                        {}};
+  pose.surface_C << surface(0), std::tan(psi), std::tan(pitch), 0, 0, 0;
+  if (wall) pose.surface_C.tail<3>() = surface.tail<3>();
   for (int i : in) pose.inlier[s[i].roi] = 1;
   pose.second_panel.assign(rois.size(), 0);
   for (int i : second) pose.second_panel[s[i].roi] = 1;

@@ -99,12 +99,21 @@ struct FftRelativePose {
   // tilt disagreement, the fit's rms residual over inlier_rel x d_net). Downstream stages weigh
   // the pose by pose_trust() of it (core/pose_trust.h).
   double quality = 0;
+  // The net surface the pose is of, z = c . (1, x, y, x^2, x y, y^2) in C (NaN without a pose):
+  // c0 = d_net_m, (c1, c2) = (tan psi_net, tan pitch_net), and the curvature terms of the
+  // paraboloid through the inliers where it curves like the pen wall, else 0 (a plane).
+  Eigen::Matrix<double, 6, 1> surface_C = Eigen::Matrix<double, 6, 1>::Constant(kNaN);
   bool valid() const { return status == FftPoseStatus::kValid; }
 };
 
 // Unit normal, pointing at the camera, of the plane z = slope_x x + slope_y y + c in C
 // (slopes tan(psi_net), tan(pitch_net)).
 Eigen::Vector3d net_plane_normal(double slope_x, double slope_y);
+
+// Unit normal, oriented as net_plane_normal, of the surface z = c . (1, x, y, x^2, x y, y^2)
+// (FftRelativePose::surface_C) at the point p_C.
+Eigen::Vector3d net_surface_normal(const Eigen::Matrix<double, 6, 1>& c,
+                                   const Eigen::Vector3d& p_C);
 
 FftRelativePose relative_pose_fft(std::span<const RoiNetPoint> rois,
                                   const RelativePoseFftParams& params = {});

@@ -113,6 +113,12 @@ std::vector<RoiNetPoint> grid(const PinholeCamera& cam, const Net& n, double mod
   return points;
 }
 
+// The same normal for every ROI: one plane's.
+std::vector<Eigen::Vector3d> same_normal(std::span<const RoiNetPoint> points,
+                                         const Eigen::Vector3d& normal) {
+  return std::vector<Eigen::Vector3d>(points.size(), normal);
+}
+
 TEST(MeshAngle, MeasuredAgainstThePlaneForBothMeshTypes) {
   std::mt19937_64 rng(testing::fresh_seed());
   std::uniform_real_distribution<double> d(0.5, 2.0), ang(-0.5, 0.5), square(85, 115),
@@ -131,7 +137,8 @@ TEST(MeshAngle, MeasuredAgainstThePlaneForBothMeshTypes) {
     // The type given, and recognised from the lattice's orientation when not.
     for (const std::optional<MeshType> given :
          {std::optional<MeshType>(n.type), std::optional<MeshType>()}) {
-      const MeshAngleMeasurement m = measure_mesh_angle(points, use, n.normal(), cam, given);
+      const MeshAngleMeasurement m =
+          measure_mesh_angle(points, use, same_normal(points, n.normal()), cam, given);
       ASSERT_TRUE(m.valid()) << "trial " << trial;
       EXPECT_EQ(m.type, n.type) << "trial " << trial;
       EXPECT_NEAR(m.opening_angle_rad, n.angle_rad, deg_to_rad(0.05)) << "trial " << trial;
@@ -140,7 +147,8 @@ TEST(MeshAngle, MeasuredAgainstThePlaneForBothMeshTypes) {
     // where the lattice's orientation is clear (any diamond here, rotated <= 5.7 deg; a square
     // up to 105 deg).
     const MeshType other = is_diamond ? MeshType::kSquare : MeshType::kDiamond;
-    const MeshAngleMeasurement m = measure_mesh_angle(points, use, n.normal(), cam, other);
+    const MeshAngleMeasurement m =
+        measure_mesh_angle(points, use, same_normal(points, n.normal()), cam, other);
     if (is_diamond || n.angle_rad <= deg_to_rad(105)) {
       EXPECT_EQ(m.type, n.type) << "trial " << trial;
       EXPECT_NEAR(m.opening_angle_rad, n.angle_rad, deg_to_rad(0.05)) << "trial " << trial;
@@ -150,7 +158,44 @@ TEST(MeshAngle, MeasuredAgainstThePlaneForBothMeshTypes) {
   const auto points = grid(cam, {0, 0, 1}, std::numbers::pi / 2);
   std::vector<uint8_t> use(points.size(), 0);
   use[0] = use[1] = use[2] = 1;
-  EXPECT_FALSE(measure_mesh_angle(points, use, {0, 0, -1}, cam, std::nullopt).valid());
+  EXPECT_FALSE(
+      measure_mesh_angle(points, use, same_normal(points, {0, 0, -1}), cam, std::nullopt).valid());
+}
+
+// A 100 deg diamond on a 12 m pen wall 2.5 m ahead: each ROI's cell lies on the wall's tangent
+// plane where the ROI sees it, turned up to 9 deg from the plane at the optical axis. Read against
+// each ROI's own normal the angle is exact; against the one plane's it opens by half a degree
+// and more (a horizontal stretch of 1 / cos of the turn at the sides).
+TEST(MeshAngle, ADiamondOnACurvedWallIsReadWhereEachRoiSeesIt) {
+  const double radius = 12, d = 2.5, angle = deg_to_rad(100);
+  const PinholeCamera cam;
+  std::vector<RoiNetPoint> points;
+  std::vector<Eigen::Vector3d> normals;
+  for (const kernels::RoiOrigin& o : kernels::roi_grid(720, 540, {})) {
+    const Eigen::Vector2d c(o.x + 149.5, o.y + 149.5);
+    const Eigen::Vector3d r = cam.ray(c);
+    // Ray (t r) meets the vertical cylinder x^2 + (z + R - d)^2 = R^2; the wall's tangent plane
+    // there is the ROI's net.
+    const double qa = r.x() * r.x() + r.z() * r.z(), qb = 2 * r.z() * (radius - d),
+                 qc = (radius - d) * (radius - d) - radius * radius;
+    const Eigen::Vector3d p = r * ((-qb + std::sqrt(qb * qb - 4 * qa * qc)) / (2 * qa));
+    const double slope = -p.x() / (p.z() + radius - d);
+    const Net tangent{slope, 0, p.z() - slope * p.x(), MeshType::kDiamond, angle, 0};
+    Eigen::Vector3d on_wall;
+    const auto l = exact_lattice(cam, tangent, c, &on_wall);
+    const Eigen::Vector3d normal = tangent.normal();
+    points.push_back(roi_net_point(l, o, 300, cam, {kBar, angle}, {}, &normal));
+    normals.push_back(normal);
+  }
+  const std::vector<uint8_t> use(points.size(), 1);
+  const MeshAngleMeasurement local =
+      measure_mesh_angle(points, use, normals, cam, MeshType::kDiamond);
+  ASSERT_TRUE(local.valid());
+  EXPECT_NEAR(local.opening_angle_rad, angle, deg_to_rad(0.05));
+  const MeshAngleMeasurement one_plane = measure_mesh_angle(
+      points, use, same_normal(points, Net{0, 0, d}.normal()), cam, MeshType::kDiamond);
+  ASSERT_TRUE(one_plane.valid());
+  EXPECT_GT(one_plane.opening_angle_rad - angle, deg_to_rad(0.3));
 }
 
 MeshAngleMeasurement measurement(double angle_rad, double sigma_rad) {
