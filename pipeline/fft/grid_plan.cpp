@@ -11,6 +11,11 @@ namespace {
 
 constexpr double kReferenceRoi_px = 300, kReferenceFx_px = 462, kReferenceBar_m = 0.030;
 constexpr int kMinPlannedRoi_px = 32, kMaxPlannedFft = 256;
+// A planned ROI takes at most this share of the frame's smaller side (less the border), so the
+// grid's rows (or columns) keep a baseline of 15 % of it: ROIs as tall as a 640x480 frame put
+// every row's centre on one line, the points then fix no pitch, and an 80 px diamond gave no
+// pose (0-2 of 5 frames); 400 px ROIs give 5 of 5 at 0.01 %.
+constexpr double kMaxRoiShareOfSide = 0.85;
 // Smaller frames hold too few cells for the planned grid at any distance worth a pose.
 constexpr int kMinPlannedWidth_px = 160, kMinPlannedHeight_px = 120;
 
@@ -45,14 +50,16 @@ NetDetectorConfig planned_detector_config(const NetDetectorConfig& config,
     const double wanted =
         kReferenceRoi_px * (camera.fx_px / kReferenceFx_px) * (c.bar_length_m / kReferenceBar_m);
     const long rounded = std::isfinite(wanted) ? std::lround(wanted) : kMinPlannedRoi_px;
-    int roi = static_cast<int>(std::clamp<long>(rounded, std::min(kMinPlannedRoi_px, fit), fit));
+    const int most =
+        std::max(std::min(kMinPlannedRoi_px, fit), static_cast<int>(kMaxRoiShareOfSide * fit));
+    int roi = static_cast<int>(std::clamp<long>(rounded, std::min(kMinPlannedRoi_px, fit), most));
     // Below the FFT cap a power of two within 25 % of the side is taken as the side, so the FFT
     // reads the ROI's own pixels instead of resampling them (a 3 px mesh keeps its 3 px).
     if (roi < kMaxPlannedFft) {
       const int below = largest_power_of_two_at_most(roi), above = 2 * below;
       const int nearest = std::log2(static_cast<double>(roi) / below) < 0.5 ? below : above;
       const double ratio = static_cast<double>(nearest) / roi;
-      if (ratio >= 0.8 && ratio <= 1.25 && nearest <= fit && nearest >= kernels::kMinRoiSize_px) {
+      if (ratio >= 0.8 && ratio <= 1.25 && nearest <= most && nearest >= kernels::kMinRoiSize_px) {
         roi = nearest;
       }
     }

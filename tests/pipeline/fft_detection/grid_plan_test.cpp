@@ -43,13 +43,16 @@ TEST(GridPlan, ROIsHoldTheReferenceCellsWithinTheFrame) {
   PinholeCamera solaqua = default_field_of_view(1280, 720);
   solaqua.fx_px = solaqua.fy_px = 735;
   expect(plan(solaqua, 0.0275), 438, 256, "solaqua");
-  // A long lens on a small frame: the ROI stops at the frame's smaller side less the border.
+  // A long lens on a small frame: the ROI stops at 85 % of the frame's smaller side less the
+  // border, so the rows keep a baseline.
   PinholeCamera tele = default_field_of_view(640, 360);
   tele.fx_px = tele.fy_px = 1500;
-  expect(plan(tele), 360, 256, "telephoto");
+  expect(plan(tele), 306, 256, "telephoto");
   NetDetectorConfig bordered;
   bordered.grid.border_px = 40;
-  expect(plan(tele, 0.030, bordered), 320, 256, "telephoto, 40 px border");
+  expect(plan(tele, 0.030, bordered), 272, 256, "telephoto, 40 px border");
+  // A coarse mesh close up on a small frame: 222 px wanted, 153 px at most, 128 px taken.
+  expect(plan(default_field_of_view(320, 180), 0.050), 128, 128, "320x180, 50 mm bars");
   // Values given stay; a planned ROI below 256 px gets its own power of two.
   NetDetectorConfig given;
   given.grid.roi_size_px = 200;
