@@ -470,7 +470,7 @@ bool curved_like_the_wall(const Eigen::Matrix<double, 6, 1>& q,
 
 // The fused plane's checks (see RelativePoseFftParams): the extrapolation lever and the median
 // disagreement of the inliers' own tilts (0 when not checked), and the reason when either is
-// beyond its limit.
+// beyond its limit. `wall` is the paraboloid where it curves like the pen wall, else null.
 struct PlaneChecks {
   FftPoseStatus status = FftPoseStatus::kValid;
   std::string reason;
@@ -478,7 +478,7 @@ struct PlaneChecks {
   double tilt_disagreement_rad = 0;
 };
 
-PlaneChecks check_plane(const Eigen::Vector3d& plane, const Eigen::Matrix<double, 6, 1>& surface,
+PlaneChecks check_plane(const Eigen::Vector3d& plane, const Eigen::Matrix<double, 6, 1>* wall,
                         const std::vector<Sample>& s, const std::vector<int>& in,
                         std::span<const RoiNetPoint> rois, const RelativePoseFftParams& params) {
   PlaneChecks c;
@@ -504,9 +504,9 @@ PlaneChecks check_plane(const Eigen::Vector3d& plane, const Eigen::Matrix<double
   Eigen::Matrix<double, 6, 1> flat = Eigen::Matrix<double, 6, 1>::Zero();
   flat.head<3>() = plane;
   c.tilt_disagreement_rad = median_tilt_disagreement(flat, s, in, rois);
-  if (surface != flat && curved_like_the_wall(surface, params)) {
+  if (wall != nullptr) {
     c.tilt_disagreement_rad =
-        std::min(c.tilt_disagreement_rad, median_tilt_disagreement(surface, s, in, rois));
+        std::min(c.tilt_disagreement_rad, median_tilt_disagreement(*wall, s, in, rois));
   }
   if (c.tilt_disagreement_rad > params.max_tilt_disagreement_rad) {
     char text[160];
@@ -623,7 +623,7 @@ FftRelativePose solve(std::span<const RoiNetPoint> rois, const RelativePoseFftPa
                        " deg; limit " +
                        std::to_string(std::lround(rad_to_deg(params.max_obliquity_rad))) + ")");
   }
-  PlaneChecks checks = check_plane(plane, surface, s, in, rois, params);
+  PlaneChecks checks = check_plane(plane, wall ? &surface : nullptr, s, in, rois, params);
   if (checks.status != FftPoseStatus::kValid) {
     return invalid(rois.size(), valid, checks.status, std::move(checks.reason));
   }
