@@ -10,7 +10,8 @@ FineMeshProbe::FineMeshProbe(const kernels::FftRoiShape& grid, const kernels::Pe
                              double min_quality)
     : grid_(grid), min_quality_(min_quality) {
   if (grid.roi_size_px <= grid.fft_size) return;
-  band_max_cpp_ = double{peaks.max_nyquist_share} * grid.fft_size / 2 / grid.roi_size_px;
+  const double band_max_cycles = double{peaks.max_nyquist_share} * grid.fft_size / 2;
+  max_cycles_ = std::min(kMaxResampledCycles, band_max_cycles);
   kernels::FftRoiShape native = grid;
   native.roi_size_px = grid.fft_size;
   origin_ = {(grid.width - grid.fft_size) / 2, (grid.height - grid.fft_size) / 2};
@@ -22,12 +23,13 @@ std::optional<std::string> FineMeshProbe::too_fine(const ImageU8& image) {
   const kernels::RoiLattice l = probe_->run(image, {&origin_, 1}).front();
   if (!(l.quality >= min_quality_)) return std::nullopt;
   const double f_cpp = std::max(std::hypot(l.f1x, l.f1y), std::hypot(l.f2x, l.f2y));
-  if (!(f_cpp > band_max_cpp_)) return std::nullopt;
+  const double cycles = f_cpp * grid_.roi_size_px;
+  if (!(cycles > max_cycles_)) return std::nullopt;
   char reason[256];
   std::snprintf(reason, sizeof reason,
-                "mesh period %.1f px: too fine for ROIs of %d px analysed at FFT %d (periods "
-                "down to %.1f px); analysed on ROIs of %d px",
-                1 / f_cpp, grid_.roi_size_px, grid_.fft_size, 1 / band_max_cpp_, grid_.fft_size);
+                "mesh period %.1f px: too fine for ROIs of %d px analysed at FFT %d (%.0f periods "
+                "across, at most %.0f); analysed on ROIs of %d px",
+                1 / f_cpp, grid_.roi_size_px, grid_.fft_size, cycles, max_cycles_, grid_.fft_size);
   return std::string(reason);
 }
 

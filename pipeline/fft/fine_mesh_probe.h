@@ -1,10 +1,15 @@
 #pragma once
 // Whether a frame's mesh is finer than the grid's resampled ROIs hold. Where a ROI of R px is
-// resampled to an FFT of F < R, a lattice finer than the band (max_nyquist_share x F / 2 cycles
-// per ROI) folds back into it as a coarser one and reads as a nearer net: a 3 px mesh on 533 px
-// ROIs at FFT 256 (a 30 mm net 8 m from a 1280x720 camera) read 3.6 m on every frame. One ROI of
-// F px at the frame's centre, analysed at its own pixels, sees such a lattice at its true period;
-// NetDetector then analyses the frame on ROIs of F px (not resampled) instead.
+// resampled to an FFT of F < R:
+// - a lattice finer than the band (max_nyquist_share x F / 2 cycles per ROI) folds back into it
+//   as a coarser one and reads as a nearer net: a 3 px mesh on 533 px ROIs at FFT 256 (a 30 mm
+//   net 8 m from a 1280x720 camera) read 3.6 m on every frame;
+// - a lattice of more than kMaxResampledCycles periods across the ROI leaves the band's low end
+//   to whatever else the net carries at 4-10 cycles (sunlight caustics, fouling patches, a fish),
+//   which resampling does not weaken as it weakens the lattice: a 44 mm net 3.3 m from a 720x540
+//   camera, 71 periods across 443 px ROIs, read 0.21 m from caustics 97 px apart.
+// One ROI of F px at the frame's centre, analysed at its own pixels, sees such a lattice at its
+// true period; NetDetector then analyses the frame on ROIs of F px (not resampled) instead.
 //
 // Cost: one F x F FFT on the CPU per frame (~0.2 ms at 256), and only for resampled grids.
 #include <optional>
@@ -14,6 +19,12 @@
 #include "kernels/fft_roi/fft_roi.h"
 
 namespace pensight {
+
+// The most lattice periods a resampled ROI is read with: the reference set-up's far end (a 30 mm
+// mesh 2.5 m from the 720x540 camera, fx 462 px, on 300 px ROIs) holds 54. A planned ROI
+// (grid_plan.h) holds 300 px / (462 px x 30 mm / d) = 21.6 periods per metre of distance d on any
+// camera and mesh, so a net beyond ~2.6 m is read on native ROIs.
+inline constexpr double kMaxResampledCycles = 56;
 
 class FineMeshProbe {
  public:
@@ -29,7 +40,7 @@ class FineMeshProbe {
  private:
   kernels::FftRoiShape grid_;
   double min_quality_ = 0;
-  double band_max_cpp_ = 0;  // the finest lattice the grid holds, cycles per image pixel
+  double max_cycles_ = 0;  // the most lattice periods across a ROI the grid reads, per ROI
   kernels::RoiOrigin origin_;
   std::optional<kernels::FftRoiCpu> probe_;
 };
