@@ -24,12 +24,14 @@ std::optional<std::string> FineMeshProbe::too_fine(const ImageU8& image) {
   if (!(l.quality >= min_quality_)) return std::nullopt;
   const double f_cpp = std::max(std::hypot(l.f1x, l.f1y), std::hypot(l.f2x, l.f2y));
   const double cycles = f_cpp * grid_.roi_size_px;
-  if (!(cycles > max_cycles_)) return std::nullopt;
+  const double limit = native_ ? kReturnShare * max_cycles_ : max_cycles_;
+  native_ = cycles > limit;
+  if (!native_) return std::nullopt;
   char reason[256];
   std::snprintf(reason, sizeof reason,
                 "mesh period %.1f px: too fine for ROIs of %d px analysed at FFT %d (%.0f periods "
                 "across, at most %.0f); analysed on ROIs of %d px",
-                1 / f_cpp, grid_.roi_size_px, grid_.fft_size, cycles, max_cycles_, grid_.fft_size);
+                1 / f_cpp, grid_.roi_size_px, grid_.fft_size, cycles, limit, grid_.fft_size);
   return std::string(reason);
 }
 

@@ -5,9 +5,9 @@
 //   as a coarser one and reads as a nearer net: a 3 px mesh on 533 px ROIs at FFT 256 (a 30 mm
 //   net 8 m from a 1280x720 camera) read 3.6 m on every frame;
 // - a lattice of more than kMaxResampledCycles periods across the ROI leaves the band's low end
-//   to whatever else the net carries at 4-10 cycles (sunlight caustics, fouling patches, a fish),
-//   which resampling does not weaken as it weakens the lattice: a 44 mm net 3.3 m from a 720x540
-//   camera, 71 periods across 443 px ROIs, read 0.21 m from caustics 97 px apart.
+//   to whatever else the view holds at 4-10 cycles (fouling patches, caustics, a fish), which
+//   resampling does not weaken as it weakens the lattice: a fouled 44 mm net 3.3 m from a 720x540
+//   camera, 71 periods across 443 px ROIs, read 0.21 m from clean patches ~97 px apart.
 // One ROI of F px at the frame's centre, analysed at its own pixels, sees such a lattice at its
 // true period; NetDetector then analyses the frame on ROIs of F px (not resampled) instead.
 //
@@ -25,6 +25,9 @@ namespace pensight {
 // (grid_plan.h) holds 300 px / (462 px x 30 mm / d) = 21.6 periods per metre of distance d on any
 // camera and mesh, so a net beyond ~2.6 m is read on native ROIs.
 inline constexpr double kMaxResampledCycles = 56;
+// After a frame read on native ROIs, the planned grid again only below this share of the limit:
+// a net held near the limit's distance is not read on alternating grids.
+inline constexpr double kReturnShare = 0.85;
 
 class FineMeshProbe {
  public:
@@ -33,14 +36,16 @@ class FineMeshProbe {
   FineMeshProbe(const kernels::FftRoiShape& grid, const kernels::PeakParams& peaks,
                 double min_quality);
 
-  // The reason, naming the period and the fix, when the probe's lattice is finer than the grid's
-  // band; empty otherwise. `image` has the grid's size.
+  // The reason, naming the period and the fix, when the probe's lattice is finer than the grid
+  // reads (kMaxResampledCycles, or kReturnShare of it after such a frame); empty otherwise, and
+  // where the probe sees no lattice. `image` has the grid's size.
   std::optional<std::string> too_fine(const ImageU8& image);
 
  private:
   kernels::FftRoiShape grid_;
   double min_quality_ = 0;
-  double max_cycles_ = 0;  // the most lattice periods across a ROI the grid reads, per ROI
+  double max_cycles_ = 0;  // the most lattice periods across a ROI the grid reads
+  bool native_ = false;    // the last frame with a probe lattice went to native ROIs
   kernels::RoiOrigin origin_;
   std::optional<kernels::FftRoiCpu> probe_;
 };

@@ -208,6 +208,51 @@ struct NetDetector::Impl {
         return make_cpu();
     }
   }
+
+  // The frame read on this detector's own grid: lattices, pose (the carried opening angle as a
+  // prior) and depth priors; no texture step.
+  NetDetection detect_on_grid(const ImageU8& image, int64_t timestamp_ns) {
+    NetDetection d;
+    d.timestamp_ns = timestamp_ns;
+    d.rois = rois;
+    d.roi_size_px = shape.roi_size_px;
+    Stopwatch sw;
+    switch (backend) {
+      case Backend::kVulkan:
+        d.lattices = vulkan->run(image);
+        break;
+#if PENSIGHT_HAS_CUDA
+      case Backend::kCuda:
+        d.lattices = cuda->run(image, rois);
+        break;
+#endif
+      default:
+        d.lattices = cpu->run(image, rois);
+        break;
+    }
+    d.fft_ms = sw.elapsed_ms();
+    sw.restart();
+    solve(d, mesh_filter);
+    // The carried opening angle is a prior, never a gate: a frame that disagrees with it or that
+    // it cannot explain (a new panel, a diamond section, another pen) is solved on its own, and
+    // that solution replaces it.
+    if ((!d.pose.valid() || mesh_filter.rejected_last()) && mesh_filter.has_estimate()) {
+      MeshAngleFilter fresh(config.mesh_angle_rad, config.mesh_angle_filter);
+      NetDetection alone = d;
+      solve(alone, fresh);
+      if (alone.pose.valid()) {
+        d = std::move(alone);
+        mesh_filter = fresh;
+      }
+    }
+    if (mesh_filter.has_estimate()) d.mesh_angle_rad = mesh_filter.angle_rad();
+    d.mesh_type = d.mesh_angle_frame.valid() ? d.mesh_angle_frame.type
+                                             : config.mesh_type.value_or(MeshType::kSquare);
+    for (const RoiNetPoint& p : d.points) d.reduced_rois += p.reduced ? 1 : 0;
+    d.depths = roi_surface_priors(d.points, d.pose, config.grid.roi_size_px, camera, config.priors);
+    d.pose_ms = sw.elapsed_ms();
+    return d;
+  }
 };
 
 NetDetector::NetDetector(const PinholeCamera& camera, const NetDetectorConfig& config,
@@ -256,6 +301,7 @@ NetDetection NetDetector::detect(const ImageU8& image, int64_t timestamp_ns) {
   check_image_size(image.width, image.height, m.camera, "NetDetector", "image",
                    " (the resolution of cam0/sensor.yaml)");
   Stopwatch sw;
+  NetDetection d;
   if (std::optional<std::string> why = m.fine_mesh->too_fine(image)) {
     // The planned grid would read aliases: the frame is analysed on native ROIs instead, and its
     // reason names both where those give no pose either.
@@ -263,60 +309,25 @@ NetDetection NetDetector::detect(const ImageU8& image, int64_t timestamp_ns) {
     if (!m.native) {
       NetDetectorConfig native = m.config;
       native.grid.roi_size_px = m.config.fft_size;
+      native.texture.enabled = false;  // the step is this detector's, whichever grid read a frame
       m.native = std::make_unique<NetDetector>(m.camera, native, *m.native_device);
     }
-    NetDetection n = m.native->detect(image, timestamp_ns);
-    n.pose_ms += probe_ms;
-    if (!n.pose.valid()) n.pose.reason = *why + "; on those: " + n.pose.reason;
-    return n;
+    d = m.native->detect(image, timestamp_ns);
+    d.pose_ms += probe_ms;
+    if (!d.pose.valid()) d.pose.reason = *why + "; on those: " + d.pose.reason;
+  } else {
+    const double probe_ms = sw.elapsed_ms();
+    d = m.detect_on_grid(image, timestamp_ns);
+    d.pose_ms += probe_ms;
   }
-  NetDetection d;
-  d.timestamp_ns = timestamp_ns;
-  d.rois = m.rois;
-  d.roi_size_px = m.shape.roi_size_px;
-  const double probe_ms = sw.elapsed_ms();
-  sw.restart();
-  switch (m.backend) {
-    case Backend::kVulkan:
-      d.lattices = m.vulkan->run(image);
-      break;
-#if PENSIGHT_HAS_CUDA
-    case Backend::kCuda:
-      d.lattices = m.cuda->run(image, m.rois);
-      break;
-#endif
-    default:
-      d.lattices = m.cpu->run(image, m.rois);
-      break;
-  }
-  d.fft_ms = sw.elapsed_ms();
-  sw.restart();
-  m.solve(d, m.mesh_filter);
-  // The carried opening angle is a prior, never a gate: a frame that disagrees with it or that it
-  // cannot explain (a new panel, a diamond section, another pen) is solved on its own, and that
-  // solution replaces it.
-  if ((!d.pose.valid() || m.mesh_filter.rejected_last()) && m.mesh_filter.has_estimate()) {
-    MeshAngleFilter fresh(m.config.mesh_angle_rad, m.config.mesh_angle_filter);
-    NetDetection alone = d;
-    m.solve(alone, fresh);
-    if (alone.pose.valid()) {
-      d = std::move(alone);
-      m.mesh_filter = fresh;
-    }
-  }
-  if (m.mesh_filter.has_estimate()) d.mesh_angle_rad = m.mesh_filter.angle_rad();
-  d.mesh_type = d.mesh_angle_frame.valid() ? d.mesh_angle_frame.type
-                                           : m.config.mesh_type.value_or(MeshType::kSquare);
-  for (const RoiNetPoint& p : d.points) d.reduced_rois += p.reduced ? 1 : 0;
-  d.depths =
-      roi_surface_priors(d.points, d.pose, m.config.grid.roi_size_px, m.camera, m.config.priors);
   if (m.config.texture.enabled) {
+    sw.restart();
     TexturePatch patch = texture_patch(image, m.camera, timestamp_ns, m.config.texture);
     d.texture = texture_step(m.previous_patch, patch, d.points, d.pose, m.camera,
                              m.config.bar_length_m, m.config.texture);
     m.previous_patch = std::move(patch);
+    d.pose_ms += sw.elapsed_ms();
   }
-  d.pose_ms = probe_ms + sw.elapsed_ms();
   return d;
 }
 

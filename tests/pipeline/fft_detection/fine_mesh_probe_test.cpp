@@ -67,7 +67,8 @@ TEST(FineMeshProbe, ALatticeFinerThanTheGridHoldsIsReadOnNativeRois) {
   EXPECT_NEAR(period_in(*why), period_px, 0.1) << *why;
   EXPECT_NE(why->find("too fine for ROIs of 533 px analysed at FFT 256 ("), std::string::npos)
       << *why;
-  EXPECT_NE(why->find(" periods across, at most 56); analysed on ROIs of 256 px"), std::string::npos)
+  EXPECT_NE(why->find(" periods across, at most 56); analysed on ROIs of 256 px"),
+            std::string::npos)
       << *why;
 
   // The bars' true distance: fx x bar / period (the lattice is frontal).
@@ -90,6 +91,24 @@ TEST(FineMeshProbe, CoarserLatticesAndGridsThatDoNotResampleAreLeftAlone) {
   // 256 px ROIs at FFT 256 see a 3 px lattice at its own pixels: nothing folds.
   FineMeshProbe native({.width = 1280, .height = 720, .roi_size_px = 256}, {}, 0.03);
   EXPECT_FALSE(native.too_fine(lattice_image(1280, 720, 3.0, rng)));
+}
+
+// A net held near the limit is not read on alternating grids: after a native frame the planned
+// grid returns only below 85 % of the limit (48 of 56 periods across 533 px: 11.2 px).
+TEST(FineMeshProbe, ANetNearTheLimitStaysOnOneGrid) {
+  std::mt19937_64 rng(testing::fresh_seed());
+  FineMeshProbe probe({.width = 1280, .height = 720, .roi_size_px = 533}, {}, 0.03);
+  const double near_limit_px = std::uniform_real_distribution<double>(9.8, 10.8)(rng);
+  EXPECT_FALSE(probe.too_fine(lattice_image(1280, 720, near_limit_px, rng))) << near_limit_px;
+  ASSERT_TRUE(probe.too_fine(lattice_image(1280, 720, 6.0, rng)));
+  const std::optional<std::string> why =
+      probe.too_fine(lattice_image(1280, 720, near_limit_px, rng));
+  ASSERT_TRUE(why) << near_limit_px;
+  EXPECT_NE(why->find("at most 48)"), std::string::npos) << *why;
+  EXPECT_FALSE(probe.too_fine(ImageU8(1280, 720, 90)));  // no lattice: the planned grid
+  const double coarser_px = std::uniform_real_distribution<double>(11.6, 14)(rng);
+  EXPECT_FALSE(probe.too_fine(lattice_image(1280, 720, coarser_px, rng))) << coarser_px;
+  EXPECT_FALSE(probe.too_fine(lattice_image(1280, 720, near_limit_px, rng))) << near_limit_px;
 }
 
 }  // namespace

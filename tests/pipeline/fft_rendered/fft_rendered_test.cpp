@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <ostream>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -33,7 +34,9 @@ constexpr size_t kMinRopesEstimated = 110;
 constexpr double kMaxRopesP95 = 0.03;
 constexpr double kMaxObliqueMedian = 0.03, kMaxObliqueMax = 0.06;
 // Seeds 1-40 (2026-12-07): 11 of 11 frames with a pose on every seed (4-10 before the ROIs'
-// tilts were compared with the curved wall's normals), median <= 0.19 %, max <= 0.37 %.
+// tilts were compared with the curved wall's normals), median <= 0.19 %, max <= 0.37 %. The fouled
+// net beyond the planned grid's reach (2026-12-07), seeds 1-40: 11 of 11 frames on every seed,
+// median <= 0.33 %, max <= 0.37 % (on the planned grid, 3 of seeds 1-6 read medians 0.5-0.9 %).
 constexpr double kMinFarShare = 0.9, kMaxFarMedian = 0.005, kMaxFarMax = 0.01;
 constexpr size_t kMinChangingEstimated = 63;
 constexpr double kMaxChangingP95 = 0.01;
@@ -218,6 +221,48 @@ TEST(FftRenderedFar, ANetFinerThanThePlannedRoisHoldIsReadOnNativeRois) {
   const ErrorStats e = error_stats(errors);
   std::printf("far net: %zu of %zu frames with a pose, d_net rel. error median %.2f%% max %.2f%%\n",
               errors.size(), truth.size(), 100 * e.median, 100 * e.max);
+  EXPECT_GE(static_cast<double>(errors.size()), kMinFarShare * static_cast<double>(truth.size()));
+  EXPECT_LE(e.median, kMaxFarMedian);
+  EXPECT_LE(e.max, kMaxFarMax);
+}
+
+// A fouled 44 mm net 3.1-3.5 m from the reference 720x540 camera: the planned 443 px ROIs would
+// hold ~65 periods at FFT 256, and their band's low end the fouling's clean patches ~100 px apart
+// (a random training scene read 0.21 m for 3.3 m from them). The probe sends the frames to native
+// 256 px ROIs.
+TEST(FftRenderedFar, AFouledNetBeyondThePlannedGridsReachIsReadOnNativeRois) {
+  std::mt19937_64 rng(testing::fresh_seed());
+  sim::Scenario s = testing::shipped_scenario("follow.yaml", 1.0);
+  s.seed = rng();
+  s.camera.calibration.camera = default_field_of_view(720, 540);
+  s.net.bar_length_m = 0.044;
+  s.net.twine_width_m = 0.009;
+  s.net.fouling = 0.2;
+  s.net.fouling_coverage = 0.5;
+  s.water.marine_snow = 0;
+  const double distance_m = std::uniform_real_distribution<double>(3.1, 3.5)(rng);
+  const double heading_rad = std::uniform_real_distribution<double>(-0.5, 0.5)(rng);
+  s.waypoints = {
+      {.t_s = 0, .net_distance_m = distance_m, .depth_m = 4.0, .heading_rad = heading_rad},
+      {.t_s = 1,
+       .along_m = 0.1,
+       .net_distance_m = distance_m,
+       .depth_m = 4.0,
+       .heading_rad = heading_rad}};
+  sim::validate(s);
+  const testing::RenderedRun run = testing::render_and_run(s);
+  const std::vector<GroundTruthRow>& truth = run.dataset.groundtruth0->rows;
+  ASSERT_EQ(truth.size(), run.rows.size());
+  std::vector<double> errors;
+  for (size_t i = 0; i < truth.size(); ++i) {
+    const double d = run.rows[i].d_net_fft_m;
+    if (std::isfinite(d)) errors.push_back(std::abs(d / truth[i].d_net_m - 1));
+  }
+  const ErrorStats e = error_stats(errors);
+  std::printf(
+      "fouled net at %.2f m, heading %.2f rad: %zu of %zu frames with a pose, d_net rel. "
+      "error median %.2f%% max %.2f%%\n",
+      distance_m, heading_rad, errors.size(), truth.size(), 100 * e.median, 100 * e.max);
   EXPECT_GE(static_cast<double>(errors.size()), kMinFarShare * static_cast<double>(truth.size()));
   EXPECT_LE(e.median, kMaxFarMedian);
   EXPECT_LE(e.max, kMaxFarMax);
