@@ -22,6 +22,8 @@
 
 #include "core/timing.h"
 #include "kernels/fft_roi/fft_roi.h"
+#include "pipeline/fft/fine_mesh_probe.h"
+#include "pipeline/fft/grid_plan.h"
 #include "pipeline/fft/net_detector.h"
 #include "runtime/vk_buffer.h"
 #include "runtime/vk_context.h"
@@ -335,6 +337,38 @@ void BM_FftStagePlusPose_FrameSize(benchmark::State& state) {
   state.counters["roi_px"] = detector.config().grid.roi_size_px;
 }
 BENCHMARK(BM_FftStagePlusPose_FrameSize)
+    ->Args({720, 540})
+    ->Args({1920, 1080})
+    ->Args({3840, 2160})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+// The grid's choice (issue 45: under 1 ms whenever it is made): the plan from the camera, and the
+// fine-mesh probe's look at the frame's centre (one 256^2 FFT, every resampled frame), which
+// sends the frame to the planned or the native grid. Args: width, height.
+void BM_GridChoice(benchmark::State& state) {
+  const int width = static_cast<int>(state.range(0)), height = static_cast<int>(state.range(1));
+  const PinholeCamera camera = default_field_of_view(width, height);
+  const NetDetectorConfig given{.backend = Backend::kCpu, .cpu_threads = 1};
+  const NetDetectorConfig planned = planned_detector_config(given, camera);
+  FineMeshProbe probe({.width = width,
+                       .height = height,
+                       .roi_size_px = planned.grid.roi_size_px,
+                       .fft_size = planned.fft_size},
+                      planned.peaks, planned.points.min_quality);
+  const ImageU8 img = frame_of(width, height, 22.0 * width / 720.0);
+  Stopwatch sw;
+  double plan_ms = 0;
+  for (auto _ : state) {
+    sw.restart();
+    benchmark::DoNotOptimize(planned_detector_config(given, camera).grid.roi_size_px);
+    plan_ms += sw.elapsed_ms();
+    benchmark::DoNotOptimize(probe.too_fine(img));
+  }
+  state.counters["plan_ms"] = plan_ms / static_cast<double>(state.iterations());
+  state.counters["roi_px"] = planned.grid.roi_size_px;
+}
+BENCHMARK(BM_GridChoice)
     ->Args({720, 540})
     ->Args({1920, 1080})
     ->Args({3840, 2160})
