@@ -1,5 +1,7 @@
 #include "drivers/nucleus_commands.h"
 
+#include <array>
+#include <cstdio>
 #include <ctime>
 #include <string_view>
 #include <utility>
@@ -32,7 +34,28 @@ std::string_view named(std::string_view command) {
   return command.substr(0, command.find('\r'));
 }
 
+constexpr std::array<std::string_view, 3> kBottomTrackModes = {"FAST_ACQ", "AUTO", "CRAWLER"};
+
 }  // namespace
+
+bool is_nucleus_bottom_track_mode(const std::string& mode) {
+  for (std::string_view m : kBottomTrackModes) {
+    if (mode == m) return true;
+  }
+  return false;
+}
+
+std::string bottom_track_command(const NucleusBottomTrack& settings) {
+  std::string command = "SETBT";
+  if (!settings.mode.empty()) command += ",MODE=\"" + settings.mode + "\"";
+  if (settings.velocity_range_mps > 0) {
+    char vr[32];
+    std::snprintf(vr, sizeof vr, ",VR=%g", settings.velocity_range_mps);
+    command += vr;
+  }
+  command += settings.water_track ? ",WT=\"ON\"" : ",WT=\"OFF\"";
+  return command + ",DS=\"ON\"\r\n";
+}
 
 NucleusCommandSession::NucleusCommandSession(NucleusCommandParams params)
     : params_(std::move(params)) {}
@@ -87,6 +110,19 @@ NucleusCommandSession::Step NucleusCommandSession::feed(std::span<const uint8_t>
       break;
     case State::kClock:
       if (error) fail("SETCLOCKSTR answered ERROR; the records keep the Nucleus's own clock");
+      if (ok != std::string::npos || error) {
+        if (params_.bottom_track) {
+          return send(State::kBottomTrack, bottom_track_command(*params_.bottom_track), now_ns);
+        }
+        return send(State::kStart, "START\r\n", now_ns);
+      }
+      break;
+    case State::kBottomTrack:
+      if (error) {
+        fail(
+            "SETBT answered ERROR: the Nucleus measures with its own bottom-track settings; its "
+            "GETBTLIM says what it takes (dvl.bottom_track)");
+      }
       if (ok != std::string::npos || error) return send(State::kStart, "START\r\n", now_ns);
       break;
     case State::kStart:

@@ -1,5 +1,8 @@
 #include "live/record_config.h"
 
+#include <algorithm>
+#include <cctype>
+
 #include "core/error.h"
 #include "core/strict_yaml.h"
 #include "drivers/nucleus_dvl.h"
@@ -41,6 +44,9 @@ constexpr TextKey kDvlKeys[] = {
     {"calibration", "required", "a dvl0/sensor.yaml: T_BS and the beam directions"},
     {"password", "nortek", "Nucleus with start: the command port's password (Nortek's default)"},
 };
+constexpr TextKey kBottomTrackKeys[] = {
+    {"mode", "the Nucleus's", "SETBT MODE: FAST_ACQ, AUTO or CRAWLER (Nortek's names)"},
+};
 constexpr TextKey kMavlinkKeys[] = {
     {"endpoint", "udpin:0.0.0.0:14550",
      "udpin:ADDR:PORT (BlueOS sends to 14550), "
@@ -62,6 +68,17 @@ const Param<RecordDvl> kDvlParams[] = {
      {},
      "Water Linked: set dark_mode_enabled on every connection, so the LED does not flash into "
      "the camera"},
+};
+
+// dvl.bottom_track: sent as SETBT (with the bottom-track data stream on) before every START.
+const Param<drivers::NucleusBottomTrack> kBottomTrackParams[] = {
+    {"velocity_range_mps", &drivers::NucleusBottomTrack::velocity_range_mps, "m/s",
+     closed_range(0, 10), "SETBT VR: the largest velocity measured; 0: the Nucleus's own"},
+    {"water_track",
+     &drivers::NucleusBottomTrack::water_track,
+     "",
+     {},
+     "SETBT WT: water-track pings between the bottom-track pings (pensight leaves them out)"},
 };
 
 const Param<RecordConfig> kSessionParams[] = {
@@ -125,6 +142,24 @@ RecordDvl read_dvl(const YamlMap& m, const fs::path& base_dir) {
                        : drivers::kNucleusDataPort;
   }
   d.nucleus_command.password = m.string("password", d.nucleus_command.password);
+  if (const auto bt = m.optional_map("bottom_track")) {
+    if (d.kind != DvlKind::kNucleus || !d.start) {
+      m.fail("bottom_track",
+             "SETBT goes over the Nucleus's command port: set kind: nucleus and "
+             "start: true, or leave bottom_track out");
+    }
+    drivers::NucleusBottomTrack b;
+    b.mode = bt->string("mode", "");
+    std::transform(b.mode.begin(), b.mode.end(), b.mode.begin(),
+                   [](unsigned char ch) { return static_cast<char>(std::toupper(ch)); });
+    if (!b.mode.empty() && !drivers::is_nucleus_bottom_track_mode(b.mode)) {
+      bt->fail("mode",
+               "'" + b.mode + "' is not a bottom-track mode; use FAST_ACQ, AUTO or CRAWLER");
+    }
+    read_params(*bt, std::span<const Param<drivers::NucleusBottomTrack>>(kBottomTrackParams), b);
+    bt->check_unknown_keys();
+    d.nucleus_command.bottom_track = b;
+  }
   d.serial_device = m.string("serial_device", "");
   d.calibration = read_named_file(m, "calibration", base_dir, read_dvl_yaml);
   if (const auto s = m.optional_map("serial")) read_params(*s, serial_port_params(), d.serial);
@@ -203,6 +238,9 @@ std::string record_config_param_rows() {
   rows += param_table_rows(camera_source_params(), {}, "camera.");
   rows += text_rows(kDvlKeys, "dvl.");
   rows += param_table_rows(std::span<const Param<RecordDvl>>(kDvlParams), {}, "dvl.");
+  rows += text_rows(kBottomTrackKeys, "dvl.bottom_track.");
+  rows += param_table_rows(std::span<const Param<drivers::NucleusBottomTrack>>(kBottomTrackParams),
+                           {}, "dvl.bottom_track.");
   rows += param_table_rows(serial_port_params(), {}, "dvl.serial.");
   rows += param_table_rows(tcp_client_params(), {}, "dvl.tcp.");
   rows += param_table_rows(device_clock_params(), {}, "dvl.clock.");

@@ -140,5 +140,29 @@ TEST(NucleusCommandSession, ARefusedStartIsSaid) {
   EXPECT_NE(s.last_error().find("START answered ERROR"), std::string::npos);
 }
 
+// Bottom-track settings go as SETBT between SETCLOCKSTR and START; a refused SETBT is said and
+// the Nucleus is started with its own settings.
+TEST(NucleusCommandSession, BottomTrackSettingsBeforeStart) {
+  NucleusCommandSession s(
+      {.bottom_track = NucleusBottomTrack{.mode = "AUTO", .velocity_range_mps = 2.5}});
+  EXPECT_EQ(s.restart(false, 0), "STOP\r\n");
+  EXPECT_GT(clock_command_s(feed(s, "OK\r\n").send), 0);
+  EXPECT_EQ(feed(s, "OK\r\n").send, "SETBT,MODE=\"AUTO\",VR=2.5,WT=\"OFF\",DS=\"ON\"\r\n");
+  EXPECT_EQ(feed(s, "OK\r\n").send, "START\r\n");
+  feed(s, "OK\r\n");
+  EXPECT_TRUE(s.streaming());
+  EXPECT_EQ(s.counters().failures, 0u);
+
+  NucleusCommandSession refused({.bottom_track = NucleusBottomTrack{.mode = "CRAWLER"}});
+  refused.restart(false, 0);
+  feed(refused, "OK\r\n");
+  EXPECT_EQ(feed(refused, "OK\r\n").send, "SETBT,MODE=\"CRAWLER\",WT=\"OFF\",DS=\"ON\"\r\n");
+  EXPECT_EQ(feed(refused, "ERROR\r\n").send, "START\r\n");
+  EXPECT_EQ(refused.counters().failures, 1u);
+  EXPECT_NE(refused.last_error().find("SETBT answered ERROR"), std::string::npos);
+  feed(refused, "OK\r\n");
+  EXPECT_TRUE(refused.streaming());
+}
+
 }  // namespace
 }  // namespace pensight::drivers

@@ -99,8 +99,9 @@ TEST(NucleusDvl, NortekRecordingOverTcpAcrossADrop) {
   }
 }
 
-// With start, on its command port: the stand-in asks for the password, answers STOP, SETCLOCKSTR
-// and START as a Nucleus does, then streams Nortek's recording on the same connection.
+// With start, on its command port: the stand-in asks for the password, answers STOP, SETCLOCKSTR,
+// SETBT (bottom-track settings given) and START as a Nucleus does, then streams Nortek's recording
+// on the same connection.
 TEST(NucleusDvl, StartedOnItsCommandPort) {
   const std::vector<uint8_t> bytes = nucleus_recording();
   testing::LoopbackServer nucleus;
@@ -110,7 +111,7 @@ TEST(NucleusDvl, StartedOnItsCommandPort) {
     testing::LoopbackServer::send_all(c, std::string("Please enter password:\r\n"));
     commands.push_back(testing::LoopbackServer::read_line(c));
     testing::LoopbackServer::send_all(c, std::string("\r\nWelcome to Nortek Nucleus1000\r\n"));
-    for (int i = 0; i < 3; ++i) {
+    for (int i = 0; i < 4; ++i) {
       commands.push_back(testing::LoopbackServer::read_line(c));
       testing::LoopbackServer::send_all(c, std::string("OK\r\n"));
     }
@@ -122,6 +123,7 @@ TEST(NucleusDvl, StartedOnItsCommandPort) {
   config.host = "127.0.0.1";
   config.port = nucleus.port();
   config.start = true;
+  config.command.bottom_track = NucleusBottomTrack{.mode = "AUTO"};
   {
     NucleusDvl dvl(config);
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
@@ -135,11 +137,12 @@ TEST(NucleusDvl, StartedOnItsCommandPort) {
     EXPECT_EQ(dvl.command_counters().failures, 0u) << dvl.last_command_error();
   }
   server.join();
-  ASSERT_EQ(commands.size(), 4u);
+  ASSERT_EQ(commands.size(), 5u);
   EXPECT_EQ(commands[0], "nortek\r");
   EXPECT_EQ(commands[1], "STOP\r");
   EXPECT_EQ(commands[2].rfind("SETCLOCKSTR,TIME=\"", 0), 0u) << commands[2];
-  EXPECT_EQ(commands[3], "START\r");
+  EXPECT_EQ(commands[3], "SETBT,MODE=\"AUTO\",WT=\"OFF\",DS=\"ON\"\r");
+  EXPECT_EQ(commands[4], "START\r");
 }
 
 // The same stream on a serial line (a pseudo-terminal for the UART): the first 40 kB of the

@@ -129,6 +129,44 @@ TEST_F(RecordConfigTest, DvlAndLinkSectionsWithTheKindsDefaults) {
                   "  calibration: calib/dvl0.yaml\n")
                 .dvl->nucleus_command.password,
             "x1");
+  EXPECT_FALSE(n.dvl->nucleus_command.bottom_track);
+}
+
+// dvl.bottom_track: SETBT before every START, the mode in any case, the rest the Nucleus's own
+// where not given; only where pensight starts a Nucleus.
+TEST_F(RecordConfigTest, NucleusBottomTrackSettings) {
+  const std::string nucleus = std::string(kMinimal) +
+                              "dvl:\n  kind: nucleus\n  start: true\n  calibration: "
+                              "calib/dvl0.yaml\n  bottom_track:\n";
+  const RecordConfig c = parse(nucleus + "    mode: crawler\n    velocity_range_mps: 1.5\n");
+  ASSERT_TRUE(c.dvl->nucleus_command.bottom_track);
+  const drivers::NucleusBottomTrack& b = *c.dvl->nucleus_command.bottom_track;
+  EXPECT_EQ(b.mode, "CRAWLER");
+  EXPECT_EQ(b.velocity_range_mps, 1.5);
+  EXPECT_FALSE(b.water_track);
+  EXPECT_EQ(drivers::bottom_track_command(b),
+            "SETBT,MODE=\"CRAWLER\",VR=1.5,WT=\"OFF\",DS=\"ON\"\r\n");
+  const RecordConfig own = parse(nucleus + "    water_track: true\n");
+  EXPECT_EQ(drivers::bottom_track_command(*own.dvl->nucleus_command.bottom_track),
+            "SETBT,WT=\"ON\",DS=\"ON\"\r\n");
+  const std::string mode = testing::error_message([&] { parse(nucleus + "    mode: slow\n"); });
+  EXPECT_NE(mode.find("dvl.bottom_track.mode"), std::string::npos) << mode;
+  EXPECT_NE(mode.find("'SLOW' is not a bottom-track mode; use FAST_ACQ, AUTO or CRAWLER"),
+            std::string::npos)
+      << mode;
+  EXPECT_NE(testing::error_message([&] {
+              parse(nucleus + "    velocity_range_mps: 40\n");
+            }).find("dvl.bottom_track.velocity_range_mps"),
+            std::string::npos);
+  EXPECT_NE(testing::error_message([&] { parse(nucleus + "    range: 3\n"); }).find("range"),
+            std::string::npos);
+  const std::string not_started = testing::error_message([&] {
+    parse(std::string(kMinimal) +
+          "dvl:\n  kind: nucleus\n  calibration: calib/dvl0.yaml\n  bottom_track:\n    "
+          "mode: AUTO\n");
+  });
+  EXPECT_NE(not_started.find("dvl.bottom_track"), std::string::npos) << not_started;
+  EXPECT_NE(not_started.find("start: true"), std::string::npos) << not_started;
 }
 
 TEST_F(RecordConfigTest, MistakesNameTheFileAndKey) {
@@ -164,10 +202,12 @@ TEST_F(RecordConfigTest, MistakesNameTheFileAndKey) {
 
 TEST(RecordConfigDoc, EveryKeyHasARow) {
   const std::string rows = record_config_param_rows();
-  for (const char* key : {"`scene`", "`camera.uri`", "`camera.latency_s`", "`dvl.kind`",
-                          "`dvl.port`", "`dvl.start`", "`dvl.password`", "`dvl.tcp.idle_timeout_s`",
-                          "`dvl.serial.baud`", "`dvl.clock.window_s`", "`mavlink.endpoint`",
-                          "`mavlink.water_depth.pressure_source`", "`mavlink.clock.max_jump_s`"}) {
+  for (const char* key :
+       {"`scene`", "`camera.uri`", "`camera.latency_s`", "`dvl.kind`", "`dvl.port`", "`dvl.start`",
+        "`dvl.password`", "`dvl.tcp.idle_timeout_s`", "`dvl.serial.baud`", "`dvl.clock.window_s`",
+        "`dvl.bottom_track.mode`", "`dvl.bottom_track.velocity_range_mps`",
+        "`dvl.bottom_track.water_track`", "`mavlink.endpoint`",
+        "`mavlink.water_depth.pressure_source`", "`mavlink.clock.max_jump_s`"}) {
     EXPECT_NE(rows.find(key), std::string::npos) << key;
   }
 }
