@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cstring>
+#include <string>
+
+#include "core/error.h"
 
 namespace pensight::drivers {
 namespace {
@@ -29,6 +32,24 @@ constexpr int kFirstValidBit = 9;
 constexpr size_t kAhrsFloats = 18, kAhrsDepthAt = 68;
 constexpr size_t kTemperatureAt = 28, kPressureAt = 32, kAltitudeAt = 36, kQualityAt = 40,
                  kAltimeterMinSize = 42;
+
+void put_u16(uint8_t* p, uint16_t v) {
+  p[0] = static_cast<uint8_t>(v);
+  p[1] = static_cast<uint8_t>(v >> 8);
+}
+
+void put_u32(uint8_t* p, uint32_t v) {
+  for (int i = 0; i < 4; ++i) p[i] = static_cast<uint8_t>(v >> (8 * i));
+}
+
+void put_f32(uint8_t* p, double v) {
+  const float f = static_cast<float>(v);
+  uint32_t bits = 0;
+  std::memcpy(&bits, &f, sizeof bits);
+  put_u32(p, bits);
+}
+
+constexpr double kInvalidVelocity_mps = -32.768;
 
 }  // namespace
 
@@ -111,6 +132,44 @@ std::optional<NucleusTrack> decode_nucleus_track(const NucleusPacket& packet) {
     t.beam_distance_m[i] = f32(p + kDistanceAt + 4 * i);
   }
   return t;
+}
+
+std::vector<uint8_t> encode_nucleus_packet(const NucleusPacket& packet) {
+  if (packet.payload.size() > kNucleusMaxPayload) {
+    throw Error("Nucleus record 0x" + std::to_string(packet.record_id) + " of " +
+                std::to_string(packet.payload.size()) + " bytes: larger than a record can be");
+  }
+  std::vector<uint8_t> out(kNucleusHeaderSize + packet.payload.size());
+  out[0] = kNucleusSync;
+  out[1] = kNucleusHeaderSize;
+  out[2] = packet.record_id;
+  out[3] = kNucleusFamily;
+  put_u16(out.data() + 4, static_cast<uint16_t>(packet.payload.size()));
+  put_u16(out.data() + 6, nucleus_checksum(packet.payload));
+  put_u16(out.data() + 8, nucleus_checksum({out.data(), 8}));
+  std::copy(packet.payload.begin(), packet.payload.end(), out.begin() + kNucleusHeaderSize);
+  return out;
+}
+
+NucleusPacket nucleus_track_packet(const NucleusTrack& track) {
+  NucleusPacket packet{track.bottom ? kNucleusBottomTrack : kNucleusWaterTrack,
+                       std::vector<uint8_t>(kTrackMinSize, 0)};
+  uint8_t* p = packet.payload.data();
+  p[1] = static_cast<uint8_t>(kCommonSize);
+  p[2] = track.time.posix ? 1 : 0;
+  const int64_t us = track.time.device_ns / 1000;
+  put_u32(p + kSecondsAt, static_cast<uint32_t>(us / 1'000'000));
+  put_u32(p + kMicrosecondsAt, static_cast<uint32_t>(us % 1'000'000));
+  uint32_t status = track.status;
+  for (size_t i = 0; i < 3; ++i) {
+    const uint32_t bit = 1u << (kFirstValidBit + static_cast<int>(i));
+    status = track.velocity_valid[i] ? (status | bit) : (status & ~bit);
+    put_f32(p + kVelocityAt + 4 * i,
+            track.velocity_valid[i] ? track.velocity_mps[i] : kInvalidVelocity_mps);
+    put_f32(p + kDistanceAt + 4 * i, track.beam_distance_m[i]);
+  }
+  put_u32(p + kStatusAt, status);
+  return packet;
 }
 
 std::optional<NucleusAhrs> decode_nucleus_ahrs(const NucleusPacket& packet) {

@@ -7,7 +7,8 @@
 // 0xAA, AHRS 0xD2 (field offsets as Nortek's own nucleus_driver parser reads them).
 //
 // Bytes may arrive in any chunking; what is not a packet with both checksums good is passed over
-// and counted, never an exception. Cost: O(bytes) and one copy of each payload.
+// and counted, never an exception. Cost: O(bytes) and one copy of each payload. The writer
+// (encode_nucleus_packet) serves the device stand-ins.
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -74,6 +75,14 @@ struct NucleusTrack {
 
 // nullopt for another record or a payload too short for the fields.
 std::optional<NucleusTrack> decode_nucleus_track(const NucleusPacket& packet);
+
+// The packet's bytes on the wire: its header (both checksums) and payload. A payload over
+// kNucleusMaxPayload is the caller's error (pensight::Error).
+std::vector<uint8_t> encode_nucleus_packet(const NucleusPacket& packet);
+// A bottom- or water-track record of the fields decode_nucleus_track reads (the rest zero, 108
+// bytes): the device stand-in's (live/device_standins.h). An invalid velocity is written as
+// -32.768 m/s, the status's valid bits from velocity_valid.
+NucleusPacket nucleus_track_packet(const NucleusTrack& track);
 
 // AHRS (0xD2): from the data block (offset at byte 1) roll, pitch, heading (float32, degrees),
 // the orientation quaternion w, x, y, z (float32), then a 3x3 rotation matrix, the declination
