@@ -1,6 +1,7 @@
 // `pensight sim-devices DATASET --config CONFIG.yaml`: a dataset served by stand-ins for the
-// camera, a Water Linked DVL and ArduSub at the addresses CONFIG names (live/device_standins.h), in
-// real time, so that `pensight record CONFIG.yaml` beside it runs without the hardware.
+// camera, a Water Linked DVL or a Nucleus's data port, and ArduSub at the addresses CONFIG names
+// (live/device_standins.h), in real time, so that `pensight record CONFIG.yaml` beside it runs
+// without the hardware.
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
@@ -13,7 +14,8 @@
 namespace pensight::app {
 int cmd_sim_devices(const Args& args) {
   CLI::App cli(
-      "Serve a dataset as live devices (camera stream, Water Linked DVL, ArduSub) on the "
+      "Serve a dataset as live devices (camera stream, Water Linked DVL or Nucleus, ArduSub) on "
+      "the "
       "addresses a record CONFIG names",
       "pensight sim-devices");
   std::string dataset_dir, config_file;

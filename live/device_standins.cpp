@@ -10,6 +10,7 @@
 #include "core/tcp_server.h"
 #include "core/timing.h"
 #include "core/units.h"
+#include "drivers/nucleus_stream.h"
 #include "drivers/waterlinked.h"
 #include "mavlink/endpoint.h"
 #include "mavlink/messages.h"
@@ -72,6 +73,23 @@ drivers::WaterLinkedVelocity velocity_report(const DvlSample& s, const DvlCalibr
   return v;
 }
 
+// The Nucleus's bottom-track record of one dataset sample: its velocity back in the DVL's frame,
+// the first three beams' distances (0 where a beam has none), the ping's time on the DVL's clock.
+std::vector<uint8_t> nucleus_record(const DvlSample& s, const DvlCalibration& calib,
+                                    int64_t validity_ns) {
+  drivers::NucleusTrack t;
+  t.time = {validity_ns, true};
+  const bool valid = s.valid && s.velocity_B_mps.allFinite();
+  const Eigen::Vector3d v_S = calib.T_body_dvl.linear().transpose() * s.velocity_B_mps;
+  for (size_t i = 0; i < 3; ++i) {
+    t.velocity_valid[i] = valid;
+    t.velocity_mps[i] = v_S[static_cast<Eigen::Index>(i)];
+    const double r = i < s.beam_range_m.size() ? s.beam_range_m[i] : 0.0;
+    t.beam_distance_m[i] = std::isfinite(r) && r > 0 ? r : 0.0;
+  }
+  return drivers::encode_nucleus_packet(drivers::nucleus_track_packet(t));
+}
+
 }  // namespace
 
 struct DeviceStandIns::Impl {
@@ -100,6 +118,7 @@ struct DeviceStandIns::Impl {
     if (dvl) {
       dvl->accept_new();
       for (const auto& [client, line] : dvl->take_lines()) {
+        if (config.dvl->kind == DvlKind::kNucleus) continue;  // its data port takes no commands
         const std::optional<std::string> command = drivers::waterlinked_json_command_name(line);
         if (!command) continue;
         ++counters.commands;
@@ -163,6 +182,14 @@ struct DeviceStandIns::Impl {
         const DvlSample& sample = dataset.dvl0->samples[e.index];
         const int64_t dvl_clock_ns = seconds_to_ns(params.dvl_clock_offset_s);
         const int64_t validity_ns = play_start_ns + (sample.timestamp_ns - t0) + dvl_clock_ns;
+        if (config.dvl->kind == DvlKind::kNucleus) {
+          const std::vector<uint8_t> record =
+              nucleus_record(sample, dataset.dvl0->calibration, validity_ns);
+          dvl->broadcast(
+              std::string_view(reinterpret_cast<const char*>(record.data()), record.size()));
+          ++counters.dvl_reports;
+          return;
+        }
         const int64_t transmission_ns = host_now_ns() + dvl_clock_ns;
         dvl->broadcast(drivers::waterlinked_json_velocity(velocity_report(
             sample, dataset.dvl0->calibration, validity_ns / 1000, transmission_ns / 1000)));
@@ -226,10 +253,11 @@ DeviceStandIns::DeviceStandIns(const Dataset& dataset, const RecordConfig& confi
                  std::to_string(std::max(1L, std::lround(config.camera.calibration.rate_hz))) +
                  ":1 Ip A1:1 Cmono\n";
   if (config.dvl && dataset.dvl0) {
-    if (config.dvl->kind != DvlKind::kWaterLinked || !config.dvl->serial_device.empty()) {
+    if (!config.dvl->serial_device.empty() ||
+        (config.dvl->kind == DvlKind::kNucleus && config.dvl->start)) {
       throw Error(
-          "sim-devices stands in for a Water Linked DVL on TCP; set dvl.kind: waterlinked "
-          "without dvl.serial_device");
+          "sim-devices stands in for a Water Linked DVL on TCP or a Nucleus's TCP data port; "
+          "leave out dvl.serial_device and, for a nucleus, dvl.start");
     }
     m.dvl = std::make_unique<TcpServer>(config.dvl->host, config.dvl->port);
   }

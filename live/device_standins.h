@@ -8,6 +8,8 @@
 // - a Water Linked DVL: its JSON velocity reports (format json_v3.1) on a TCP server at dvl.host
 //   and dvl.port, each with the ping's time of validity and time of transmission on the DVL's own
 //   clock, the beams' distances, and an answer to every command;
+// - or a Nortek Nucleus's data port: a bottom-track record per sample (its velocity, the first
+//   three beams' distances, the ping's time on the DVL's clock as a POSIX time);
 // - ArduSub: HEARTBEAT at 1 Hz, ATTITUDE at imu0's rows, the water's pressure as SCALED_PRESSURE2
 //   (and the enclosure's air as SCALED_PRESSURE) at pressure0's rows, each with time_boot_ms, to
 //   the reverse of mavlink.endpoint (udpin -> sends to that port on 127.0.0.1; udpout -> listens
@@ -41,8 +43,8 @@ struct StandInCounters {
 class DeviceStandIns {
  public:
   // Opens the servers and sockets. Throws pensight::Error when the config's camera URI is not
-  // tcp://HOST:PORT, its DVL is not a Water Linked on TCP, an address cannot be listened on, or
-  // the dataset's frames are not the config's calibration size.
+  // tcp://HOST:PORT, its DVL is not a Water Linked on TCP or a Nucleus's TCP data port, an address
+  // cannot be listened on, or the dataset's frames are not the config's calibration size.
   DeviceStandIns(const Dataset& dataset, const RecordConfig& config, StandInParams params = {});
   ~DeviceStandIns();
   DeviceStandIns(const DeviceStandIns&) = delete;
