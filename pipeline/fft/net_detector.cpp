@@ -303,8 +303,9 @@ NetDetection NetDetector::detect(const ImageU8& image, int64_t timestamp_ns) {
   Stopwatch sw;
   NetDetection d;
   if (std::optional<std::string> why = m.fine_mesh->too_fine(image)) {
-    // The planned grid would read aliases: the frame is analysed on native ROIs instead, and its
-    // reason names both where those give no pose either.
+    // The planned grid would read aliases, or leave its band's low end to fouling patches and
+    // the like: the frame is analysed on native ROIs instead, and its reason names both where
+    // those give no pose either.
     const double probe_ms = sw.elapsed_ms();
     if (!m.native) {
       NetDetectorConfig native = m.config;
