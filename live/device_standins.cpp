@@ -46,6 +46,11 @@ std::pair<std::string, int> tcp_address(const CameraUri& uri) {
   return {rest.substr(0, colon), port};
 }
 
+// A dataset sample's velocity back in the DVL's frame (meaningless for an invalid sample).
+Eigen::Vector3d velocity_S(const DvlSample& s, const DvlCalibration& calib) {
+  return calib.T_body_dvl.linear().transpose() * s.velocity_B_mps;
+}
+
 // The Water Linked report of one dataset sample: its velocity back in the DVL's frame, its beams'
 // distances, the ping's time of validity and the report's transmission on the DVL's clock.
 drivers::WaterLinkedVelocity velocity_report(const DvlSample& s, const DvlCalibration& calib,
@@ -53,7 +58,7 @@ drivers::WaterLinkedVelocity velocity_report(const DvlSample& s, const DvlCalibr
   drivers::WaterLinkedVelocity v;
   v.valid = s.valid && s.velocity_B_mps.allFinite();
   if (v.valid) {
-    const Eigen::Vector3d v_S = calib.T_body_dvl.linear().transpose() * s.velocity_B_mps;
+    const Eigen::Vector3d v_S = velocity_S(s, calib);
     v.velocity_mps = {v_S.x(), v_S.y(), v_S.z()};
   }
   v.fom_mps = 0.002;
@@ -80,7 +85,7 @@ std::vector<uint8_t> nucleus_record(const DvlSample& s, const DvlCalibration& ca
   drivers::NucleusTrack t;
   t.time = {validity_ns, true};
   const bool valid = s.valid && s.velocity_B_mps.allFinite();
-  const Eigen::Vector3d v_S = calib.T_body_dvl.linear().transpose() * s.velocity_B_mps;
+  const Eigen::Vector3d v_S = velocity_S(s, calib);
   for (size_t i = 0; i < 3; ++i) {
     t.velocity_valid[i] = valid;
     t.velocity_mps[i] = v_S[static_cast<Eigen::Index>(i)];

@@ -75,6 +75,24 @@ void connect_to(RecordConfig& config, const DeviceStandIns& standins) {
   config.dvl->port = standins.ports().dvl;
 }
 
+// `standins` played while a Recorder of `config` records data_s of their data into `rec` (after
+// their lead-in, with 0.4 s to spare); the recorder's summary, also printed.
+std::vector<SourceSummary> serve_and_record(DeviceStandIns& standins, const StandInParams& p,
+                                            const RecordConfig& config,
+                                            const std::filesystem::path& rec, double data_s) {
+  std::atomic<bool> stop{false};
+  std::thread serve([&] { standins.run(stop); });
+  std::vector<SourceSummary> summary;
+  {
+    Recorder recorder(config, rec);
+    recorder.run(p.lead_in_s + data_s + 0.4, stop);
+    std::printf("%s", recorder.summary_text().c_str());
+    summary = recorder.summary();
+  }
+  serve.join();
+  return summary;
+}
+
 TEST(RecordReplay, TheRecordedStandInsGiveTheDirectRunsEstimates) {
   const testing::RenderedDataset rendered(testing::shipped_scenario("follow.yaml", 3.0));
   const Dataset& d = rendered.dataset();
@@ -86,16 +104,8 @@ TEST(RecordReplay, TheRecordedStandInsGiveTheDirectRunsEstimates) {
   p.dvl_delay_s = 0.19;
   DeviceStandIns standins(d, config, p);
   connect_to(config, standins);
-
-  std::atomic<bool> stop{false};
-  std::thread serve([&] { standins.run(stop); });
   const std::filesystem::path rec = rendered.dir() / "rec";
-  {
-    Recorder recorder(config, rec);
-    recorder.run(p.lead_in_s + 3.0 + 0.4, stop);
-    std::printf("%s", recorder.summary_text().c_str());
-  }
-  serve.join();
+  serve_and_record(standins, p, config, rec, 3.0);
   // The recorder's set_config (dark mode) reached the DVL and was answered.
   EXPECT_GE(standins.counters().commands, 1u);
 
@@ -174,15 +184,8 @@ TEST(RecordReplay, ANucleusOnItsDataPortIsRecordedAtItsPings) {
   p.dvl_clock_offset_s = 3.0;
   DeviceStandIns standins(d, config, p);
   connect_to(config, standins);
-  std::atomic<bool> stop{false};
-  std::thread serve([&] { standins.run(stop); });
   const std::filesystem::path rec = rendered.dir() / "rec_nucleus";
-  {
-    Recorder recorder(config, rec);
-    recorder.run(p.lead_in_s + 3.0 + 0.4, stop);
-    std::printf("%s", recorder.summary_text().c_str());
-  }
-  serve.join();
+  serve_and_record(standins, p, config, rec, 3.0);
   const Dataset r = read_dataset(rec);
   ASSERT_TRUE(r.dvl0);
   ASSERT_EQ(r.dvl0->samples.size(), d.dvl0->samples.size());
@@ -231,16 +234,8 @@ TEST(RecordFaults, ADroppedDvlAMalformedLineAndASilentAutopilotAreSaidAndRecordi
   connect_to(config, standins);
 
   testing::LogCapture log(LogLevel::kInfo);
-  std::atomic<bool> stop{false};
-  std::thread serve([&] { standins.run(stop); });
   const std::filesystem::path rec = rendered.dir() / "rec";
-  std::vector<SourceSummary> summary;
-  {
-    Recorder recorder(config, rec);
-    recorder.run(p.lead_in_s + 3.0 + 0.4, stop);
-    summary = recorder.summary();
-  }
-  serve.join();
+  const std::vector<SourceSummary> summary = serve_and_record(standins, p, config, rec, 3.0);
   const std::string said = log.text();
   std::printf("%s", said.c_str());
   for (const char* part : {"dvl0: drops +1 (1)", "connects +1 (2)", "malformed +1 (1)"}) {

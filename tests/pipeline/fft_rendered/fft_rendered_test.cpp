@@ -197,6 +197,24 @@ TEST_P(FftRenderedCamera, APoseFromAnyFrameSize) {
   EXPECT_EQ(a.gross_errors, 0u);
 }
 
+// A far net's frames against the truth: a pose on kMinFarShare of them, its d_net within the far
+// bounds; `what` names the case in the printed line.
+void expect_far_net_read(const testing::RenderedRun& run, const std::string& what) {
+  const std::vector<GroundTruthRow>& truth = run.dataset.groundtruth0->rows;
+  ASSERT_EQ(truth.size(), run.rows.size());
+  std::vector<double> errors;
+  for (size_t i = 0; i < truth.size(); ++i) {
+    const double d = run.rows[i].d_net_fft_m;
+    if (std::isfinite(d)) errors.push_back(std::abs(d / truth[i].d_net_m - 1));
+  }
+  const ErrorStats e = error_stats(errors);
+  std::printf("%s: %zu of %zu frames with a pose, d_net rel. error median %.2f%% max %.2f%%\n",
+              what.c_str(), errors.size(), truth.size(), 100 * e.median, 100 * e.max);
+  EXPECT_GE(static_cast<double>(errors.size()), kMinFarShare * static_cast<double>(truth.size()));
+  EXPECT_LE(e.median, kMaxFarMedian);
+  EXPECT_LE(e.max, kMaxFarMax);
+}
+
 // A 30 mm net 6.2 m from a 1280x720 camera: 4 px bars, finer than the planned 533 px ROIs at
 // FFT 256 hold (4.6 px), which read such a net as one 2-3x nearer. The fine-mesh probe sends the
 // frames to native 256 px ROIs, which read the true distance.
@@ -210,20 +228,7 @@ TEST(FftRenderedFar, ANetFinerThanThePlannedRoisHoldIsReadOnNativeRois) {
   s.waypoints = {{.t_s = 0, .net_distance_m = 6.5, .depth_m = 4.0, .heading_rad = 0.15},
                  {.t_s = 1, .along_m = 0.1, .net_distance_m = 6.6, .depth_m = 4.0}};
   sim::validate(s);
-  const testing::RenderedRun run = testing::render_and_run(s);
-  const std::vector<GroundTruthRow>& truth = run.dataset.groundtruth0->rows;
-  ASSERT_EQ(truth.size(), run.rows.size());
-  std::vector<double> errors;
-  for (size_t i = 0; i < truth.size(); ++i) {
-    const double d = run.rows[i].d_net_fft_m;
-    if (std::isfinite(d)) errors.push_back(std::abs(d / truth[i].d_net_m - 1));
-  }
-  const ErrorStats e = error_stats(errors);
-  std::printf("far net: %zu of %zu frames with a pose, d_net rel. error median %.2f%% max %.2f%%\n",
-              errors.size(), truth.size(), 100 * e.median, 100 * e.max);
-  EXPECT_GE(static_cast<double>(errors.size()), kMinFarShare * static_cast<double>(truth.size()));
-  EXPECT_LE(e.median, kMaxFarMedian);
-  EXPECT_LE(e.max, kMaxFarMax);
+  expect_far_net_read(testing::render_and_run(s), "far net");
 }
 
 // A fouled 44 mm net 3.1-3.5 m from the reference 720x540 camera: the planned 443 px ROIs would
@@ -250,22 +255,10 @@ TEST(FftRenderedFar, AFouledNetBeyondThePlannedGridsReachIsReadOnNativeRois) {
        .depth_m = 4.0,
        .heading_rad = heading_rad}};
   sim::validate(s);
-  const testing::RenderedRun run = testing::render_and_run(s);
-  const std::vector<GroundTruthRow>& truth = run.dataset.groundtruth0->rows;
-  ASSERT_EQ(truth.size(), run.rows.size());
-  std::vector<double> errors;
-  for (size_t i = 0; i < truth.size(); ++i) {
-    const double d = run.rows[i].d_net_fft_m;
-    if (std::isfinite(d)) errors.push_back(std::abs(d / truth[i].d_net_m - 1));
-  }
-  const ErrorStats e = error_stats(errors);
-  std::printf(
-      "fouled net at %.2f m, heading %.2f rad: %zu of %zu frames with a pose, d_net rel. "
-      "error median %.2f%% max %.2f%%\n",
-      distance_m, heading_rad, errors.size(), truth.size(), 100 * e.median, 100 * e.max);
-  EXPECT_GE(static_cast<double>(errors.size()), kMinFarShare * static_cast<double>(truth.size()));
-  EXPECT_LE(e.median, kMaxFarMedian);
-  EXPECT_LE(e.max, kMaxFarMax);
+  char what[96];
+  std::snprintf(what, sizeof what, "fouled net at %.2f m, heading %.2f rad", distance_m,
+                heading_rad);
+  expect_far_net_read(testing::render_and_run(s), what);
 }
 
 INSTANTIATE_TEST_SUITE_P(Sizes, FftRenderedCamera,
