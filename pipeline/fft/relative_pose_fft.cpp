@@ -59,11 +59,11 @@ Eigen::Matrix<double, 6, 1> paraboloid_basis(const Eigen::Vector3d& p) {
 // extrapolates (an oblique view whose net is seen in three columns read 8 % off, 4 % with a plane).
 constexpr size_t kMinCurvaturePositions = 4;
 
-// The paraboloid through the set, with the curvature terms its ROIs' spread measures (the others
-// zero).
-Eigen::Matrix<double, 6, 1> fit_paraboloid(const std::vector<Sample>& s,
-                                           const std::vector<int>& set,
-                                           std::span<const RoiNetPoint> rois) {
+// The paraboloid through the set, with the curvature terms its ROIs' spread measures and `keep`
+// allows (the others zero).
+Eigen::Matrix<double, 6, 1> fit_paraboloid(
+    const std::vector<Sample>& s, const std::vector<int>& set, std::span<const RoiNetPoint> rois,
+    const Eigen::Matrix<double, 6, 1>& keep = Eigen::Matrix<double, 6, 1>::Ones()) {
   std::set<int32_t> columns, rows;
   for (int i : set) {
     columns.insert(rois[s[i].roi].origin.x);
@@ -73,6 +73,7 @@ Eigen::Matrix<double, 6, 1> fit_paraboloid(const std::vector<Sample>& s,
   const bool yy = rows.size() >= kMinCurvaturePositions;
   Eigen::Matrix<double, 6, 1> terms;
   terms << 1, 1, 1, xx, xx && yy, yy;
+  terms = terms.cwiseProduct(keep);
   // The product is evaluated here: an Eigen expression would refer to the basis's temporary.
   return fit<6>(s, set, [&](const Eigen::Vector3d& p) -> Eigen::Matrix<double, 6, 1> {
     return paraboloid_basis(p).cwiseProduct(terms);
@@ -455,17 +456,45 @@ std::optional<Fold> find_fold(const std::vector<Sample>& s, std::span<const RoiN
 // pen wall it reads 0.078-0.087 /m for 0.083).
 constexpr double kWallCurvatureMargin = 1.5;
 
-// Whether the paraboloid (c, a, b, q1, q2, q3) curves no more than the pen wall
-// (RelativePoseFftParams::wall_curvature_per_m) seen at its obliquity: a fold, a bulge or a
-// seam's kink seen as one smooth surface curves several times more (0.5-0.7 /m by the folds of
-// scenarios/fold.yaml on a 12 m wall), and its normals would vouch for ROIs on two panels.
-bool curved_like_the_wall(const Eigen::Matrix<double, 6, 1>& q,
-                          const RelativePoseFftParams& params) {
+// Per term of the paraboloid (c, a, b, q1, q2, q3), 1 where it curves no more than the pen wall
+// (RelativePoseFftParams::wall_curvature_per_m) seen at its obliquity, else 0 (the plane's terms
+// are always 1): a fold, a bulge or a seam's kink seen as one smooth surface curves several times
+// more (0.5-0.7 /m by the folds of scenarios/fold.yaml on a 12 m wall), and its normals would
+// vouch for ROIs on two panels.
+Eigen::Matrix<double, 6, 1> wall_like_terms(const Eigen::Matrix<double, 6, 1>& q,
+                                            const RelativePoseFftParams& params) {
   const double cos_obliquity =
       std::min(std::abs(net_plane_normal(q(1), 0).z()), std::abs(net_plane_normal(0, q(2)).z()));
   const double limit = kWallCurvatureMargin * params.wall_curvature_per_m /
                        (cos_obliquity * cos_obliquity * cos_obliquity);
-  return std::abs(2 * q(3)) <= limit && std::abs(q(4)) <= limit && std::abs(2 * q(5)) <= limit;
+  Eigen::Matrix<double, 6, 1> terms;
+  terms << 1, 1, 1, std::abs(2 * q(3)) <= limit, std::abs(q(4)) <= limit,
+      std::abs(2 * q(5)) <= limit;
+  return terms;
+}
+
+bool curved_like_the_wall(const Eigen::Matrix<double, 6, 1>& q,
+                          const RelativePoseFftParams& params) {
+  return wall_like_terms(q, params).minCoeff() > 0;
+}
+
+// The pen wall's curvature terms (q1, q2, q3) in a paraboloid q through the set that does not
+// curve like the wall as a whole: q refitted with only its terms that do, when that still curves
+// like the wall, else zeros (a bulge, a fold). Its normals, not the plane's, are the net's at the
+// ROIs: rows of ROIs over a sixth of the image's height (five overlapping 533 px rows on a 720 px
+// camera) take 0.1-0.16 /m of the fouling's noise into q3 at 2.5 m, and the plane's normals 5 deg
+// off the wall at the sides read a diamond's opening angle 0.8 deg open, d_net 0.9 % short.
+Eigen::Vector3d wall_curvature_terms(const std::vector<Sample>& s, const std::vector<int>& set,
+                                     std::span<const RoiNetPoint> rois,
+                                     const Eigen::Matrix<double, 6, 1>& q,
+                                     const RelativePoseFftParams& params) {
+  const Eigen::Matrix<double, 6, 1> keep = wall_like_terms(q, params);
+  if (!(keep.tail<3>().array() * q.tail<3>().array().abs() > 0).any()) {
+    return Eigen::Vector3d::Zero();
+  }
+  const Eigen::Matrix<double, 6, 1> refit = fit_paraboloid(s, set, rois, keep);
+  return curved_like_the_wall(refit, params) ? Eigen::Vector3d(refit.tail<3>())
+                                             : Eigen::Vector3d::Zero();
 }
 
 // The fused plane's checks (see RelativePoseFftParams): the extrapolation lever and the median
@@ -637,7 +666,11 @@ FftRelativePose solve(std::span<const RoiNetPoint> rois, const RelativePoseFftPa
                        std::vector<uint8_t>(rois.size(), 0),
                        {}};
   pose.surface_C << surface(0), std::tan(psi), std::tan(pitch), 0, 0, 0;
-  if (wall) pose.surface_C.tail<3>() = surface.tail<3>();
+  if (wall) {
+    pose.surface_C.tail<3>() = surface.tail<3>();
+  } else if (curved) {
+    pose.surface_C.tail<3>() = wall_curvature_terms(s, in, rois, surface, params);
+  }
   for (int i : in) pose.inlier[s[i].roi] = 1;
   pose.second_panel.assign(rois.size(), 0);
   for (int i : second) pose.second_panel[s[i].roi] = 1;

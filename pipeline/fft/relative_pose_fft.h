@@ -101,7 +101,9 @@ struct FftRelativePose {
   double quality = 0;
   // The net surface the pose is of, z = c . (1, x, y, x^2, x y, y^2) in C (NaN without a pose):
   // c0 = d_net_m, (c1, c2) = (tan psi_net, tan pitch_net), and the curvature terms of the
-  // paraboloid through the inliers where it curves like the pen wall, else 0 (a plane).
+  // paraboloid through the inliers where it curves like the pen wall; where only some of its
+  // terms do, those of the paraboloid refitted with them alone when it then does; else 0 (a
+  // plane).
   Eigen::Matrix<double, 6, 1> surface_C = Eigen::Matrix<double, 6, 1>::Constant(kNaN);
   bool valid() const { return status == FftPoseStatus::kValid; }
 };

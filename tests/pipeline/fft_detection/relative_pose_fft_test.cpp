@@ -207,6 +207,32 @@ TEST(RelativePoseFft, RoiTiltsAgreeWithTheWallTheyAreOn) {
   EXPECT_NEAR(on_bulge.d_net_m, 2.5, 0.005 * 2.5);
 }
 
+// The wall 2.5 m away with its top and bottom ROI rows read 1.5 % far (fouling's bias on rows
+// that span little height): the paraboloid through all rows curves in y beyond the wall, yet the
+// net's normals at the ROIs keep the wall's curve across the view (the x^2 term alone), where
+// the plane's would be 5 deg off at the sides and read a diamond's opening angle open.
+TEST(RelativePoseFft, TheWallsCurveAcrossTheViewOutlivesACurveTheRowsCannotTell) {
+  const double radius = 12, d = 2.5;
+  std::vector<RoiNetPoint> pts = points_on_wall(radius, d);
+  const int32_t top = pts.front().origin.y, bottom = pts.back().origin.y;
+  for (RoiNetPoint& p : pts) {
+    if (p.origin.y == top || p.origin.y == bottom) p.p_C *= 1.015;
+  }
+  const FftRelativePose pose = relative_pose_fft(pts);
+  ASSERT_TRUE(pose.valid()) << pose.reason;
+  EXPECT_NEAR(pose.surface_C(3), -1 / (2 * radius), 0.2 / (2 * radius));
+  EXPECT_EQ(pose.surface_C(5), 0);
+  for (const RoiNetPoint& p : pts) {
+    // The wall's normal where the ROI sees it: towards the cylinder's axis, level.
+    const Eigen::Vector3d axis_C(0, 0, d - radius);
+    const Eigen::Vector3d wall_normal =
+        Eigen::Vector3d(axis_C.x() - p.p_C.x(), 0, axis_C.z() - p.p_C.z()).normalized();
+    const double off_rad =
+        std::acos(std::min(1.0, net_surface_normal(pose.surface_C, p.p_C).dot(wall_normal)));
+    EXPECT_LT(rad_to_deg(off_rad), 0.5) << "ROI at x " << p.p_C.x() << " m";
+  }
+}
+
 // The net seen in three ROI columns whose ranges read +1.5, -1.5, +1.5 % (a column's bias, as on
 // steep frames): an x^2 term would pass through the three columns' means and, 1-2 columns away,
 // put d_net several per cent off on the optical axis; without it d_net stays within the bias.
