@@ -14,6 +14,24 @@ double circumference(const PenConfig& pen) {
   return pen.shape == NetShape::kCylinder ? 2 * std::numbers::pi * pen.radius_m : 0;
 }
 
+// The fold's surface length over the wall's under it, from the fold's start to `x` from its line
+// (clamped to the fold), on a wall of curvature `inv_radius` (0 on the plane). Per unit of along,
+// the folded surface runs sqrt(k^2 + g^2): k = 1 - displacement / R, the radius the net is
+// pushed to, g its slope; both are linear or constant on each side of the line, so one Simpson
+// panel per side is exact to 1e-9 of the length.
+double fold_extra_length(const Bulge& b, double x, double inv_radius) {
+  const double r = b.radius_m, g2 = (b.amplitude_m / r) * (b.amplitude_m / r);
+  auto extra = [&](double at) {
+    const double k = 1 - b.amplitude_m * (1 - std::abs(at) / r) * inv_radius;
+    return std::sqrt(k * k + g2) - 1;
+  };
+  auto panel = [&](double x1, double x2) {
+    return (x2 - x1) / 6 * (extra(x1) + 4 * extra((x1 + x2) / 2) + extra(x2));
+  };
+  x = std::clamp(x, -r, r);
+  return x <= 0 ? panel(-r, x) : panel(-r, 0) + panel(0, x);
+}
+
 }  // namespace
 
 double wrapped_along_offset(double along_m, double centre_m, double circumference_m) {
@@ -24,7 +42,11 @@ double wrapped_along_offset(double along_m, double centre_m, double circumferenc
 
 NetGeometry::NetGeometry(const PenConfig& pen, const NetConfig& net)
     : pen_(pen), net_(net), fouling_cell_u_(net.fouling_scale_m) {
-  const double c = circumference(pen);
+  double c = circumference(pen);
+  // The folds' net runs once around the pen as well: u spans the circumference and their extra.
+  for (const Bulge& b : net.bulges) {
+    if (c > 0 && b.fold) c += fold_extra_length(b, b.radius_m, 1 / pen.radius_m);
+  }
   if (c > 0) {
     // A whole number of the lattice's closing steps around the pen (net_mesh.h): the
     // undeformed mesh closes exactly for every mesh type and opening angle.
@@ -35,6 +57,17 @@ NetGeometry::NetGeometry(const PenConfig& pen, const NetConfig& net)
     fouling_cell_u_ = c * lattice_scale_ / fouling_cells_;
     u_around_ = c * lattice_scale_;
   }
+}
+
+double NetGeometry::fold_arc_offset(double along_m) const {
+  const double inv_radius = pen_.shape == NetShape::kCylinder ? 1 / pen_.radius_m : 0;
+  double offset = 0;
+  for (const Bulge& b : net_.bulges) {
+    if (!b.fold) continue;
+    offset += fold_extra_length(b, along_m - b.along_m, inv_radius) -
+              fold_extra_length(b, b.radius_m, inv_radius) / 2;
+  }
+  return offset;
 }
 
 double NetGeometry::displacement(double along_m, double depth_m) const {
@@ -105,7 +138,7 @@ std::optional<NetHit> NetGeometry::intersect_wall_or_plane(const Eigen::Vector3d
   h.t = t;
   h.point = p;
   const Eigen::Vector2d g = displacement_gradient(along, p.z());
-  h.u_m = along * lattice_scale_;
+  h.u_m = (along + fold_arc_offset(along)) * lattice_scale_;
   h.v_m = p.z();
   h.tangent_v = Eigen::Vector3d::UnitZ();
   if (pen_.shape == NetShape::kPlane) {

@@ -32,6 +32,15 @@ class NetGeometry {
  public:
   NetGeometry(const PenConfig& pen, const NetConfig& net);
 
+  // A fold's panels hold the net unstretched: across a fold the wall's u runs with the length of
+  // the folded surface, longer than the wall's arc under it (by 5.4 % at the line of a valley
+  // 0.35 m out and 1.5 m to either side on a 12 m pen: pushed out, the net is on a larger radius
+  // as well as sloped), half of each fold's extra length on either side of its line. This is
+  // that offset of u / lattice_scale() from along (0 without folds). A dent stretches its net,
+  // as a current pushing on it does. Precondition: along_m in (-circumference / 2,
+  // circumference / 2] and each fold at least its radius_m from that wrap (validate(Scenario)).
+  double fold_arc_offset(double along_m) const;
+
   // Inward displacement of the net at (along, depth), and its derivatives d/dalong, d/ddepth.
   double displacement(double along_m, double depth_m) const;
   Eigen::Vector2d displacement_gradient(double along_m, double depth_m) const;
@@ -47,13 +56,15 @@ class NetGeometry {
   double clearance(const Eigen::Vector3d& p) const;
   double along_of(const Eigen::Vector3d& p) const;
 
-  // The cylinder wall's u = along * lattice_scale(): the circumference holds a whole number of
+  // The cylinder wall's u = (along + fold_arc_offset(along)) * lattice_scale(): the
+  // circumference and the folds' extra length hold a whole number of
   // meshes (and of fouling cells, fouling_cells_around()), so the twine pattern and the fouling
   // continue across the azimuth +-pi where along wraps. 1 on the plane; on a 12 m pen with a
   // 30 mm mesh it is 1 - 1.1e-4.
   double lattice_scale() const { return lattice_scale_; }
   int fouling_cells_around() const { return fouling_cells_; }
-  // The wall's u once around the pen (circumference x lattice_scale()); 0 on the plane.
+  // The wall's u once around the pen ((circumference + the folds' extra length) x
+  // lattice_scale()); 0 on the plane.
   double u_around() const { return u_around_; }
   // Fouling cell size along u on the wall (fouling_scale_m, stretched to close the ring).
   double fouling_cell_u() const { return fouling_cell_u_; }

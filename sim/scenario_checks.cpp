@@ -1,6 +1,7 @@
 // validate(Scenario): the checks that need the trajectory and the net geometry.
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 
 #include "core/error.h"
 #include "sim/net_geometry.h"
@@ -40,6 +41,16 @@ void validate(const Scenario& s) {
   for (size_t i = 0; i < s.fish.size(); ++i) {
     if (cylinder && !(s.fish[i].net_distance_m < s.pen.radius_m)) {
       fail("fish[" + std::to_string(i) + "].net_distance_m", "must be less than the pen radius");
+    }
+  }
+  // The net's u runs with a fold's length from along -circumference / 2 on (fold_arc_offset).
+  const double half_around = std::numbers::pi * s.pen.radius_m;
+  for (size_t i = 0; i < s.net.bulges.size(); ++i) {
+    const Bulge& b = s.net.bulges[i];
+    if (cylinder && b.fold && std::abs(b.along_m) + b.radius_m > half_around) {
+      fail("net.bulges[" + std::to_string(i) + "].along_m",
+           "a fold must end within along +-" + std::to_string(half_around) +
+               " m (half the pen's circumference); move it by a circumference");
     }
   }
   // The camera, lamps and DVL ride on the vehicle; sample the whole run for the camera centre.

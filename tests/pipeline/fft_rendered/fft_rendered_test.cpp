@@ -38,6 +38,13 @@ constexpr double kMaxObliqueMedian = 0.03, kMaxObliqueMax = 0.06;
 // net beyond the planned grid's reach (2026-12-07), seeds 1-40: 11 of 11 frames on every seed,
 // median <= 0.33 %, max <= 0.37 % (on the planned grid, 3 of seeds 1-6 read medians 0.5-0.9 %).
 constexpr double kMinFarShare = 0.9, kMaxFarMedian = 0.005, kMaxFarMax = 0.01;
+// The fold (2026-12-08), seeds 1-30: 113-116 of 121 frames with a pose, none more than 20 % off,
+// d_net median 0.08-0.13 %, p95 0.77-1.98 % (one seed at 1.98, the rest at most 1.39), psi
+// median 0.57-0.72 deg (issue 37 asks 0.5: open). Near a fold line the pose is one plane through
+// both panels (psi 4-8 deg off at the 13 deg kinks where the tent meets the wall) or the other
+// panel's (26 deg off), and the ridge's line in mid-view is refused for 0.7 s.
+constexpr size_t kMinFoldEstimated = 108;
+constexpr double kMaxFoldP95 = 0.03, kMaxFoldPsiMedian_deg = 1.0;
 constexpr size_t kMinChangingEstimated = 63;
 constexpr double kMaxChangingP95 = 0.01;
 
@@ -92,6 +99,24 @@ TEST(FftRendered, RopesSeamsAndFishInView) {
   EXPECT_LE(a.d_net_rel.median, 0.005);
   EXPECT_LE(a.d_net_rel.p95, kMaxRopesP95);
   EXPECT_LE(a.psi_net_deg.median, 0.5);
+  EXPECT_EQ(a.gross_errors, 0u);
+}
+
+// Issue 37's fold (scenarios/fold.yaml, the whole 12 s): a ridge and a valley, each panel turned
+// 13 deg, whose fold lines cross the view at 1.0-1.6 m; the noise, marine snow and fouling drawn
+// from the test's seed. Bounds: the issue's for d_net's median, the frames with a pose, d_net's
+// p95 and psi's median from the tail.
+TEST(FftRendered, AFoldInView) {
+  sim::Scenario s = testing::shipped_scenario("fold.yaml");
+  s.seed = testing::fresh_seed();
+  const testing::RenderedRun run = testing::render_and_run(s);
+  const NetPoseAccuracy a = score_net_pose(run.dataset, run.rows, NetPoseSource::kFft);
+  std::printf("%s", describe(a).c_str());
+  ASSERT_EQ(a.measurable, static_cast<size_t>(s.num_frames()));
+  EXPECT_GE(a.measurable_estimated, kMinFoldEstimated);
+  EXPECT_LE(a.d_net_rel.median, 0.005);
+  EXPECT_LE(a.d_net_rel.p95, kMaxFoldP95);
+  EXPECT_LE(a.psi_net_deg.median, kMaxFoldPsiMedian_deg);
   EXPECT_EQ(a.gross_errors, 0u);
 }
 

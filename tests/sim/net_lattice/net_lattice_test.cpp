@@ -81,6 +81,38 @@ TEST(NetLattice, AFoldIsATentAndItsGradientItsSlope) {
   }
 }
 
+// A fold's panels hold the net unstretched: between two nearby points on the folded wall, u
+// grows by their distance (x lattice_scale), where the wall's along grows up to 5.4 % less at a
+// valley's line; beyond the fold, the twine pattern still closes around the pen.
+TEST(NetLattice, AFoldsPanelsHoldTheNetUnstretched) {
+  PenConfig pen;
+  for (const double amplitude : {0.35, -0.35}) {
+    NetConfig cfg;
+    cfg.bulges = {{1.0, 4.0, amplitude, 1.5, true}};
+    const NetGeometry net(pen, cfg);
+    for (const double along : {-0.4, 0.2, 0.99, 1.01, 1.6, 2.4}) {
+      const double step = 1e-4;
+      const NetHit a = hit_at(net, along / pen.radius_m),
+                   b = hit_at(net, (along + step) / pen.radius_m);
+      const double length = (b.point - a.point).norm();
+      EXPECT_NEAR((b.u_m - a.u_m) / net.lattice_scale(), length, 1e-4 * length)
+          << amplitude << " at " << along;
+    }
+    EXPECT_NEAR(net.fold_arc_offset(-5), -net.fold_arc_offset(5), 1e-12);
+    EXPECT_GT(net.fold_arc_offset(5), amplitude > 0 ? 0.0 : 0.03);
+    const NetLattice lattice(cfg, net.u_around(), 1);
+    const double delta = 0.001;
+    const NetHit a = hit_at(net, std::numbers::pi - delta),
+                 b = hit_at(net, -std::numbers::pi + delta);
+    const Eigen::Vector2d jump_uv(b.u_m - a.u_m - 2 * delta * pen.radius_m * net.lattice_scale(),
+                                  b.v_m - a.v_m);
+    for (const Eigen::Vector2d& n : {lattice.normal_a(), lattice.normal_b()}) {
+      const double jump = n.dot(jump_uv) / lattice.period();
+      EXPECT_NEAR(jump, std::round(jump), 1e-6) << amplitude;
+    }
+  }
+}
+
 // Column positions of the vertical twines: local maxima of the column means, to a sub-pixel.
 std::vector<double> twine_columns(const ImageU8& img, double period_px) {
   std::vector<double> mean(static_cast<size_t>(img.width), 0.0);

@@ -311,6 +311,14 @@ TEST(Scenario, FoldsParseAndASteepFoldIsRefused) {
             "must be at most 0.5");
 }
 
+// A fold that crosses along +-half the circumference (where u wraps) is refused by name.
+TEST(Scenario, AFoldAcrossTheWrapIsRefused) {
+  EXPECT_EQ(error_of(std::string(kMinimal) + "net: {bulges: [{along_m: 37, depth_m: 4, "
+                                             "amplitude_m: 0.3, radius_m: 1.5, fold: true}]}\n"),
+            "bad.yaml: key 'net.bulges[0].along_m': a fold must end within along +-37.699112 m "
+            "(half the pen's circumference); move it by a circumference");
+}
+
 // A key written without a value keeps its default, as before the keys were read from tables.
 TEST(Scenario, KeyWithoutValueKeepsItsDefault) {
   const Scenario s = parse_scenario(std::string(kMinimal) + "pen: {radius_m: }\nseed:\n", "n.yaml");
