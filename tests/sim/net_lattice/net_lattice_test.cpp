@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <string>
 
 #include "sim/net_geometry.h"
 #include "sim/net_mesh.h"
@@ -23,28 +24,34 @@ NetHit hit_at(const NetGeometry& net, double theta) {
   return *h;
 }
 
+// Across the seam at azimuth +-pi, u jumps by a whole number of twine spacings in both twine
+// families.
+void expect_twines_continue_across_the_seam(const NetGeometry& net, const NetConfig& cfg) {
+  const NetLattice lattice(cfg, net.u_around(), 1);
+  // Two points 2 * delta * R apart on the wall, one each side of the seam.
+  const double delta = 0.001;
+  const NetHit a = hit_at(net, std::numbers::pi - delta),
+               b = hit_at(net, -std::numbers::pi + delta);
+  const Eigen::Vector2d step(b.u_m - a.u_m - 2 * delta * net.pen().radius_m * net.lattice_scale(),
+                             b.v_m - a.v_m);
+  for (const Eigen::Vector2d& n : {lattice.normal_a(), lattice.normal_b()}) {
+    const double jump = n.dot(step) / lattice.period();
+    EXPECT_NEAR(jump, std::round(jump), 1e-6);
+  }
+}
+
 TEST(NetLattice, TwinePhaseContinuesAcrossAzimuthPi) {
   for (const auto& [type, angle_deg] :
        {std::pair{MeshType::kSquare, 90.0}, std::pair{MeshType::kSquare, 103.0},
         std::pair{MeshType::kDiamond, 90.0}, std::pair{MeshType::kDiamond, 75.0}}) {
+    SCOPED_TRACE(std::string(to_string(type)) + " " + std::to_string(angle_deg));
     PenConfig pen;
     NetConfig cfg;
     cfg.mesh_type = type;
     cfg.opening_angle_deg = angle_deg;
     const NetGeometry net(pen, cfg);
-    const NetLattice lattice(cfg, net.u_around(), 1);
     EXPECT_NEAR(net.lattice_scale(), 1.0, 1e-3);
-    // Two points 2 * delta * R apart on the wall, one each side of the seam.
-    const double delta = 0.001;
-    const NetHit a = hit_at(net, std::numbers::pi - delta),
-                 b = hit_at(net, -std::numbers::pi + delta);
-    const Eigen::Vector2d step(b.u_m - a.u_m - 2 * delta * pen.radius_m * net.lattice_scale(),
-                               b.v_m - a.v_m);
-    // Both twine families, in twine spacings: the jump is a whole number of them.
-    for (const Eigen::Vector2d& n : {lattice.normal_a(), lattice.normal_b()}) {
-      const double jump = n.dot(step) / lattice.period();
-      EXPECT_NEAR(jump, std::round(jump), 1e-6) << to_string(type) << " " << angle_deg;
-    }
+    expect_twines_continue_across_the_seam(net, cfg);
   }
 }
 
@@ -87,6 +94,7 @@ TEST(NetLattice, AFoldIsATentAndItsGradientItsSlope) {
 TEST(NetLattice, AFoldsPanelsHoldTheNetUnstretched) {
   PenConfig pen;
   for (const double amplitude : {0.35, -0.35}) {
+    SCOPED_TRACE(amplitude);
     NetConfig cfg;
     cfg.bulges = {{1.0, 4.0, amplitude, 1.5, true}};
     const NetGeometry net(pen, cfg);
@@ -100,16 +108,7 @@ TEST(NetLattice, AFoldsPanelsHoldTheNetUnstretched) {
     }
     EXPECT_NEAR(net.fold_arc_offset(-5), -net.fold_arc_offset(5), 1e-12);
     EXPECT_GT(net.fold_arc_offset(5), amplitude > 0 ? 0.0 : 0.03);
-    const NetLattice lattice(cfg, net.u_around(), 1);
-    const double delta = 0.001;
-    const NetHit a = hit_at(net, std::numbers::pi - delta),
-                 b = hit_at(net, -std::numbers::pi + delta);
-    const Eigen::Vector2d jump_uv(b.u_m - a.u_m - 2 * delta * pen.radius_m * net.lattice_scale(),
-                                  b.v_m - a.v_m);
-    for (const Eigen::Vector2d& n : {lattice.normal_a(), lattice.normal_b()}) {
-      const double jump = n.dot(jump_uv) / lattice.period();
-      EXPECT_NEAR(jump, std::round(jump), 1e-6) << amplitude;
-    }
+    expect_twines_continue_across_the_seam(net, cfg);
   }
 }
 
