@@ -40,9 +40,9 @@ constexpr double kMaxObliqueMedian = 0.03, kMaxObliqueMax = 0.06;
 constexpr double kMinFarShare = 0.9, kMaxFarMedian = 0.005, kMaxFarMax = 0.01;
 // The fold (2026-12-08), seeds 1-30: 113-116 of 121 frames with a pose, none more than 20 % off,
 // d_net median 0.08-0.13 %, p95 0.77-1.98 % (one seed at 1.98, the rest at most 1.39), psi
-// median 0.57-0.72 deg (issue 37 asks 0.5: open). Near a fold line the pose is one plane through
-// both panels (psi 4-8 deg off at the 13 deg kinks where the tent meets the wall) or the other
-// panel's (26 deg off), and the ridge's line in mid-view is refused for 0.7 s.
+// median 0.57-0.72 deg (issue 37 asks 0.5: open). With three panels in view (between the folds'
+// feet) the pose is one plane through them, psi 4-8 deg off; at a fold line it can be the other
+// panel's (26 deg off); the ridge's line in mid-view is refused for 0.7 s.
 constexpr size_t kMinFoldEstimated = 108;
 constexpr double kMaxFoldP95 = 0.03, kMaxFoldPsiMedian_deg = 1.0;
 constexpr size_t kMinChangingEstimated = 63;
