@@ -189,8 +189,9 @@ TEST(RecordReplay, ANucleusOnItsDataPortIsRecordedAtItsPings) {
   const Dataset r = read_dataset(rec);
   ASSERT_TRUE(r.dvl0);
   ASSERT_EQ(r.dvl0->samples.size(), d.dvl0->samples.size());
-  // Mapped on arrival, the first record carries its own delay (up to 10 ms on a loaded 2-core
-  // machine); the lower envelope of the later ones takes it out.
+  // Mapped on arrival, the first record carries its own delay (up to 11 ms on a loaded 2-core
+  // machine, 53 ms there under ASan beside a build); the lower envelope of the later ones takes
+  // it out. Its bound is under half the 0.25 s between pings: it still maps to its own ping.
   const int64_t settled_ns = d.dvl0->samples.front().timestamp_ns + 1'000'000'000;
   double worst_ms = 0, worst_settled_ms = 0;
   for (size_t i = 0; i < d.dvl0->samples.size(); ++i) {
@@ -212,7 +213,7 @@ TEST(RecordReplay, ANucleusOnItsDataPortIsRecordedAtItsPings) {
   std::printf(
       "Nucleus host time error: worst %.3f ms, after the first second %.3f ms (%zu samples)\n",
       worst_ms, worst_settled_ms, d.dvl0->samples.size());
-  EXPECT_LT(worst_ms, 50.0);
+  EXPECT_LT(worst_ms, 100.0);
   EXPECT_LT(worst_settled_ms, 5.0);
 }
 
