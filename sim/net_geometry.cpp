@@ -14,22 +14,19 @@ double circumference(const PenConfig& pen) {
   return pen.shape == NetShape::kCylinder ? 2 * std::numbers::pi * pen.radius_m : 0;
 }
 
-// The fold's surface length over the wall's under it, from the fold's start to `x` from its line
-// (clamped to the fold), on a wall of curvature `inv_radius` (0 on the plane). Per unit of along,
-// the folded surface runs sqrt(k^2 + g^2): k = 1 - displacement / R, the radius the net is
-// pushed to, g its slope; both are linear or constant on each side of the line, so one Simpson
-// panel per side is exact to 1e-9 of the length.
-double fold_extra_length(const Bulge& b, double x, double inv_radius) {
+// The fold's surface length over the wall's under it, from its line to `x` (signed, clamped to
+// the fold), on a wall of curvature `inv_radius` (0 on the plane). Per unit of along, the folded
+// surface runs sqrt(k^2 + g^2): k = 1 - displacement / R, the radius the net is pushed to, g its
+// slope. Both sides of the line are mirror images, so half the fold's extra lies on either side,
+// and on each side k is linear and g constant: one Simpson panel is exact to 1e-9 of the length.
+double fold_extra_from_line(const Bulge& b, double x, double inv_radius) {
   const double r = b.radius_m, g2 = (b.amplitude_m / r) * (b.amplitude_m / r);
   auto extra = [&](double at) {
     const double k = 1 - b.amplitude_m * (1 - std::abs(at) / r) * inv_radius;
     return std::sqrt(k * k + g2) - 1;
   };
-  auto panel = [&](double x1, double x2) {
-    return (x2 - x1) / 6 * (extra(x1) + 4 * extra((x1 + x2) / 2) + extra(x2));
-  };
   x = std::clamp(x, -r, r);
-  return x <= 0 ? panel(-r, x) : panel(-r, 0) + panel(0, x);
+  return x / 6 * (extra(0) + 4 * extra(x / 2) + extra(x));
 }
 
 }  // namespace
@@ -45,7 +42,7 @@ NetGeometry::NetGeometry(const PenConfig& pen, const NetConfig& net)
   double c = circumference(pen);
   // The folds' net runs once around the pen as well: u spans the circumference and their extra.
   for (const Bulge& b : net.bulges) {
-    if (c > 0 && b.fold) c += fold_extra_length(b, b.radius_m, 1 / pen.radius_m);
+    if (c > 0 && b.fold) c += 2 * fold_extra_from_line(b, b.radius_m, 1 / pen.radius_m);
   }
   if (c > 0) {
     // A whole number of the lattice's closing steps around the pen (net_mesh.h): the
@@ -63,9 +60,7 @@ double NetGeometry::fold_arc_offset(double along_m) const {
   const double inv_radius = pen_.shape == NetShape::kCylinder ? 1 / pen_.radius_m : 0;
   double offset = 0;
   for (const Bulge& b : net_.bulges) {
-    if (!b.fold) continue;
-    offset += fold_extra_length(b, along_m - b.along_m, inv_radius) -
-              fold_extra_length(b, b.radius_m, inv_radius) / 2;
+    if (b.fold) offset += fold_extra_from_line(b, along_m - b.along_m, inv_radius);
   }
   return offset;
 }

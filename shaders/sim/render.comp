@@ -325,30 +325,21 @@ vec2 displacement_gradient(float along, float z) {
   return g;
 }
 
-// NetGeometry::fold_arc_offset: a fold's surface length over the wall's, half of it on either
-// side of its line (one Simpson panel per side of the line).
+// NetGeometry::fold_arc_offset: a fold's surface length over the wall's from its line to x (the
+// sides mirror each other; one Simpson panel, sim/net_geometry.cpp fold_extra_from_line).
 float fold_extra(vec4 b, float at) {
   float r = -b.w, inv_radius = has(kFeaturePlane) ? 0.0 : 1.0 / PEN_R;
   float k = 1.0 - b.z * (1.0 - abs(at) / r) * inv_radius, g = b.z / r;
   return sqrt(k * k + g * g) - 1.0;
 }
 
-float fold_panel(vec4 b, float x1, float x2) {
-  float mid = fold_extra(b, 0.5 * (x1 + x2));
-  return (x2 - x1) / 6.0 * (fold_extra(b, x1) + 4.0 * mid + fold_extra(b, x2));
-}
-
-float fold_length(vec4 b, float x) {
-  float r = -b.w;
-  x = clamp(x, -r, r);
-  return x <= 0.0 ? fold_panel(b, -r, x) : fold_panel(b, -r, 0.0) + fold_panel(b, 0.0, x);
-}
-
 float fold_arc_offset(float along) {
   float s = 0.0;
   for (uint i = 0u; i < NUM_BULGES; ++i) {
     vec4 b = BULGE(i);
-    if (b.w < 0.0) s += fold_length(b, along - b.x) - 0.5 * fold_length(b, -b.w);
+    if (b.w >= 0.0) continue;
+    float x = clamp(along - b.x, b.w, -b.w);
+    s += x / 6.0 * (fold_extra(b, 0.0) + 4.0 * fold_extra(b, 0.5 * x) + fold_extra(b, x));
   }
   return s;
 }
